@@ -1,0 +1,3 @@
+//! # edit
+//!
+//! Editing methods on the `halfedge` kernel, one module per method.

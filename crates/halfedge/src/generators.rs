@@ -1,0 +1,153 @@
+//! Simple meshes for tests and benches, and 1-to-4 midpoint subdivision (used to make
+//! meshes of millions of triangles from real ones).
+
+use std::collections::HashMap;
+
+use glam::DVec3;
+
+use crate::Mesh;
+
+/// A planar `nx × ny` grid of quads, each split into two triangles, covering
+/// `[0, sx] × [0, sy]` in the `z = 0` plane, faces facing `+z`. Vertex `i + j (nx + 1)`
+/// sits at `(i sx / nx, j sy / ny, 0)`.
+///
+/// # Panics
+/// If `nx` or `ny` is zero.
+pub fn grid(nx: usize, ny: usize, sx: f64, sy: f64) -> Mesh {
+    assert!(nx > 0 && ny > 0, "a grid needs at least one cell");
+    let mut positions = Vec::with_capacity((nx + 1) * (ny + 1));
+    for j in 0..=ny {
+        for i in 0..=nx {
+            positions.push(DVec3::new(
+                i as f64 * sx / nx as f64,
+                j as f64 * sy / ny as f64,
+                0.0,
+            ));
+        }
+    }
+    let id = |i: usize, j: usize| (i + j * (nx + 1)) as u32;
+    let mut triangles = Vec::with_capacity(2 * nx * ny);
+    for j in 0..ny {
+        for i in 0..nx {
+            triangles.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+            triangles.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+        }
+    }
+    Mesh::from_triangles(&positions, &triangles)
+        .expect("a grid is a valid mesh")
+        .0
+}
+
+/// The unit icosahedron subdivided `level` times (1-to-4, new vertices projected to the
+/// unit sphere): `10·4^level + 2` vertices, `20·4^level` faces.
+pub fn icosphere(level: usize) -> Mesh {
+    let t = (1.0 + 5f64.sqrt()) / 2.0;
+    let positions: Vec<DVec3> = [
+        [-1.0, t, 0.0],
+        [1.0, t, 0.0],
+        [-1.0, -t, 0.0],
+        [1.0, -t, 0.0],
+        [0.0, -1.0, t],
+        [0.0, 1.0, t],
+        [0.0, -1.0, -t],
+        [0.0, 1.0, -t],
+        [t, 0.0, -1.0],
+        [t, 0.0, 1.0],
+        [-t, 0.0, -1.0],
+        [-t, 0.0, 1.0],
+    ]
+    .iter()
+    .map(|&p| DVec3::from_array(p).normalize())
+    .collect();
+    let triangles: [[u32; 3]; 20] = [
+        [0, 11, 5],
+        [0, 5, 1],
+        [0, 1, 7],
+        [0, 7, 10],
+        [0, 10, 11],
+        [1, 5, 9],
+        [5, 11, 4],
+        [11, 10, 2],
+        [10, 7, 6],
+        [7, 1, 8],
+        [3, 9, 4],
+        [3, 4, 2],
+        [3, 2, 6],
+        [3, 6, 8],
+        [3, 8, 9],
+        [4, 9, 5],
+        [2, 4, 11],
+        [6, 2, 10],
+        [8, 6, 7],
+        [9, 8, 1],
+    ];
+    let mut mesh = Mesh::from_triangles(&positions, &triangles)
+        .expect("the icosahedron is valid")
+        .0;
+    for _ in 0..level {
+        mesh = subdivide(&mesh);
+        for p in mesh.positions_mut() {
+            *p = p.normalize();
+        }
+    }
+    mesh
+}
+
+/// 1-to-4 midpoint subdivision: a new vertex at the midpoint of every edge, every
+/// triangle split into four; old positions unchanged. The result is compact (no
+/// tombstones); old vertices keep their order and come first.
+pub fn subdivide(mesh: &Mesh) -> Mesh {
+    let mut index = vec![u32::MAX; mesh.vertex_slots()];
+    let mut positions: Vec<DVec3> = Vec::with_capacity(mesh.n_vertices() + mesh.n_edges());
+    for v in mesh.vertices() {
+        index[mesh.vertex_index(v)] = positions.len() as u32;
+        positions.push(mesh.position(v));
+    }
+    let mut midpoint = vec![u32::MAX; mesh.halfedge_slots()];
+    for h in mesh.edges() {
+        let m = positions.len() as u32;
+        positions
+            .push(0.5 * (mesh.position(mesh.from_vertex(h)) + mesh.position(mesh.to_vertex(h))));
+        midpoint[mesh.halfedge_index(h)] = m;
+        midpoint[mesh.halfedge_index(mesh.opposite(h))] = m;
+    }
+    let mut triangles = Vec::with_capacity(4 * mesh.n_faces());
+    for f in mesh.faces() {
+        let h0 = mesh.face_halfedge(f);
+        let h1 = mesh.next(h0);
+        let h2 = mesh.next(h1);
+        // corners: v0 = from(h0) = to(h2), v1 = to(h0), v2 = to(h1)
+        let [v1, v2, v0] = [h0, h1, h2].map(|h| index[mesh.vertex_index(mesh.to_vertex(h))]);
+        let [m01, m12, m20] = [h0, h1, h2].map(|h| midpoint[mesh.halfedge_index(h)]);
+        triangles.push([v0, m01, m20]);
+        triangles.push([v1, m12, m01]);
+        triangles.push([v2, m20, m12]);
+        triangles.push([m01, m12, m20]);
+    }
+    Mesh::from_triangles(&positions, &triangles)
+        .expect("subdividing a valid mesh gives a valid mesh")
+        .0
+}
+
+/// Welds vertices with identical positions (bit-for-bit) and returns the triangle soup
+/// of `mesh` re-indexed onto the welded vertices: a helper for tests that build meshes
+/// from pieces.
+pub fn weld_exact(mesh: &Mesh) -> (Vec<DVec3>, Vec<[u32; 3]>) {
+    let mut map: HashMap<[u64; 3], u32> = HashMap::new();
+    let mut positions = Vec::new();
+    let mut index = vec![0u32; mesh.vertex_slots()];
+    for v in mesh.vertices() {
+        let p = mesh.position(v);
+        let key = p.to_array().map(f64::to_bits);
+        let i = *map.entry(key).or_insert_with(|| {
+            positions.push(p);
+            (positions.len() - 1) as u32
+        });
+        index[mesh.vertex_index(v)] = i;
+    }
+    let triangles = mesh
+        .faces()
+        .map(|f| mesh.triangle(f).map(|v| index[mesh.vertex_index(v)]))
+        .collect();
+    (positions, triangles)
+}

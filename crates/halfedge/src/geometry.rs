@@ -1,0 +1,98 @@
+//! Basic geometric queries: normals, areas, lengths, bounds.
+
+use glam::DVec3;
+use rayon::prelude::*;
+
+use crate::{FaceId, HalfedgeId, Mesh, VertexId};
+
+/// # Geometry
+impl Mesh {
+    /// The three corner positions of a triangle, in [`triangle`](Self::triangle) order.
+    #[inline]
+    pub fn triangle_positions(&self, f: FaceId) -> [DVec3; 3] {
+        self.triangle(f).map(|v| self.position(v))
+    }
+    /// Unit normal of a face (zero for a degenerate face).
+    #[inline]
+    pub fn face_normal(&self, f: FaceId) -> DVec3 {
+        let [a, b, c] = self.triangle_positions(f);
+        (b - a).cross(c - a).normalize_or_zero()
+    }
+    /// Area of a face.
+    #[inline]
+    pub fn face_area(&self, f: FaceId) -> f64 {
+        let [a, b, c] = self.triangle_positions(f);
+        0.5 * (b - a).cross(c - a).length()
+    }
+    /// Centroid of a face.
+    #[inline]
+    pub fn face_centroid(&self, f: FaceId) -> DVec3 {
+        let [a, b, c] = self.triangle_positions(f);
+        (a + b + c) / 3.0
+    }
+    /// Length of the edge of `h`.
+    #[inline]
+    pub fn edge_length(&self, h: HalfedgeId) -> f64 {
+        self.position(self.to_vertex(h))
+            .distance(self.position(self.from_vertex(h)))
+    }
+    /// Vector from `from_vertex(h)` to `to_vertex(h)`.
+    #[inline]
+    pub fn edge_vector(&self, h: HalfedgeId) -> DVec3 {
+        self.position(self.to_vertex(h)) - self.position(self.from_vertex(h))
+    }
+    /// Mean edge length (0 for a mesh without edges).
+    pub fn mean_edge_length(&self) -> f64 {
+        let n = self.n_edges();
+        if n == 0 {
+            return 0.0;
+        }
+        self.edges().map(|h| self.edge_length(h)).sum::<f64>() / n as f64
+    }
+    /// Unit vertex normal: the normalised sum of the unit normals of the faces around `v`
+    /// (OpenMesh's default); zero for an isolated vertex.
+    pub fn vertex_normal(&self, v: VertexId) -> DVec3 {
+        self.adjacent_faces(v)
+            .map(|f| self.face_normal(f))
+            .sum::<DVec3>()
+            .normalize_or_zero()
+    }
+    /// Unit normals of all faces, indexed by [`face_index`](Self::face_index), in parallel.
+    pub fn face_normals(&self) -> Vec<DVec3> {
+        let faces: Vec<FaceId> = self.faces().collect();
+        let mut normals = vec![DVec3::ZERO; self.face_slots()];
+        let computed: Vec<(usize, DVec3)> = faces
+            .par_iter()
+            .map(|&f| (self.face_index(f), self.face_normal(f)))
+            .collect();
+        for (i, n) in computed {
+            normals[i] = n;
+        }
+        normals
+    }
+    /// Unit normals of all vertices, indexed by [`vertex_index`](Self::vertex_index), in
+    /// parallel (face normals computed once).
+    pub fn vertex_normals(&self) -> Vec<DVec3> {
+        let face_normals = self.face_normals();
+        let mut normals = vec![DVec3::ZERO; self.vertex_slots()];
+        normals.par_iter_mut().enumerate().for_each(|(i, n)| {
+            let Some(v) = self.vertex_at(i) else { return };
+            *n = self
+                .adjacent_faces(v)
+                .map(|f| face_normals[self.face_index(f)])
+                .sum::<DVec3>()
+                .normalize_or_zero();
+        });
+        normals
+    }
+    /// Axis-aligned bounding box `(min, max)` of the live vertices; `None` when empty.
+    pub fn bounding_box(&self) -> Option<(DVec3, DVec3)> {
+        let mut it = self.vertices().map(|v| self.position(v));
+        let first = it.next()?;
+        Some(it.fold((first, first), |(lo, hi), p| (lo.min(p), hi.max(p))))
+    }
+    /// Total surface area.
+    pub fn surface_area(&self) -> f64 {
+        self.faces().map(|f| self.face_area(f)).sum()
+    }
+}
