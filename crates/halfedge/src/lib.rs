@@ -26,6 +26,7 @@ mod error;
 pub mod generators;
 mod geometry;
 mod handle;
+pub mod io;
 pub mod iter;
 mod mesh;
 mod topology;
