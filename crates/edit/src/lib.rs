@@ -1,3 +1,35 @@
 //! # edit
 //!
-//! Editing methods on the `halfedge` kernel, one module per method.
+//! Editing methods on the `halfedge` kernel, one module per method:
+//!
+//! - [`area`] and [`mba`]: Lee 1999, *Interactive multiresolution editing of arbitrary
+//!   meshes*: an editing area embedded onto a rectangle by a harmonic map, edits spread by
+//!   multilevel B-spline approximation with a continuous scale parameter.
+//! - [`regions`], [`distance`], [`shape`], [`matrix`], [`blend`]: Bendels & Klein,
+//!   *Image and 3D-object editing with precisely specified editing regions*: handle, fixed
+//!   and deformable regions, distance fields, shape functions and affine blending
+//!   `exp(α log A)` (Alexa 2002).
+//! - [`submesh`], [`barr`], [`smoothing`]: *Interactive editing of multiresolution
+//!   meshes* (sub-mesh edits with propagation levels), Barr's taper / twist / bend, Taubin
+//!   λ|μ smoothing.
+//! - [`ffd`]: Feng, Ma & Peng, *A new free-form deformation through the control of
+//!   parametric surfaces* (shape surface + height surface).
+
+mod error;
+pub mod laplace;
+
+pub mod area;
+pub mod mba;
+
+pub mod blend;
+pub mod distance;
+pub mod matrix;
+pub mod regions;
+pub mod shape;
+
+pub mod barr;
+pub mod ffd;
+pub mod smoothing;
+pub mod submesh;
+
+pub use error::{EditError, Result};

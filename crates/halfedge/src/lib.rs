@@ -29,6 +29,7 @@ mod handle;
 pub mod io;
 pub mod iter;
 mod mesh;
+mod paths;
 mod topology;
 
 pub use attributes::{Attribute, AttributeValue, Element};

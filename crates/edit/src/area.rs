@@ -1,0 +1,1 @@
+//! Module `area`: implementation arrives with its issue.

@@ -1,0 +1,1 @@
+//! Module `barr`: implementation arrives with its issue.

@@ -1,0 +1,1 @@
+//! Module `blend`: implementation arrives with its issue.

@@ -1,0 +1,1 @@
+//! Module `ffd`: implementation arrives with its issue.

@@ -1,0 +1,27 @@
+//! Edge weights shared by the methods: cotangent weights (Pinkall & Polthier; Eck et al.'s
+//! harmonic spring constants are 4× these) and uniform weights.
+
+use halfedge::{HalfedgeId, Mesh};
+
+/// Cotangent of the angle at the corner opposite `h` in its face, or 0 for a boundary
+/// halfedge. Degenerate corners give 0 rather than NaN or infinity.
+pub fn opposite_cotangent(mesh: &Mesh, h: HalfedgeId) -> f64 {
+    if mesh.is_boundary_halfedge(h) {
+        return 0.0;
+    }
+    let a = mesh.position(mesh.from_vertex(h));
+    let b = mesh.position(mesh.to_vertex(h));
+    let c = mesh.position(mesh.to_vertex(mesh.next(h)));
+    let (u, v) = (a - c, b - c);
+    let cross = u.cross(v).length();
+    if cross <= f64::EPSILON * u.length_squared().max(v.length_squared()) {
+        return 0.0;
+    }
+    u.dot(v) / cross
+}
+
+/// The cotangent weight of the edge of `h`: `(cot α + cot β) / 2`, with α, β the angles
+/// opposite the edge (one term on a boundary edge). Can be negative for obtuse angles.
+pub fn cotan_weight(mesh: &Mesh, h: HalfedgeId) -> f64 {
+    0.5 * (opposite_cotangent(mesh, h) + opposite_cotangent(mesh, mesh.opposite(h)))
+}

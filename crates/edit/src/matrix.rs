@@ -1,0 +1,1 @@
+//! Module `matrix`: implementation arrives with its issue.

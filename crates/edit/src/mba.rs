@@ -1,0 +1,1 @@
+//! Module `mba`: implementation arrives with its issue.

@@ -1,0 +1,1 @@
+//! Module `regions`: implementation arrives with its issue.

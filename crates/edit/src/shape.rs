@@ -1,0 +1,1 @@
+//! Module `shape`: implementation arrives with its issue.

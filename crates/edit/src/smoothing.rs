@@ -1,0 +1,1 @@
+//! Module `smoothing`: implementation arrives with its issue.
