@@ -22,6 +22,7 @@
 pub mod attributes;
 pub mod build;
 mod check;
+pub mod collapse;
 mod error;
 pub mod generators;
 mod geometry;
@@ -34,21 +35,10 @@ mod topology;
 
 pub use attributes::{Attribute, AttributeValue, Element};
 pub use build::{AddFaceError, BuildReport};
+pub use collapse::{CollapseRecord, CollapseVeto};
 pub use error::{Error, Invariant, Result};
 pub use handle::{FaceId, HalfedgeId, VertexId};
 pub use mesh::Mesh;
 pub use topology::TopologyReport;
 
 pub use glam::DVec3;
-
-/// Placeholder until collapse lands.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum CollapseVeto {
-    /// The edge was removed.
-    EdgeDeleted,
-}
-impl std::fmt::Display for CollapseVeto {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "{self:?}")
-    }
-}

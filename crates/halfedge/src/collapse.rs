@@ -1,0 +1,460 @@
+//! Halfedge collapse and its exact inverse, the vertex split.
+//!
+//! Collapsing `h = v0v1` (from `v0` to `v1`) removes `v0`, the edge `v0v1`, the faces `fl`
+//! (left of `v0v1`) and `fr` (right of it) and, in each of those triangles, the edge that
+//! touched `v0` (`vl–v0`, `v0–vr`); every other edge of `v0` is moved to `v1`. `v1`
+//! survives (OpenMesh, pmp, CGAL); its position is left unchanged for the caller to set.
+//!
+//! ```text
+//!            vl                         vl
+//!          /  |  \                     / |
+//!         / fl|   \                   /  |
+//!  ... v0 ---h---> v1 ...   =>   ... v1  |   (v1 takes over the edges of v0)
+//!         \ fr|   /                   \  |
+//!          \  |  /                     \ |
+//!            vr                         vr
+//! ```
+//!
+//! Removed elements become tombstones that keep their handles and fields, and the
+//! [`CollapseRecord`] (OpenMesh / Hoppe names: `v0v1, v1v0, v0, v1, vl, vr, fl, fr, p0, p1`)
+//! remembers every link the collapse rewrote, so [`Mesh::vertex_split`] restores the same
+//! connectivity, orientation and handles, the very `VertexId` of `v0` included. Splits must
+//! undo collapses in reverse order (as a hierarchy does); a split whose neighbourhood no
+//! longer looks as the collapse left it is refused and changes nothing.
+
+use glam::DVec3;
+
+use crate::{Error, FaceId, HalfedgeId, Mesh, Result, VertexId};
+
+/// Why [`Mesh::is_collapse_ok`] refuses a collapse (OpenMesh's
+/// `TriConnectivity::is_collapse_ok`, check for check, in this order).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum CollapseVeto {
+    /// The halfedge is removed (or not of this mesh).
+    EdgeDeleted,
+    /// One of its vertices is removed.
+    VertexDeleted,
+    /// Both outer edges of the left triangle are boundary edges.
+    LeftTriangleOnBoundary,
+    /// Both outer edges of the right triangle are boundary edges.
+    RightTriangleOnBoundary,
+    /// The opposite vertices `vl` and `vr` coincide (or both are missing).
+    SameOppositeVertices,
+    /// `v0` and `v1` have a common neighbour other than `vl` and `vr` (link condition).
+    LinkCondition,
+    /// `v0` and `v1` are both boundary vertices but the edge between them is interior.
+    BoundaryVerticesInteriorEdge,
+}
+
+impl std::fmt::Display for CollapseVeto {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Self::EdgeDeleted => "the edge is removed",
+            Self::VertexDeleted => "a vertex of the edge is removed",
+            Self::LeftTriangleOnBoundary => {
+                "both outer edges of the left triangle are on the boundary"
+            }
+            Self::RightTriangleOnBoundary => {
+                "both outer edges of the right triangle are on the boundary"
+            }
+            Self::SameOppositeVertices => "the opposite vertices vl and vr coincide",
+            Self::LinkCondition => {
+                "the endpoints share a neighbour other than vl and vr (link condition)"
+            }
+            Self::BoundaryVerticesInteriorEdge => {
+                "both endpoints are on the boundary but the edge is interior"
+            }
+        })
+    }
+}
+
+/// One rewritten `next` link: `(halfedge, next before, next after)`.
+type Link = (HalfedgeId, HalfedgeId, HalfedgeId);
+
+/// Everything [`Mesh::vertex_split`] needs to undo a [`Mesh::collapse`], with OpenMesh's
+/// names for the parts of the collapse.
+#[derive(Clone, Debug)]
+pub struct CollapseRecord {
+    /// The collapsed halfedge, `v0 → v1`.
+    pub v0v1: HalfedgeId,
+    /// Its opposite, `v1 → v0`.
+    pub v1v0: HalfedgeId,
+    /// The removed vertex.
+    pub v0: VertexId,
+    /// The surviving vertex.
+    pub v1: VertexId,
+    /// The third vertex of the left face (`None` when `v0v1` is a boundary halfedge).
+    pub vl: Option<VertexId>,
+    /// The third vertex of the right face (`None` when `v1v0` is a boundary halfedge).
+    pub vr: Option<VertexId>,
+    /// The face left of `v0v1`.
+    pub fl: Option<FaceId>,
+    /// The face right of `v0v1` (left of `v1v0`).
+    pub fr: Option<FaceId>,
+    /// Position of `v0` when it was collapsed.
+    pub p0: DVec3,
+    /// Position of `v1` when the edge was collapsed (before the caller moved it).
+    pub p1: DVec3,
+    /// `v1 → vl`, kept: it takes the place of the removed `v0 → vl`.
+    pub v1vl: Option<HalfedgeId>,
+    /// `vl → v0`, removed with its opposite.
+    pub vlv0: Option<HalfedgeId>,
+    /// `v0 → vr`, removed with its opposite.
+    pub v0vr: Option<HalfedgeId>,
+    /// `vr → v1`, kept: it takes the place of the removed `vr → v0`.
+    pub vrv1: Option<HalfedgeId>,
+    links: [Option<Link>; 4],
+    face_halfedges: [Option<(FaceId, HalfedgeId, HalfedgeId)>; 2],
+    vertex_halfedges: [(VertexId, Option<HalfedgeId>, Option<HalfedgeId>); 4],
+    /// Outgoing halfedge of `v1` after which the moved halfedges start (counter-clockwise).
+    start: HalfedgeId,
+    /// Number of halfedges moved from `v0` to `v1`.
+    moved: u32,
+}
+
+impl CollapseRecord {
+    /// The vertices that were neighbours of `v0` or `v1` when the edge collapsed,
+    /// `v0` and `v1` excluded, are what the centroid detail coefficients need; this gives
+    /// the two opposite vertices that are always among them.
+    pub fn opposite_vertices(&self) -> impl Iterator<Item = VertexId> {
+        self.vl.into_iter().chain(self.vr)
+    }
+}
+
+/// # Collapse and vertex split
+impl Mesh {
+    /// Whether collapsing `h` (`v0 → v1`) keeps the mesh a valid manifold triangle mesh,
+    /// with OpenMesh's semantics (`TriConnectivity::is_collapse_ok`), check for check.
+    /// Purely topological: geometric tests (normal flips, …) belong to the decimation.
+    pub fn is_collapse_ok(&self, h: HalfedgeId) -> Result<(), CollapseVeto> {
+        if !self.is_valid_halfedge(h) {
+            return Err(CollapseVeto::EdgeDeleted);
+        }
+        let o = self.opposite(h);
+        let v0 = self.to_vertex(o);
+        let v1 = self.to_vertex(h);
+        if !self.is_valid_vertex(v0) || !self.is_valid_vertex(v1) {
+            return Err(CollapseVeto::VertexDeleted);
+        }
+        let mut vl = None;
+        if !self.is_boundary_halfedge(h) {
+            let h1 = self.next(h);
+            let h2 = self.next(h1);
+            vl = Some(self.to_vertex(h1));
+            if self.is_boundary_halfedge(self.opposite(h1))
+                && self.is_boundary_halfedge(self.opposite(h2))
+            {
+                return Err(CollapseVeto::LeftTriangleOnBoundary);
+            }
+        }
+        let mut vr = None;
+        if !self.is_boundary_halfedge(o) {
+            let o1 = self.next(o);
+            let o2 = self.next(o1);
+            vr = Some(self.to_vertex(o1));
+            if self.is_boundary_halfedge(self.opposite(o1))
+                && self.is_boundary_halfedge(self.opposite(o2))
+            {
+                return Err(CollapseVeto::RightTriangleOnBoundary);
+            }
+        }
+        if vl == vr {
+            return Err(CollapseVeto::SameOppositeVertices);
+        }
+        for w in self.adjacent_vertices(v0) {
+            if Some(w) != vl && Some(w) != vr && self.adjacent_vertices(v1).any(|u| u == w) {
+                return Err(CollapseVeto::LinkCondition);
+            }
+        }
+        if self.is_boundary_vertex(v0)
+            && self.is_boundary_vertex(v1)
+            && !self.is_boundary_halfedge(h)
+            && !self.is_boundary_halfedge(o)
+        {
+            return Err(CollapseVeto::BoundaryVerticesInteriorEdge);
+        }
+        Ok(())
+    }
+
+    /// Collapses `h` (`v0 → v1`): `v0` is removed, `v1` survives at its position (set it
+    /// afterwards: midpoint, QEM optimum, …). Refused with
+    /// [`Error::CollapseRefused`] (nothing changed) when [`is_collapse_ok`](Self::is_collapse_ok)
+    /// says no. Returns the record that [`vertex_split`](Self::vertex_split) inverts.
+    pub fn collapse(&mut self, h: HalfedgeId) -> Result<CollapseRecord> {
+        self.is_collapse_ok(h)
+            .map_err(|reason| Error::CollapseRefused {
+                halfedge: h,
+                reason,
+            })?;
+        let o = self.opposite(h);
+        let v0 = self.to_vertex(o);
+        let v1 = self.to_vertex(h);
+        let fl = self.face(h);
+        let fr = self.face(o);
+        let (mut v1vl, mut vlv0, mut v0vr, mut vrv1) = (None, None, None, None);
+        if fl.is_some() {
+            v1vl = Some(self.next(h));
+            vlv0 = Some(self.next(self.next(h)));
+        }
+        if fr.is_some() {
+            v0vr = Some(self.next(o));
+            vrv1 = Some(self.next(self.next(o)));
+        }
+        let vl = v1vl.map(|x| self.to_vertex(x));
+        let vr = v0vr.map(|x| self.to_vertex(x));
+        // Halfedges leaving the cycles they are in, with their replacements (None: skipped).
+        let v0vl = vlv0.map(|x| self.opposite(x));
+        let vrv0 = v0vr.map(|x| self.opposite(x));
+        let replacement = |y: HalfedgeId| -> Option<Option<HalfedgeId>> {
+            if Some(y) == v0vl {
+                Some(v1vl)
+            } else if Some(y) == vrv0 {
+                Some(vrv1)
+            } else if (fl.is_none() && y == h) || (fr.is_none() && y == o) {
+                Some(None)
+            } else {
+                None
+            }
+        };
+        let resolve = |mut y: HalfedgeId| -> HalfedgeId {
+            loop {
+                match replacement(y) {
+                    Some(Some(r)) => return r,
+                    Some(None) => y = self.next(y),
+                    None => return y,
+                }
+            }
+        };
+        let leaving: [Option<HalfedgeId>; 4] = [
+            v0vl,
+            vrv0,
+            fl.is_none().then_some(h),
+            fr.is_none().then_some(o),
+        ];
+        let mut links: [Option<Link>; 4] = [None; 4];
+        let mut n_links = 0;
+        let mut face_halfedges = [None; 2];
+        for y in leaving.into_iter().flatten() {
+            let x = self.prev(y);
+            if replacement(x).is_none() {
+                links[n_links] = Some((x, self.next(x), resolve(y)));
+                n_links += 1;
+            }
+            if let Some(Some(r)) = replacement(y) {
+                links[n_links] = Some((r, self.next(r), resolve(self.next(y))));
+                n_links += 1;
+                if let Some(g) = self.face(y) {
+                    if self.face_halfedge(g) == y {
+                        face_halfedges[usize::from(Some(y) == vrv0)] = Some((g, y, r));
+                    }
+                }
+            }
+        }
+
+        // The halfedges that move from v0 to v1, and where they start around v1.
+        let removed_out = [Some(h), v0vl, v0vr];
+        let moved: Vec<HalfedgeId> = self
+            .outgoing_halfedges(v0)
+            .filter(|k| !removed_out.contains(&Some(*k)))
+            .collect();
+        let start = match v1vl {
+            Some(x) => x,
+            None => self.next(h),
+        };
+
+        let record_vertices = [v0, v1, vl.unwrap_or(v1), vr.unwrap_or(v1)];
+        let old_vertex_halfedges = record_vertices.map(|v| self.vertex_halfedge(v));
+
+        // --- mutate ---
+        for &k in &moved {
+            let ko = self.opposite(k);
+            self.halfedges[ko].to = v1;
+        }
+        for &(x, _, n) in links.iter().flatten() {
+            self.set_next(x, n);
+        }
+        if let (Some(r), Some(y)) = (v1vl, v0vl) {
+            self.halfedges[r].face = self.face(y);
+        }
+        if let (Some(r), Some(y)) = (vrv1, vrv0) {
+            self.halfedges[r].face = self.face(y);
+        }
+        for &(g, _, r) in face_halfedges.iter().flatten() {
+            self.faces[g].halfedge = r;
+        }
+        // Vertex halfedges: v1 and the opposite vertices may have pointed at removed halfedges.
+        let v1_out = v1vl
+            .or_else(|| self.next_outgoing_alive(v1, o))
+            .expect("v1 keeps an edge");
+        self.vertices[v1].halfedge = Some(v1_out);
+        self.adjust_outgoing_halfedge(v1);
+        if let (Some(vl), Some(r)) = (vl, v1vl) {
+            if self.vertex_halfedge(vl) == vlv0 {
+                self.vertices[vl].halfedge = Some(self.opposite(r));
+            }
+            self.adjust_outgoing_halfedge(vl);
+        }
+        if let (Some(vr), Some(r)) = (vr, vrv1) {
+            if self.vertex_halfedge(vr) == vrv0 {
+                self.vertices[vr].halfedge = Some(r);
+            }
+            self.adjust_outgoing_halfedge(vr);
+        }
+        // Tombstones.
+        self.vertices[v0].deleted = true;
+        self.n_vertices -= 1;
+        for x in [Some(h), Some(o), vlv0, v0vl, v0vr, vrv0]
+            .into_iter()
+            .flatten()
+        {
+            self.halfedges[x].deleted = true;
+            self.n_halfedges -= 1;
+        }
+        for f in [fl, fr].into_iter().flatten() {
+            self.faces[f].deleted = true;
+            self.n_faces -= 1;
+        }
+        let new_vertex_halfedges = record_vertices.map(|v| self.vertex_halfedge(v));
+        let mut vertex_halfedges = [(v0, None, None); 4];
+        for i in 0..4 {
+            vertex_halfedges[i] = (
+                record_vertices[i],
+                old_vertex_halfedges[i],
+                new_vertex_halfedges[i],
+            );
+        }
+        Ok(CollapseRecord {
+            v0v1: h,
+            v1v0: o,
+            v0,
+            v1,
+            vl,
+            vr,
+            fl,
+            fr,
+            p0: self.positions[self.vertex_index(v0)],
+            p1: self.positions[self.vertex_index(v1)],
+            v1vl,
+            vlv0,
+            v0vr,
+            vrv1,
+            links,
+            face_halfedges,
+            vertex_halfedges,
+            start,
+            moved: moved.len() as u32,
+        })
+    }
+
+    /// The first outgoing halfedge of `v` counter-clockwise after `h` that is not `h`.
+    fn next_outgoing_alive(&self, v: VertexId, h: HalfedgeId) -> Option<HalfedgeId> {
+        self.outgoing_halfedges(v)
+            .find(|&k| k != h && !self.halfedges[k].deleted)
+    }
+
+    /// Undoes [`collapse`](Self::collapse): revives `v0` (same handle), its edges and the
+    /// faces `fl`, `fr`, restores every link, and puts `v0` at `p0` and `v1` at `p1`.
+    /// Refused with [`Error::SplitRefused`] (nothing changed) when the neighbourhood is not
+    /// as the collapse left it (splits must undo collapses in reverse order).
+    pub fn vertex_split(&mut self, r: &CollapseRecord) -> Result<()> {
+        let refuse = |what: &str| {
+            Err(Error::SplitRefused(format!(
+                "{what} (record of {} → {})",
+                r.v0, r.v1
+            )))
+        };
+        if !self.is_deleted_vertex(r.v0) || !self.is_valid_vertex(r.v1) {
+            return refuse("v0 is not a removed vertex or v1 is not live");
+        }
+        for x in [Some(r.v0v1), Some(r.v1v0), r.vlv0, r.v0vr]
+            .into_iter()
+            .flatten()
+        {
+            if !self.halfedges.get(x).is_some_and(|s| s.deleted) {
+                return refuse("a removed halfedge is not a tombstone any more");
+            }
+        }
+        for f in [r.fl, r.fr].into_iter().flatten() {
+            if !self.faces.get(f).is_some_and(|s| s.deleted) {
+                return refuse("a removed face is not a tombstone any more");
+            }
+        }
+        for &(x, _, new) in r.links.iter().flatten() {
+            if !self.is_valid_halfedge(x) || self.next(x) != new {
+                return refuse("a link the collapse wrote has changed");
+            }
+        }
+        for &(v, _, new) in &r.vertex_halfedges {
+            if !self.is_valid_vertex(v) && v != r.v0 {
+                return refuse("a neighbour vertex was removed");
+            }
+            if v != r.v0 && self.vertex_halfedge(v) != new {
+                return refuse("a vertex halfedge the collapse set has changed");
+            }
+        }
+        if !self.is_valid_halfedge(r.start) || self.from_vertex(r.start) != r.v1 {
+            return refuse("the anchor halfedge around v1 has changed");
+        }
+        let mut moved = Vec::with_capacity(r.moved as usize);
+        let mut k = r.start;
+        for _ in 0..r.moved {
+            k = self.ccw_rotated(k);
+            if k == r.start {
+                return refuse("v1 has fewer edges than the collapse moved to it");
+            }
+            moved.push(k);
+        }
+
+        // --- mutate ---
+        self.vertices[r.v0].deleted = false;
+        self.n_vertices += 1;
+        for x in [Some(r.v0v1), r.vlv0, r.v0vr].into_iter().flatten() {
+            let xo = self.halfedges[x].opposite;
+            self.halfedges[x].deleted = false;
+            self.halfedges[xo].deleted = false;
+            self.n_halfedges += 2;
+        }
+        for f in [r.fl, r.fr].into_iter().flatten() {
+            self.faces[f].deleted = false;
+            self.n_faces += 1;
+        }
+        for &k in &moved {
+            let ko = self.opposite(k);
+            self.halfedges[ko].to = r.v0;
+        }
+        for &(x, old, _) in r.links.iter().flatten() {
+            self.set_next(x, old);
+        }
+        // The kept halfedges return to their faces; the removed cycles are intact tombstones.
+        if let (Some(x), Some(next)) = (r.v1vl, r.vlv0) {
+            self.halfedges[x].face = r.fl;
+            self.set_next(r.v0v1, x);
+            self.set_next(x, next);
+            self.set_next(next, r.v0v1);
+        }
+        if let (Some(x), Some(prev)) = (r.vrv1, r.v0vr) {
+            self.halfedges[x].face = r.fr;
+            self.set_next(r.v1v0, prev);
+            self.set_next(prev, x);
+            self.set_next(x, r.v1v0);
+        }
+        // Tombstones kept their `next`, but the collapse re-pointed the `prev` of their
+        // successors: make `prev` agree with `next` again around every revived halfedge.
+        for x in [Some(r.v0v1), r.vlv0, r.v0vr].into_iter().flatten() {
+            for k in [x, self.opposite(x)] {
+                let n = self.next(k);
+                self.halfedges[n].prev = k;
+            }
+        }
+        for &(g, old, _) in r.face_halfedges.iter().flatten() {
+            self.faces[g].halfedge = old;
+        }
+        for &(v, old, _) in &r.vertex_halfedges {
+            self.vertices[v].halfedge = old;
+        }
+        let (i0, i1) = (self.vertex_index(r.v0), self.vertex_index(r.v1));
+        self.positions[i0] = r.p0;
+        self.positions[i1] = r.p1;
+        Ok(())
+    }
+}
