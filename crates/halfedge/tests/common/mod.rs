@@ -1,5 +1,5 @@
 //! Helpers shared by the kernel's integration tests.
-#![allow(dead_code)]
+#![allow(dead_code, missing_docs)]
 
 use std::path::PathBuf;
 
@@ -40,6 +40,7 @@ pub struct Snapshot {
     faces: Vec<(FaceId, HalfedgeId)>,
 }
 
+/// Snapshot of everything `collapse` / `vertex_split` touch.
 pub fn snapshot(mesh: &Mesh) -> Snapshot {
     Snapshot {
         counts: (mesh.n_vertices(), mesh.n_halfedges(), mesh.n_faces()),
@@ -70,6 +71,7 @@ pub fn snapshot(mesh: &Mesh) -> Snapshot {
     }
 }
 
+/// `V − E + F`.
 pub fn euler(mesh: &Mesh) -> i64 {
     mesh.n_vertices() as i64 - mesh.n_edges() as i64 + mesh.n_faces() as i64
 }
