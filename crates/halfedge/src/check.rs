@@ -109,3 +109,90 @@ impl Mesh {
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::{generators, Invariant, Mesh};
+
+    fn broken(f: impl FnOnce(&mut Mesh)) -> Invariant {
+        let mut mesh = generators::icosphere(1);
+        mesh.check().unwrap();
+        f(&mut mesh);
+        match mesh.check() {
+            Err(crate::Error::Invariant(i)) => i,
+            other => panic!("expected a broken invariant, got {other:?}"),
+        }
+    }
+
+    #[test]
+    fn names_the_broken_invariant() {
+        let i = broken(|m| {
+            let h = m.halfedges().next().unwrap();
+            let n = m.next(h);
+            let nn = m.next(n);
+            m.halfedges[h].next = nn;
+        });
+        assert!(matches!(i, Invariant::NextPrev(_)), "{i}");
+
+        let i = broken(|m| {
+            let h = m.halfedges().next().unwrap();
+            let o = m.opposite(h);
+            let other = m.halfedges().find(|&g| g != h && g != o).unwrap();
+            m.halfedges[h].opposite = other;
+        });
+        assert!(matches!(i, Invariant::Opposite(_)), "{i}");
+
+        let i = broken(|m| {
+            let f = m.faces().next().unwrap();
+            let g = m.faces().nth(5).unwrap();
+            let hg = m.face_halfedge(g);
+            m.faces[f].halfedge = hg;
+        });
+        assert!(matches!(i, Invariant::FaceHalfedge(_)), "{i}");
+
+        let i = broken(|m| {
+            let v = m.vertices().next().unwrap();
+            let h = m.halfedges().find(|&h| m.from_vertex(h) != v).unwrap();
+            m.vertices[v].halfedge = Some(h);
+        });
+        assert!(matches!(i, Invariant::VertexHalfedge(_)), "{i}");
+
+        let i = broken(|m| {
+            m.n_faces += 1;
+        });
+        assert!(matches!(i, Invariant::Counts(_)), "{i}");
+
+        let i = broken(|m| {
+            let h = m.halfedges().next().unwrap();
+            let f = m.face(h);
+            let g = m.faces().find(|&g| Some(g) != f).unwrap();
+            m.halfedges[h].face = Some(g);
+        });
+        assert!(
+            matches!(i, Invariant::FaceLoop(_) | Invariant::FaceHalfedge(_)),
+            "{i}"
+        );
+
+        let i = broken(|m| {
+            let v = m.vertices().next().unwrap();
+            m.vertices[v].halfedge = None;
+        });
+        assert!(matches!(i, Invariant::Isolated(_)), "{i}");
+    }
+
+    #[test]
+    fn boundary_vertex_must_point_at_boundary_halfedge() {
+        let mut mesh = generators::grid(3, 3, 1.0, 1.0);
+        mesh.check().unwrap();
+        let v = mesh.vertices().next().unwrap();
+        let interior = mesh
+            .outgoing_halfedges(v)
+            .find(|&h| !mesh.is_boundary_halfedge(h))
+            .unwrap();
+        mesh.vertices[v].halfedge = Some(interior);
+        assert!(matches!(
+            mesh.check(),
+            Err(crate::Error::Invariant(Invariant::BoundaryHalfedge(_)))
+        ));
+    }
+}
