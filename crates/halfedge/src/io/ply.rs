@@ -228,8 +228,11 @@ fn read_general(
     layout: &Layout,
     format: &dyn Fn(String) -> Error,
 ) -> Result<PolygonSoup> {
+    // The declared count is not trusted for allocation: every vertex takes at least a
+    // few bytes of the file.
+    let room = layout.n_vertices.min(reader.get_ref().len() / 3);
     let mut soup = PolygonSoup {
-        positions: Vec::with_capacity(layout.n_vertices),
+        positions: Vec::with_capacity(room),
         ..PolygonSoup::default()
     };
     let payload_error = |element: &ElementDef, e: ply_rs_bw::parser::ParseError| {
