@@ -67,6 +67,9 @@ struct AddFaceScratch {
     is_new: Vec<bool>,
     needs_adjust: Vec<bool>,
     next_cache: Vec<(HalfedgeId, HalfedgeId)>,
+    hs: Vec<HalfedgeId>,
+    vertex_halfedges: Vec<Option<HalfedgeId>>,
+    is_boundary: Vec<bool>,
 }
 
 /// # Building
@@ -199,12 +202,24 @@ impl Mesh {
         s.is_new.clear();
         s.needs_adjust.clear();
         s.next_cache.clear();
+        // The vertex halfedges are loaded first, all of them, so that their cache misses
+        // overlap (building is bound by memory latency); the checks then run in
+        // OpenMesh's order and return the same error.
+        s.vertex_halfedges.clear();
+        s.vertex_halfedges
+            .extend(vs.iter().map(|&v| self.vertex_halfedge(v)));
+        s.is_boundary.clear();
+        s.is_boundary.extend(
+            s.vertex_halfedges
+                .iter()
+                .map(|h| h.is_none_or(|h| self.is_boundary_halfedge(h))),
+        );
         for i in 0..n {
             let ii = (i + 1) % n;
-            if !self.is_boundary_vertex(vs[i]) {
+            if !s.is_boundary[i] {
                 return Err(AddFaceError::ComplexVertex(vs[i]));
             }
-            let h = self.find_halfedge_cw(vs[i], vs[ii]);
+            let h = s.vertex_halfedges[i].and_then(|start| self.find_halfedge_from(start, vs[ii]));
             if let Some(h) = h {
                 if !self.is_boundary_halfedge(h) {
                     return Err(AddFaceError::ComplexEdge(vs[i], vs[ii]));
@@ -243,17 +258,15 @@ impl Mesh {
         }
 
         // Create missing edges.
+        s.hs.clear();
         for i in 0..n {
-            if s.halfedges[i].is_none() {
-                let ii = (i + 1) % n;
-                s.halfedges[i] = Some(self.new_edge(vs[i], vs[ii]));
-            }
+            let h = match s.halfedges[i] {
+                Some(h) => h,
+                None => self.new_edge(vs[i], vs[(i + 1) % n]),
+            };
+            s.hs.push(h);
         }
-        let hs: Vec<HalfedgeId> = s
-            .halfedges
-            .iter()
-            .map(|h| h.expect("created above"))
-            .collect();
+        let hs = &s.hs;
 
         let f = self.new_face(hs[n - 1]);
         for i in 0..n {
@@ -310,10 +323,11 @@ impl Mesh {
         Ok(f)
     }
 
-    /// `find_halfedge` circulating clockwise like OpenMesh (the order matters only for
-    /// speed: there is at most one halfedge `a → b`).
-    fn find_halfedge_cw(&self, a: VertexId, b: VertexId) -> Option<HalfedgeId> {
-        let start = self.vertex_halfedge(a)?;
+    /// `find_halfedge` circulating clockwise from `start` (an outgoing halfedge of the
+    /// vertex) like OpenMesh (the order matters only for speed: there is at most one
+    /// halfedge `a → b`).
+    #[inline]
+    fn find_halfedge_from(&self, start: HalfedgeId, b: VertexId) -> Option<HalfedgeId> {
         let mut h = start;
         loop {
             if self.to_vertex(h) == b {

@@ -8,7 +8,9 @@ use crate::{FaceId, HalfedgeId, VertexId};
 /// indices or file so that the message says what is wrong and where.
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
-    /// The input has no vertices at all.
+    /// The input has no vertices at all (in-memory input such as
+    /// [`Mesh::from_polygons`](crate::Mesh::from_polygons); the file readers report an
+    /// empty file or one without vertices as [`Error::Format`], naming the file).
     #[error("empty input: no vertices")]
     EmptyInput,
     /// A face refers to a vertex index that does not exist.

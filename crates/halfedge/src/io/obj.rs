@@ -26,23 +26,44 @@ pub fn read_obj_from_bytes(bytes: &[u8], path: &Path) -> Result<(Mesh, BuildRepo
         path: path.to_owned(),
         message,
     };
+    if bytes.is_empty() {
+        return Err(format("empty file".into()));
+    }
     let text = std::str::from_utf8(bytes).map_err(|e| format(format!("not UTF-8 text: {e}")))?;
 
-    // Count vertices and keep the lines tobj needs, as one object.
+    // Count vertices, check face indices (so that errors can name the line) and keep the
+    // lines tobj needs, as one object.
     let mut n_vertices = 0usize;
+    // The largest positive face index and its line.
+    let mut largest = (0u64, 0usize);
     let mut body = String::with_capacity(text.len() + 16);
-    for line in text.lines() {
-        let keyword = line.split_whitespace().next().unwrap_or("");
-        match keyword {
+    for (number, line) in text.lines().enumerate() {
+        let mut tokens = line.split_whitespace();
+        match tokens.next().unwrap_or("") {
             "o" | "g" | "usemtl" | "mtllib" => continue,
             "v" => n_vertices += 1,
+            "f" => {
+                for token in tokens {
+                    let index = face_index(token, n_vertices)
+                        .map_err(|message| format(format!("line {}: {message}", number + 1)))?;
+                    if index > largest.0 {
+                        largest = (index, number + 1);
+                    }
+                }
+            }
             _ => {}
         }
         body.push_str(line);
         body.push('\n');
     }
     if n_vertices == 0 {
-        return Err(Error::EmptyInput);
+        return Err(format("no vertices (no 'v' lines)".into()));
+    }
+    if largest.0 > n_vertices as u64 {
+        return Err(format(format!(
+            "line {}: face refers to vertex {}, but the file has {n_vertices} vertices",
+            largest.1, largest.0
+        )));
     }
     let mut prefix = String::with_capacity(8 * n_vertices);
     prefix.push('f');
@@ -112,6 +133,29 @@ pub fn read_obj_from_bytes(bytes: &[u8], path: &Path) -> Result<(Mesh, BuildRepo
         )),
         other => other,
     })
+}
+
+/// The 1-based vertex index of a face token (`v`, `v/vt`, `v//vn`, `v/vt/vn`); negative
+/// indices count back from the last vertex read so far.
+fn face_index(token: &str, vertices_so_far: usize) -> std::result::Result<u64, String> {
+    let text = token.split('/').next().unwrap_or("");
+    let index: i64 = text
+        .parse()
+        .map_err(|_| format!("malformed face index '{token}'"))?;
+    match index {
+        0 => Err("face index 0 (OBJ indices start at 1)".into()),
+        i if i > 0 => Ok(i as u64),
+        i => {
+            let resolved = vertices_so_far as i64 + i + 1;
+            if resolved < 1 {
+                Err(format!(
+                    "relative face index {i} points before the first vertex ({vertices_so_far} vertices so far)"
+                ))
+            } else {
+                Ok(resolved as u64)
+            }
+        }
+    }
 }
 
 fn itoa(i: usize) -> String {

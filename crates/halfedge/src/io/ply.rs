@@ -1,0 +1,475 @@
+//! PLY input: ASCII, binary little and big endian.
+//!
+//! The header is parsed by `ply-rs-bw`. From it the reader picks
+//! - the `vertex` element: scalar properties `x`, `y`, `z` of any numeric type (other
+//!   properties such as normals or colours are skipped);
+//! - the `face` element: the list property `vertex_indices` (or `vertex_index`) with any
+//!   integer count and index types; polygons are fan-triangulated by the builder;
+//! - the `tristrips` element that some scanners write: list property `vertex_indices`,
+//!   strips separated by `-1`, every other triangle reversed so that all keep the strip's
+//!   orientation; degenerate stitching triangles (a repeated index) are left out before
+//!   building, so they are not counted as dropped faces;
+//! - every other element and property is skipped.
+//!
+//! The payload is then read on one of two routes:
+//! - the **fast route** ([`super::ply_fast`]) for binary files whose `vertex` element has
+//!   only scalar properties and whose `face` / `tristrips` elements have the index list
+//!   as their only property, which is how almost every binary PLY is laid out. It reads
+//!   the bytes in place. `ply-rs-bw` builds one `Vec` per face and dispatches every value
+//!   through a property-name lookup, which made loading a 1.6-million-face binary PLY
+//!   several times slower than OpenMesh's reader (see the module docs of `ply_fast`);
+//! - the **general route** through `ply-rs-bw`'s typed [`PropertyAccess`] (own element
+//!   structs, no `HashMap` per element) for ASCII files and every other layout.
+//!
+//! Both routes check everything: truncated payloads, negative or out-of-range indices,
+//! non-finite coordinates and malformed headers are [`Error::Format`] errors naming the
+//! file, the element and the position; nothing panics.
+
+use std::io::ErrorKind;
+use std::path::Path;
+
+use glam::DVec3;
+use ply_rs_bw::parser::{Parser, Reader};
+use ply_rs_bw::ply::{
+    BeginList, ElementDef, Encoding, Header, PropertyAccess, PropertyAccessResult, PropertyType,
+    ScalarType,
+};
+
+use crate::{BuildReport, Error, Mesh, Result};
+
+/// Reads a PLY file (ASCII, binary little or big endian). Vertex `i` of the file is the
+/// vertex with [`Mesh::vertex_index`] `i`; see the [module docs](self) for what is read.
+pub fn read_ply(path: impl AsRef<Path>) -> Result<(Mesh, BuildReport)> {
+    let path = path.as_ref();
+    let bytes = super::read_bytes(path)?;
+    read_ply_from_bytes(&bytes, path)
+}
+
+/// Reads PLY data from memory; `path` is only used in error messages.
+pub fn read_ply_from_bytes(bytes: &[u8], path: &Path) -> Result<(Mesh, BuildReport)> {
+    let soup = read_ply_soup(bytes, path)?;
+    soup.build(path)
+}
+
+/// Indexed polygons as read from a file, before building.
+#[derive(Debug, Default)]
+pub(crate) struct PolygonSoup {
+    pub(crate) positions: Vec<DVec3>,
+    /// All polygon indices, one polygon after another.
+    pub(crate) indices: Vec<u32>,
+    /// Start of every polygon in `indices`, plus the end of the last one.
+    pub(crate) offsets: Vec<usize>,
+}
+
+impl PolygonSoup {
+    pub(crate) fn push_polygon(&mut self, polygon: impl IntoIterator<Item = u32>) {
+        if self.offsets.is_empty() {
+            self.offsets.push(0);
+        }
+        self.indices.extend(polygon);
+        self.offsets.push(self.indices.len());
+    }
+
+    /// Builds the mesh; builder errors are turned into format errors naming the file.
+    pub(crate) fn build(&self, path: &Path) -> Result<(Mesh, BuildReport)> {
+        let format = |message: String| Error::Format {
+            path: path.to_owned(),
+            message,
+        };
+        if self.positions.is_empty() {
+            return Err(format("no vertices (the vertex element is empty)".into()));
+        }
+        let polygons = self.offsets.windows(2).map(|w| &self.indices[w[0]..w[1]]);
+        Mesh::from_polygons(&self.positions, polygons).map_err(|e| match e {
+            Error::IndexOutOfRange {
+                face,
+                index,
+                vertex_count,
+            } => format(format!(
+                "face {face} refers to vertex {index}, but the file has {vertex_count} vertices"
+            )),
+            Error::NonFiniteCoordinate { vertex, value } => format(format!(
+                "vertex {vertex} has a non-finite coordinate ({value})"
+            )),
+            other => other,
+        })
+    }
+}
+
+/// The two elements the reader looks for in a face-like element: which element, and which
+/// list property holds the vertex indices.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum FaceKind {
+    /// `face`: one polygon per element.
+    Polygons,
+    /// `tristrips`: strips separated by `-1`.
+    Strips,
+}
+
+/// What the header says about the elements the reader uses.
+pub(crate) struct Layout {
+    pub(crate) n_vertices: usize,
+}
+
+/// Checks the header: a `vertex` element with scalar `x`, `y`, `z`, and index lists of
+/// integer type in `face` / `tristrips`.
+fn check_header(header: &Header, format: &dyn Fn(String) -> Error) -> Result<Layout> {
+    let vertex = header
+        .elements
+        .get("vertex")
+        .ok_or_else(|| format("the header has no 'vertex' element".into()))?;
+    for axis in ["x", "y", "z"] {
+        match vertex.properties.get(axis).map(|p| &p.data_type) {
+            Some(PropertyType::Scalar(_)) => {}
+            Some(PropertyType::List(..)) => {
+                return Err(format(format!(
+                    "vertex property '{axis}' is a list, expected a number"
+                )))
+            }
+            None => {
+                return Err(format(format!(
+                    "the vertex element has no '{axis}' property"
+                )))
+            }
+        }
+    }
+    for (name, kind) in [
+        ("face", FaceKind::Polygons),
+        ("tristrips", FaceKind::Strips),
+    ] {
+        let Some(element) = header.elements.get(name) else {
+            continue;
+        };
+        let property = index_property(element, kind).map_err(&format)?;
+        if let Some(property) = property {
+            let PropertyType::List(count, item) = &element.properties[property].data_type else {
+                unreachable!("index_property returns list properties only");
+            };
+            if !is_integer(count) || !is_integer(item) {
+                return Err(format(format!(
+                    "{name} property '{property}' must be a list of integers, found list {count:?} {item:?}"
+                )));
+            }
+        } else if element.count > 0 {
+            return Err(format(format!(
+                "the {name} element has no 'vertex_indices' list"
+            )));
+        }
+    }
+    Ok(Layout {
+        n_vertices: vertex.count,
+    })
+}
+
+/// Name of the index list property of a face-like element (`vertex_indices`, or
+/// `vertex_index` as some writers name it).
+pub(crate) fn index_property(
+    element: &ElementDef,
+    kind: FaceKind,
+) -> std::result::Result<Option<&'static str>, String> {
+    let mut found = None;
+    for name in ["vertex_indices", "vertex_index"] {
+        match element.properties.get(name).map(|p| &p.data_type) {
+            Some(PropertyType::List(..)) => {
+                if found.is_some() {
+                    return Err(format!(
+                        "the {} element has both 'vertex_indices' and 'vertex_index'",
+                        element.name
+                    ));
+                }
+                found = Some(name);
+            }
+            Some(PropertyType::Scalar(_)) => {
+                return Err(format!(
+                    "{} property '{name}' is a number, expected a list",
+                    element.name
+                ))
+            }
+            None => {}
+        }
+    }
+    let _ = kind;
+    Ok(found)
+}
+
+fn is_integer(t: &ScalarType) -> bool {
+    !matches!(t, ScalarType::Float | ScalarType::Double)
+}
+
+/// Parses the header and the payload into a polygon soup.
+pub(crate) fn read_ply_soup(bytes: &[u8], path: &Path) -> Result<PolygonSoup> {
+    let format = |message: String| Error::Format {
+        path: path.to_owned(),
+        message,
+    };
+    if bytes.is_empty() {
+        return Err(format("empty file".into()));
+    }
+    let mut reader = Reader::new(bytes);
+    let header = Parser::<SkippedElement>::new()
+        .read_header(&mut reader)
+        .map_err(|e| format(format!("malformed PLY header: {e}")))?;
+    let layout = check_header(&header, &format)?;
+    let header_len = bytes.len() - reader.get_ref().len();
+    if header.encoding != Encoding::Ascii {
+        if let Some(soup) =
+            super::ply_fast::read_binary(&header, &bytes[header_len..], &layout, &format)?
+        {
+            return Ok(soup);
+        }
+    }
+    read_general(&header, reader, &layout, &format)
+}
+
+/// The general route: `ply-rs-bw` with own element structs.
+fn read_general(
+    header: &Header,
+    mut reader: Reader<&[u8]>,
+    layout: &Layout,
+    format: &dyn Fn(String) -> Error,
+) -> Result<PolygonSoup> {
+    // The declared count is not trusted for allocation: every vertex takes at least a
+    // few bytes of the file.
+    let room = layout.n_vertices.min(reader.get_ref().len() / 3);
+    let mut soup = PolygonSoup {
+        positions: Vec::with_capacity(room),
+        ..PolygonSoup::default()
+    };
+    let payload_error = |element: &ElementDef, e: ply_rs_bw::parser::ParseError| {
+        let what = if e.kind() == ErrorKind::UnexpectedEof {
+            "truncated file"
+        } else {
+            "malformed data"
+        };
+        format(format!(
+            "{what} in element '{}' ({} declared): {e}",
+            element.name, element.count
+        ))
+    };
+    for (name, element) in &header.elements {
+        match name.as_str() {
+            "vertex" => {
+                let vertices = Parser::<PlyVertex>::new()
+                    .read_payload_for_element(&mut reader, element, header)
+                    .map_err(|e| payload_error(element, e))?;
+                soup.positions
+                    .extend(vertices.iter().map(|v| DVec3::from_array(v.0)));
+            }
+            "face" | "tristrips" => {
+                let kind = if name == "face" {
+                    FaceKind::Polygons
+                } else {
+                    FaceKind::Strips
+                };
+                let faces = Parser::<PlyIndexList>::new()
+                    .read_payload_for_element(&mut reader, element, header)
+                    .map_err(|e| payload_error(element, e))?;
+                for (i, face) in faces.iter().enumerate() {
+                    let indices = face.indices();
+                    match kind {
+                        FaceKind::Polygons => {
+                            push_face(&mut soup, indices, i, layout.n_vertices, format)?
+                        }
+                        FaceKind::Strips => {
+                            push_strip(&mut soup, indices, i, layout.n_vertices, format)?
+                        }
+                    }
+                }
+            }
+            _ => {
+                Parser::<SkippedElement>::new()
+                    .read_payload_for_element(&mut reader, element, header)
+                    .map_err(|e| payload_error(element, e))?;
+            }
+        }
+    }
+    Ok(soup)
+}
+
+/// Checks a face's indices and appends it to the soup.
+pub(crate) fn push_face(
+    soup: &mut PolygonSoup,
+    indices: impl Iterator<Item = i64>,
+    face: usize,
+    n_vertices: usize,
+    format: &dyn Fn(String) -> Error,
+) -> Result<()> {
+    if soup.offsets.is_empty() {
+        soup.offsets.push(0);
+    }
+    for index in indices {
+        soup.indices
+            .push(check_index(index, n_vertices, "face", face, format)?);
+    }
+    soup.offsets.push(soup.indices.len());
+    Ok(())
+}
+
+/// Turns one `tristrips` list into triangles (see the [module docs](self)).
+pub(crate) fn push_strip(
+    soup: &mut PolygonSoup,
+    indices: impl Iterator<Item = i64>,
+    element: usize,
+    n_vertices: usize,
+    format: &dyn Fn(String) -> Error,
+) -> Result<()> {
+    // (a, b): the previous two indices of the current strip; k: triangles so far in it.
+    let mut window: [u32; 2] = [0; 2];
+    let mut len = 0usize;
+    for index in indices {
+        if index == -1 {
+            len = 0;
+            continue;
+        }
+        let c = check_index(index, n_vertices, "tristrips", element, format)?;
+        if len >= 2 {
+            let [a, b] = window;
+            // Triangle k = len - 2 of the strip: even ones (a, b, c), odd ones (b, a, c).
+            let triangle = if (len - 2) % 2 == 0 {
+                [a, b, c]
+            } else {
+                [b, a, c]
+            };
+            if a != b && b != c && a != c {
+                soup.push_polygon(triangle);
+            }
+        }
+        window = [window[1], c];
+        len += 1;
+    }
+    Ok(())
+}
+
+fn check_index(
+    index: i64,
+    n_vertices: usize,
+    element: &str,
+    number: usize,
+    format: &dyn Fn(String) -> Error,
+) -> Result<u32> {
+    if index < 0 {
+        return Err(format(format!(
+            "{element} {number} has a negative vertex index ({index})"
+        )));
+    }
+    if index as u64 >= n_vertices as u64 {
+        return Err(format(format!(
+            "{element} {number} refers to vertex {index}, but the file has {n_vertices} vertices"
+        )));
+    }
+    Ok(index as u32)
+}
+
+/// A vertex of the general route: only `x`, `y`, `z` are kept.
+struct PlyVertex([f64; 3]);
+
+impl PlyVertex {
+    #[inline]
+    fn set(&mut self, name: &str, value: f64) -> PropertyAccessResult {
+        let axis = match name {
+            "x" => 0,
+            "y" => 1,
+            "z" => 2,
+            _ => return PropertyAccessResult::Ignored,
+        };
+        self.0[axis] = value;
+        PropertyAccessResult::Set
+    }
+}
+
+impl PropertyAccess for PlyVertex {
+    fn new() -> Self {
+        Self([0.0; 3])
+    }
+    fn set_char(&mut self, name: &str, value: i8) -> PropertyAccessResult {
+        self.set(name, value.into())
+    }
+    fn set_uchar(&mut self, name: &str, value: u8) -> PropertyAccessResult {
+        self.set(name, value.into())
+    }
+    fn set_short(&mut self, name: &str, value: i16) -> PropertyAccessResult {
+        self.set(name, value.into())
+    }
+    fn set_ushort(&mut self, name: &str, value: u16) -> PropertyAccessResult {
+        self.set(name, value.into())
+    }
+    fn set_int(&mut self, name: &str, value: i32) -> PropertyAccessResult {
+        self.set(name, value.into())
+    }
+    fn set_uint(&mut self, name: &str, value: u32) -> PropertyAccessResult {
+        self.set(name, value.into())
+    }
+    fn set_float(&mut self, name: &str, value: f32) -> PropertyAccessResult {
+        self.set(name, value.into())
+    }
+    fn set_double(&mut self, name: &str, value: f64) -> PropertyAccessResult {
+        self.set(name, value)
+    }
+}
+
+/// A face or strip of the general route: the index list. `int` and `uint` lists (the
+/// usual ones) are filled in place by the parser; the narrow integer types go through
+/// the setters and are widened to `i64`. Only one of the three is non-empty.
+#[derive(Default)]
+struct PlyIndexList {
+    int: Vec<i32>,
+    uint: Vec<u32>,
+    narrow: Vec<i64>,
+}
+
+impl PlyIndexList {
+    /// The indices, widened to `i64` so that negative ones are seen and reported.
+    fn indices(&self) -> impl Iterator<Item = i64> + '_ {
+        let int = self.int.iter().map(|&i| i64::from(i));
+        let uint = self.uint.iter().map(|&i| i64::from(i));
+        int.chain(uint).chain(self.narrow.iter().copied())
+    }
+}
+
+fn is_index_list(name: &str) -> bool {
+    name == "vertex_indices" || name == "vertex_index"
+}
+
+macro_rules! narrow_index_list_setter {
+    ($($method:ident: $t:ty),*) => {$(
+        fn $method(&mut self, name: &str, value: Vec<$t>) -> PropertyAccessResult {
+            if !is_index_list(name) {
+                return PropertyAccessResult::Ignored;
+            }
+            self.narrow.clear();
+            self.narrow.extend(value.into_iter().map(i64::from));
+            PropertyAccessResult::Set
+        }
+    )*};
+}
+
+impl PropertyAccess for PlyIndexList {
+    fn new() -> Self {
+        Self::default()
+    }
+    narrow_index_list_setter!(set_list_char: i8, set_list_uchar: u8, set_list_short: i16,
+        set_list_ushort: u16);
+    fn begin_list_int(&mut self, name: &str, _len: usize) -> BeginList<'_, i32> {
+        if is_index_list(name) {
+            BeginList::Fill(&mut self.int)
+        } else {
+            BeginList::UseSetter
+        }
+    }
+    fn begin_list_uint(&mut self, name: &str, _len: usize) -> BeginList<'_, u32> {
+        if is_index_list(name) {
+            BeginList::Fill(&mut self.uint)
+        } else {
+            BeginList::UseSetter
+        }
+    }
+}
+
+/// An element the reader does not use: every property is read and dropped.
+struct SkippedElement;
+
+impl PropertyAccess for SkippedElement {
+    fn new() -> Self {
+        Self
+    }
+}

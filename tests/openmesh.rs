@@ -1,0 +1,232 @@
+//! The OpenMesh comparison: every mesh in `../shared/meshes/` and in `data/` is loaded
+//! by this kernel and by OpenMesh (`tests/openmesh/report.py`, pip package
+//! `openmesh==1.2.1`), and the topology reports must agree: vertex, edge, face and
+//! halfedge counts, boundary vertices and loops, components, Euler characteristic and the
+//! valence histogram. OpenMesh cannot read PLY `tristrips` (it reports no faces); there
+//! the vertex counts must agree and this kernel must find faces.
+//!
+//! Also: OpenMesh reads the files this kernel writes (OBJ, ASCII PLY, binary PLY) with
+//! the same counts as the mesh that was written.
+//!
+//! Without python3 or the openmesh module these tests fail with instructions; set
+//! `MULTIRES_SKIP_OPENMESH=1` to skip them deliberately.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+
+use halfedge::io::{self, PlyFormat};
+use halfedge::{generators, Mesh};
+use serde_json::Value;
+
+/// The report keys OpenMesh and this kernel both compute.
+const KEYS: [&str; 9] = [
+    "vertices",
+    "edges",
+    "faces",
+    "halfedges",
+    "boundary_vertices",
+    "boundary_loops",
+    "components",
+    "euler",
+    "valence_histogram",
+];
+
+fn root() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// `../shared/meshes` (the first ancestor of the workspace that has `shared/meshes`), or
+/// `$MULTIRES_MESHES`.
+fn shared_meshes() -> PathBuf {
+    if let Some(dir) = std::env::var_os("MULTIRES_MESHES") {
+        return PathBuf::from(dir);
+    }
+    root()
+        .ancestors()
+        .map(|a| a.join("shared/meshes"))
+        .find(|d| d.is_dir())
+        .expect("no shared/meshes directory above the workspace (set MULTIRES_MESHES)")
+}
+
+fn mesh_files(dir: &Path) -> Vec<PathBuf> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
+        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
+        .map(|e| e.unwrap().path())
+        .filter(|p| matches!(p.extension().and_then(|e| e.to_str()), Some("obj" | "ply")))
+        .collect();
+    files.sort();
+    files
+}
+
+/// True when the comparison should run; panics with instructions when OpenMesh is
+/// missing and the skip was not asked for.
+fn openmesh_available() -> bool {
+    if std::env::var("MULTIRES_SKIP_OPENMESH").is_ok_and(|v| v == "1") {
+        eprintln!("MULTIRES_SKIP_OPENMESH=1: OpenMesh comparison skipped");
+        return false;
+    }
+    let probe = Command::new("python3")
+        .args(["-c", "import openmesh, numpy"])
+        .output();
+    match probe {
+        Ok(out) if out.status.success() => true,
+        Ok(out) => panic!(
+            "the python module openmesh is missing ({}); install it with \
+             `pip install openmesh==1.2.1` (needs cmake), or set MULTIRES_SKIP_OPENMESH=1 \
+             to skip the OpenMesh comparison",
+            String::from_utf8_lossy(&out.stderr).trim()
+        ),
+        Err(e) => panic!(
+            "python3 not found ({e}); install python3 and `pip install openmesh==1.2.1`, \
+             or set MULTIRES_SKIP_OPENMESH=1 to skip the OpenMesh comparison"
+        ),
+    }
+}
+
+/// Runs the OpenMesh report script on the files (one python process) while `ours`
+/// computes this kernel's reports, and returns both.
+fn reports(files: &[PathBuf], ours: impl FnOnce() -> Vec<Value>) -> (Vec<Value>, Vec<Value>) {
+    let child = Command::new("python3")
+        .arg(root().join("tests/openmesh/report.py"))
+        .args(files)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("cannot start python3");
+    let ours = ours();
+    let out = child.wait_with_output().expect("python3 did not finish");
+    assert!(
+        out.status.success(),
+        "report.py failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let theirs: Vec<Value> = String::from_utf8(out.stdout)
+        .unwrap()
+        .lines()
+        .map(|l| serde_json::from_str(l).expect("report.py printed invalid JSON"))
+        .collect();
+    assert_eq!(theirs.len(), files.len(), "one OpenMesh report per file");
+    (ours, theirs)
+}
+
+/// Our report as the `topology` example prints it, parsed back (so the JSON is checked too).
+fn our_report(mesh: &Mesh, build: Option<&halfedge::BuildReport>) -> Value {
+    serde_json::from_str(&mesh.topology_report().to_json(build))
+        .expect("TopologyReport::to_json printed invalid JSON")
+}
+
+fn differences(name: &str, ours: &Value, theirs: &Value) -> Vec<String> {
+    KEYS.iter()
+        .filter(|k| ours[**k] != theirs[**k])
+        .map(|k| format!("{name}: {k}: ours {} / OpenMesh {}", ours[*k], theirs[*k]))
+        .collect()
+}
+
+fn has_tristrips(path: &Path) -> bool {
+    let bytes = std::fs::read(path).unwrap();
+    let header_end = bytes
+        .windows(10)
+        .position(|w| w == b"end_header")
+        .unwrap_or(0);
+    String::from_utf8_lossy(&bytes[..header_end]).contains("element tristrips")
+}
+
+#[test]
+fn topology_matches_openmesh_on_every_mesh() {
+    if !openmesh_available() {
+        return;
+    }
+    let mut files = mesh_files(&shared_meshes());
+    assert!(
+        files.len() >= 9,
+        "expected the shared meshes, found {files:?}"
+    );
+    files.extend(mesh_files(&root().join("data")));
+    let (ours, theirs) = reports(&files, || {
+        files
+            .iter()
+            .map(|f| {
+                let (mesh, build) = io::read(f).unwrap_or_else(|e| panic!("{}: {e}", f.display()));
+                mesh.check().unwrap();
+                our_report(&mesh, Some(&build))
+            })
+            .collect()
+    });
+    let mut problems = Vec::new();
+    let mut strips = 0;
+    for ((file, ours), theirs) in files.iter().zip(&ours).zip(&theirs) {
+        let name = file.file_name().unwrap().to_string_lossy();
+        if has_tristrips(file) {
+            // OpenMesh reads the vertices but no faces from tristrips.
+            strips += 1;
+            assert_eq!(
+                theirs["faces"], 0,
+                "{name}: OpenMesh learned to read tristrips"
+            );
+            assert_eq!(ours["vertices"], theirs["vertices"], "{name}: vertex count");
+            assert!(
+                ours["faces"].as_u64().unwrap() > 0,
+                "{name}: no faces from tristrips"
+            );
+            continue;
+        }
+        problems.extend(differences(&name, ours, theirs));
+    }
+    assert!(strips >= 1, "data/ should hold a tristrips PLY");
+    assert!(
+        problems.is_empty(),
+        "topology differs from OpenMesh:\n{}",
+        problems.join("\n")
+    );
+}
+
+#[test]
+fn openmesh_reads_what_we_write() {
+    if !openmesh_available() {
+        return;
+    }
+    let shared = shared_meshes();
+    let mut meshes: Vec<(String, Mesh)> = ["suzanne.obj", "stanford-bunny.obj", "horse.ply"]
+        .iter()
+        .map(|name| (name.to_string(), io::read(shared.join(name)).unwrap().0))
+        .collect();
+    meshes.push((
+        "strips.ply".into(),
+        io::read(root().join("data/strips.ply")).unwrap().0,
+    ));
+    meshes.push(("icosphere3".into(), generators::icosphere(3)));
+
+    let dir = std::env::temp_dir().join(format!("multires-openmesh-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut files = Vec::new();
+    let mut expected = Vec::new();
+    for (i, (name, mesh)) in meshes.iter().enumerate() {
+        let report = our_report(mesh, None);
+        let stem = dir.join(format!("{i}-{}", name.replace('.', "_")));
+        let obj = stem.with_extension("obj");
+        io::write_obj(&obj, mesh).unwrap();
+        let ascii = stem.with_extension("ascii.ply");
+        io::write_ply(&ascii, mesh, PlyFormat::Ascii).unwrap();
+        let binary = stem.with_extension("ply");
+        io::write_ply(&binary, mesh, PlyFormat::BinaryLittleEndian).unwrap();
+        for file in [obj, ascii, binary] {
+            files.push(file);
+            expected.push(report.clone());
+        }
+    }
+    let (_, theirs) = reports(&files, Vec::new);
+    let problems: Vec<String> = files
+        .iter()
+        .zip(&expected)
+        .zip(&theirs)
+        .flat_map(|((file, ours), theirs)| {
+            differences(&file.file_name().unwrap().to_string_lossy(), ours, theirs)
+        })
+        .collect();
+    std::fs::remove_dir_all(&dir).ok();
+    assert!(
+        problems.is_empty(),
+        "OpenMesh reads our files differently:\n{}",
+        problems.join("\n")
+    );
+}
