@@ -21,10 +21,16 @@
 //! `check()`). The new vertex sits at the midpoint of the *original* edge; its distance
 //! to each border comes from a *virtual origin* at the intersection of the spheres of
 //! radii δ₀, δ₁ around the edge's ends: for the midpoint, which lies on the axis of the
-//! intersection circle, that is `√((δ₀² + δ₁²)/2 − L²/4)` (clamped to
-//! `|δ₀ − δ₁|/2` when the spheres miss each other). With Euclidean fields the exact
-//! distance is cheap instead (one grid query per new vertex) and is used. The new vertex
-//! is then placed by the blend like every other.
+//! intersection circle, that is `√((δ₀² + δ₁²)/2 − L²/4)` (at least `|δ₀ − δ₁|/2`).
+//! That point model is exact for fronts from a point, but far off next to a straight
+//! border: an edge parallel to the border at distance `d ≤ L/2` gets 0. The geodesic
+//! fields therefore carry the front radius `R` the march reached each vertex with (0
+//! from a point, `∞` from a border curve, see `distance::geodesic`), and the virtual
+//! origin becomes the centre of a source circle of radius `R`: spheres of radii
+//! `δ₀ + R`, `δ₁ + R`, distance `√(((δ₀+R)² + (δ₁+R)²)/2 − L²/4) − R`. `R = 0` is the
+//! paper's formula; `R → ∞` tends to `(δ₀ + δ₁)/2`, exact for straight fronts. With
+//! Euclidean fields the exact distance is cheap instead (one grid query per new vertex)
+//! and is used. The new vertex is then placed by the blend like every other.
 
 use glam::{DMat4, DVec3};
 use halfedge::{Mesh, VertexId};
@@ -97,6 +103,9 @@ pub struct BlendSession {
     original: Vec<DVec3>,
     d_handle: Vec<f64>,
     d_fixed: Vec<f64>,
+    /// Front radii of the geodesic fields (handle, fixed); `∞` for Euclidean fields.
+    r_handle: Vec<f64>,
+    r_fixed: Vec<f64>,
     alpha: Vec<f64>,
     power: AffinePower,
     grids: Option<(BorderGrid, BorderGrid)>,
@@ -131,7 +140,7 @@ impl BlendSession {
         {
             wanted[mesh.vertex_index(v)] = true;
         }
-        let (d_handle, d_fixed, grids) = match options.distance {
+        let (d_handle, d_fixed, r_handle, r_fixed, grids) = match options.distance {
             DistanceKind::Euclidean => {
                 let cell = 2.0 * mesh.mean_edge_length();
                 let cell = if cell > 0.0 && cell.is_finite() {
@@ -160,20 +169,37 @@ impl BlendSession {
                     d_handle[i] = dh[k];
                     d_fixed[i] = df[k];
                 }
-                (d_handle, d_fixed, Some((handle_grid, fixed_grid)))
+                let infinite = vec![f64::INFINITY; slots];
+                (
+                    d_handle,
+                    d_fixed,
+                    infinite.clone(),
+                    infinite,
+                    Some((handle_grid, fixed_grid)),
+                )
             }
             DistanceKind::Geodesic => {
                 let marching = FastMarching::new(mesh);
+                // A border of one vertex is a point source; longer borders are curves
+                // (locally straight fronts, see `distance::geodesic`).
                 let sources = |vs: &[VertexId]| {
                     vs.iter()
-                        .map(|&v| Source::on_curve(mesh.vertex_index(v)))
+                        .map(|&v| {
+                            if vs.len() == 1 {
+                                Source::point(mesh.vertex_index(v))
+                            } else {
+                                Source::on_curve(mesh.vertex_index(v))
+                            }
+                        })
                         .collect::<Vec<_>>()
                 };
-                let d_handle =
-                    marching.distances(&sources(&regions.handle_border().vertices), Some(&wanted));
-                let d_fixed =
-                    marching.distances(&sources(&regions.fixed_border().vertices), Some(&wanted));
-                (d_handle, d_fixed, None)
+                let (d_handle, r_handle) = marching.distances_and_radii(
+                    &sources(&regions.handle_border().vertices),
+                    Some(&wanted),
+                );
+                let (d_fixed, r_fixed) = marching
+                    .distances_and_radii(&sources(&regions.fixed_border().vertices), Some(&wanted));
+                (d_handle, d_fixed, r_handle, r_fixed, None)
             }
         };
         let mut session = Self {
@@ -185,6 +211,8 @@ impl BlendSession {
             original,
             d_handle,
             d_fixed,
+            r_handle,
+            r_fixed,
             power: AffinePower::from_log(DMat4::IDENTITY, DMat4::ZERO),
             grids,
         };
@@ -412,11 +440,19 @@ impl BlendSession {
         let (pa, pb) = (self.original[ia], self.original[ib]);
         let origin = 0.5 * (pa + pb);
         let length = pa.distance(pb);
+        let mean_radius = |r: &[f64]| {
+            if r[ia].is_finite() && r[ib].is_finite() {
+                0.5 * (r[ia] + r[ib])
+            } else {
+                f64::INFINITY
+            }
+        };
+        let (rh, rf) = (mean_radius(&self.r_handle), mean_radius(&self.r_fixed));
         let (dh, df) = match &self.grids {
             Some((handle, fixed)) => (handle.distance(origin), fixed.distance(origin)),
             None => (
-                virtual_origin_distance(self.d_handle[ia], self.d_handle[ib], length),
-                virtual_origin_distance(self.d_fixed[ia], self.d_fixed[ib], length),
+                virtual_origin_distance(self.d_handle[ia], self.d_handle[ib], length, rh),
+                virtual_origin_distance(self.d_fixed[ia], self.d_fixed[ib], length, rf),
             ),
         };
         let alpha = self.shape.eval(blend_ratio(df, dh));
@@ -428,11 +464,15 @@ impl BlendSession {
             self.original.resize(slots, DVec3::ZERO);
             self.d_handle.resize(slots, f64::INFINITY);
             self.d_fixed.resize(slots, f64::INFINITY);
+            self.r_handle.resize(slots, f64::INFINITY);
+            self.r_fixed.resize(slots, f64::INFINITY);
             self.alpha.resize(slots, 0.0);
         }
         self.original[i] = origin;
         self.d_handle[i] = dh;
         self.d_fixed[i] = df;
+        self.r_handle[i] = rh;
+        self.r_fixed[i] = rf;
         self.alpha[i] = alpha;
         self.regions.push_deformable(mesh, m);
         self.n_vertices += 1;
@@ -457,19 +497,32 @@ pub fn blend_ratio(d_fixed: f64, d_handle: f64) -> f64 {
     }
 }
 
-/// Distance of the midpoint of an edge of length `length` from the virtual origin at
-/// the intersection of the spheres of radii `d0`, `d1` around its ends (Bendels & Klein
-/// Sec. 6, *Mesh forging*): `√((d0² + d1²)/2 − L²/4)`, at least `|d0 − d1|/2`.
-/// Infinite distances stay infinite.
+/// Distance of the midpoint of an edge of length `length` from the virtual origin
+/// (Bendels & Klein, Sec. 6, *Mesh forging*), for a front of radius `radius` reaching
+/// the ends at distances `d0`, `d1`: the centre of the source circle lies at `d0 + R`
+/// and `d1 + R` from the ends, so the midpoint is at
+/// `√(((d0+R)² + (d1+R)²)/2 − L²/4) − R`, at least `|d0 − d1|/2`. `R = 0` is the
+/// paper's virtual origin (exact for a point source); `R = ∞` gives `(d0 + d1)/2`
+/// (exact for a straight front). Infinite distances stay infinite.
 #[inline]
 #[must_use]
-pub fn virtual_origin_distance(d0: f64, d1: f64, length: f64) -> f64 {
+pub fn virtual_origin_distance(d0: f64, d1: f64, length: f64, radius: f64) -> f64 {
     if !(d0.is_finite() && d1.is_finite()) {
         return f64::INFINITY;
     }
-    let squared = 0.5 * (d0 * d0 + d1 * d1) - 0.25 * length * length;
-    let floor = 0.25 * (d0 - d1) * (d0 - d1);
-    squared.max(floor).sqrt()
+    let floor = 0.5 * (d0 - d1).abs();
+    let mean = 0.5 * (d0 + d1);
+    if !radius.is_finite() {
+        return mean.max(floor);
+    }
+    // (m + R)² + q with q = ((d0 − d1)² − L²)/4, written to stay accurate for large R.
+    let s = mean + radius.max(0.0);
+    let q = 0.25 * ((d0 - d1) * (d0 - d1) - length * length);
+    let inside = s * s + q;
+    if inside <= 0.0 {
+        return floor;
+    }
+    (mean + q / (inside.sqrt() + s)).max(floor)
 }
 
 #[cfg(test)]
@@ -478,14 +531,28 @@ mod tests {
 
     #[test]
     fn virtual_origin_is_exact_for_point_and_line_sources() {
-        // A point source at the origin, edge from (3, 4) to (3, −4): midpoint at 3.
-        let d = virtual_origin_distance(5.0, 5.0, 8.0);
+        // A point source at the origin, edge from (3, 4) to (3, -4): midpoint at 3.
+        let d = virtual_origin_distance(5.0, 5.0, 8.0, 0.0);
         assert!((d - 3.0).abs() < 1e-15);
-        // Along a ray from the source: 2 and 6 → midpoint at 4.
-        assert!((virtual_origin_distance(2.0, 6.0, 4.0) - 4.0).abs() < 1e-15);
+        // Along a ray from the source: 2 and 6, midpoint at 4.
+        assert!((virtual_origin_distance(2.0, 6.0, 4.0, 0.0) - 4.0).abs() < 1e-15);
         // Spheres that miss each other: half the difference.
-        assert_eq!(virtual_origin_distance(0.0, 1.0, 5.0), 0.5);
-        assert!(virtual_origin_distance(f64::INFINITY, 1.0, 1.0).is_infinite());
+        assert_eq!(virtual_origin_distance(0.0, 1.0, 5.0, 0.0), 0.5);
+        assert!(virtual_origin_distance(f64::INFINITY, 1.0, 1.0, 0.0).is_infinite());
+        // A straight front: the mean, also for an edge parallel to it, close to it.
+        assert_eq!(
+            virtual_origin_distance(0.05, 0.05, 0.2, f64::INFINITY),
+            0.05
+        );
+        assert_eq!(virtual_origin_distance(0.05, 0.05, 0.2, 0.0), 0.0);
+        // A front from a source circle of radius 1 around the origin: a chord at radius 3.
+        let a = DVec3::new(3.0, 0.0, 0.0);
+        let b = DVec3::new(3.0 * 0.5f64.cos(), 3.0 * 0.5f64.sin(), 0.0);
+        let d = virtual_origin_distance(2.0, 2.0, a.distance(b), 1.0);
+        assert!((d - (0.5 * (a + b)).length() + 1.0).abs() < 1e-14);
+        // Large radii tend to the mean without cancellation.
+        let d = virtual_origin_distance(1.0, 2.0, 1.5, 1e12);
+        assert!((d - 1.5).abs() < 1e-9);
     }
 
     #[test]

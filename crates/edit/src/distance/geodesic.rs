@@ -274,6 +274,21 @@ impl FastMarching {
     /// errors: indices come from the same mesh).
     #[must_use]
     pub fn distances(&self, sources: &[Source], active: Option<&[bool]>) -> Vec<f64> {
+        self.distances_and_radii(sources, active).0
+    }
+
+    /// [`FastMarching::distances`] together with the front radius each vertex was
+    /// reached with (0 from point sources, `∞` from curves; see the module docs): what
+    /// refinement needs to place a virtual origin.
+    ///
+    /// # Panics
+    /// As [`FastMarching::distances`].
+    #[must_use]
+    pub fn distances_and_radii(
+        &self,
+        sources: &[Source],
+        active: Option<&[bool]>,
+    ) -> (Vec<f64>, Vec<f64>) {
         const FAR: u8 = 0;
         const DONE: u8 = 1;
         const OFF: u8 = 2;
@@ -362,7 +377,7 @@ impl FastMarching {
                 }
             }
         }
-        t
+        (t, radius)
     }
 
     /// [`FastMarching::distances`] from isolated point sources at distance 0.
