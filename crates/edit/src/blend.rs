@@ -1,1 +1,566 @@
-//! Module `blend`: implementation arrives with its issue.
+//! The editing session of Bendels & Klein, *Image and 3D-object editing with precisely
+//! specified editing regions*: set the regions once, compute the two distance fields
+//! once, then apply any number of handle transforms and shape functions interactively.
+//!
+//! For a deformable vertex `i` with distances `d_fixed` and `d_handle` to the two
+//! borders (Sec. 4), `α_i = f(d_fixed / (d_fixed + d_handle))` with the shape function
+//! `f` (Sec. 5), and the vertex moves to `(α_i ⊙ A) p_i = exp(α_i log A) p_i` (Sec. 3,
+//! after Alexa 2002), always from its *original* position `p_i`. The handle moves to
+//! `A p_i`, the fixed area never moves (its positions are not even written, so they stay
+//! bit for bit). An edit computes `log A` once ([`AffinePower`]) and transforms the
+//! vertices in parallel; a change of shape function recomputes the α only.
+//!
+//! Degenerate distances: a vertex that only the handle reaches (`d_fixed = ∞`) follows
+//! the handle (α = 1), one that only the fixed area reaches stays (α = 0), one neither
+//! reaches (or at distance 0 from both) stays too.
+//!
+//! **Adaptive refinement** (Sec. 6, after *Mesh forging*): where the deformation
+//! stretched triangles of the deformable area, [`BlendSession::refine`] splits every
+//! edge longer than a threshold, longest first (Rivara's longest-edge bisection; each
+//! split cuts both triangles of the edge, so the mesh stays conforming and passes
+//! `check()`). The new vertex sits at the midpoint of the *original* edge; its distance
+//! to each border comes from a *virtual origin* at the intersection of the spheres of
+//! radii δ₀, δ₁ around the edge's ends: for the midpoint, which lies on the axis of the
+//! intersection circle, that is `√((δ₀² + δ₁²)/2 − L²/4)` (at least `|δ₀ − δ₁|/2`).
+//! That point model is exact for fronts from a point, but far off next to a straight
+//! border: an edge parallel to the border at distance `d ≤ L/2` gets 0. The geodesic
+//! fields therefore carry the front radius `R` the march reached each vertex with (0
+//! from a point, `∞` from a border curve, see `distance::geodesic`), and the virtual
+//! origin becomes the centre of a source circle of radius `R`: spheres of radii
+//! `δ₀ + R`, `δ₁ + R`, distance `√(((δ₀+R)² + (δ₁+R)²)/2 − L²/4) − R`. `R = 0` is the
+//! paper's formula; `R → ∞` tends to `(δ₀ + δ₁)/2`, exact for straight fronts. With
+//! Euclidean fields the exact distance is cheap instead (one grid query per new vertex)
+//! and is used. The new vertex is then placed by the blend like every other.
+
+use glam::{DMat4, DVec3};
+use halfedge::{Mesh, VertexId};
+use rayon::prelude::*;
+
+use crate::distance::{BorderGrid, FastMarching, QueryPoints, Source};
+use crate::matrix::AffinePower;
+use crate::regions::{Regions, Role};
+use crate::shape::ShapeFunction;
+use crate::{EditError, Result};
+
+/// Which distance the blend weights are built on (Bendels & Klein, Sec. 4).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum DistanceKind {
+    /// Distance in space to the border polylines: behaves like a space deformation.
+    Euclidean,
+    /// Distance on the surface (fast marching within the deformable area): behaves like
+    /// spline editing; α grows monotonically along the surface (the paper's Fig. 3).
+    #[default]
+    Geodesic,
+}
+
+/// Options of a [`BlendSession`].
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct BlendOptions {
+    /// The distance fields. Default: geodesic.
+    pub distance: DistanceKind,
+    /// The shape function. Default: C¹ smoothstep.
+    pub shape: ShapeFunction,
+}
+
+/// Options of [`BlendSession::refine`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RefineOptions {
+    /// Edges of the deformable area longer than this (after the edit) are split.
+    pub max_edge_length: f64,
+    /// At most this many vertices are added (a guard against run-away refinement).
+    pub max_new_vertices: usize,
+}
+
+impl RefineOptions {
+    /// Split edges longer than `max_edge_length`, at most a million new vertices.
+    #[must_use]
+    pub fn new(max_edge_length: f64) -> Self {
+        Self {
+            max_edge_length,
+            max_new_vertices: 1_000_000,
+        }
+    }
+}
+
+/// What [`BlendSession::refine`] did.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct RefineReport {
+    /// Vertices added (one per edge split).
+    pub new_vertices: usize,
+    /// Passes over the edges.
+    pub passes: usize,
+    /// Longest deformed edge of the deformable area afterwards.
+    pub longest_edge: f64,
+}
+
+/// An editing session with precisely specified regions (see the module docs).
+#[derive(Clone, Debug)]
+pub struct BlendSession {
+    regions: Regions,
+    distance: DistanceKind,
+    shape: ShapeFunction,
+    n_vertices: usize,
+    original: Vec<DVec3>,
+    d_handle: Vec<f64>,
+    d_fixed: Vec<f64>,
+    /// Front radii of the geodesic fields (handle, fixed); `∞` for Euclidean fields.
+    r_handle: Vec<f64>,
+    r_fixed: Vec<f64>,
+    alpha: Vec<f64>,
+    power: AffinePower,
+    grids: Option<(BorderGrid, BorderGrid)>,
+}
+
+impl BlendSession {
+    /// Sets up the session: records the original positions and computes both distance
+    /// fields and the blend weights. The mesh is not changed.
+    ///
+    /// # Errors
+    /// [`EditError::SessionMismatch`] when `regions` belong to another mesh.
+    pub fn new(mesh: &Mesh, regions: Regions, options: BlendOptions) -> Result<Self> {
+        let slots = mesh.vertex_slots();
+        if regions.roles().len() != slots {
+            return Err(EditError::SessionMismatch(format!(
+                "regions cover {} vertex slots, the mesh has {slots}",
+                regions.roles().len()
+            )));
+        }
+        let original = mesh.positions().to_vec();
+        // Distances are wanted on the deformable area and on both borders (refinement
+        // interpolates them along edges that end on a border).
+        let mut wanted = vec![false; slots];
+        for &v in regions.deformable() {
+            wanted[mesh.vertex_index(v)] = true;
+        }
+        for &v in regions
+            .handle_border()
+            .vertices
+            .iter()
+            .chain(&regions.fixed_border().vertices)
+        {
+            wanted[mesh.vertex_index(v)] = true;
+        }
+        let (d_handle, d_fixed, r_handle, r_fixed, grids) = match options.distance {
+            DistanceKind::Euclidean => {
+                let cell = 2.0 * mesh.mean_edge_length();
+                let cell = if cell > 0.0 && cell.is_finite() {
+                    cell
+                } else {
+                    1.0
+                };
+                let segments = |edges: &[(VertexId, VertexId)]| {
+                    edges
+                        .iter()
+                        .map(|&(a, b)| (mesh.position(a), mesh.position(b)))
+                        .collect::<Vec<_>>()
+                };
+                let handle_grid =
+                    BorderGrid::from_segments(cell, segments(&regions.handle_border().edges))?;
+                let fixed_grid =
+                    BorderGrid::from_segments(cell, segments(&regions.fixed_border().edges))?;
+                let indices: Vec<usize> = (0..slots).filter(|&i| wanted[i]).collect();
+                let points: Vec<DVec3> = indices.iter().map(|&i| original[i]).collect();
+                let queries = QueryPoints::new(&points, cell);
+                let dh = handle_grid.distances_to(&queries);
+                let df = fixed_grid.distances_to(&queries);
+                let mut d_handle = vec![f64::INFINITY; slots];
+                let mut d_fixed = vec![f64::INFINITY; slots];
+                for (k, &i) in indices.iter().enumerate() {
+                    d_handle[i] = dh[k];
+                    d_fixed[i] = df[k];
+                }
+                let infinite = vec![f64::INFINITY; slots];
+                (
+                    d_handle,
+                    d_fixed,
+                    infinite.clone(),
+                    infinite,
+                    Some((handle_grid, fixed_grid)),
+                )
+            }
+            DistanceKind::Geodesic => {
+                let marching = FastMarching::new(mesh);
+                // A border of one vertex is a point source; longer borders are curves
+                // (locally straight fronts, see `distance::geodesic`).
+                let sources = |vs: &[VertexId]| {
+                    vs.iter()
+                        .map(|&v| {
+                            if vs.len() == 1 {
+                                Source::point(mesh.vertex_index(v))
+                            } else {
+                                Source::on_curve(mesh.vertex_index(v))
+                            }
+                        })
+                        .collect::<Vec<_>>()
+                };
+                let (d_handle, r_handle) = marching.distances_and_radii(
+                    &sources(&regions.handle_border().vertices),
+                    Some(&wanted),
+                );
+                let (d_fixed, r_fixed) = marching
+                    .distances_and_radii(&sources(&regions.fixed_border().vertices), Some(&wanted));
+                (d_handle, d_fixed, r_handle, r_fixed, None)
+            }
+        };
+        let mut session = Self {
+            n_vertices: mesh.n_vertices(),
+            alpha: vec![0.0; slots],
+            regions,
+            distance: options.distance,
+            shape: options.shape,
+            original,
+            d_handle,
+            d_fixed,
+            r_handle,
+            r_fixed,
+            power: AffinePower::from_log(DMat4::IDENTITY, DMat4::ZERO),
+            grids,
+        };
+        // Exact zeros on the borders themselves.
+        for (i, role) in session.regions.roles().iter().enumerate() {
+            match role {
+                Role::Handle => session.d_handle[i] = 0.0,
+                Role::Fixed => session.d_fixed[i] = 0.0,
+                Role::Deformable => {}
+            }
+        }
+        session.update_alpha();
+        Ok(session)
+    }
+
+    /// The regions.
+    #[must_use]
+    pub fn regions(&self) -> &Regions {
+        &self.regions
+    }
+    /// The distance kind.
+    #[must_use]
+    pub fn distance_kind(&self) -> DistanceKind {
+        self.distance
+    }
+    /// The shape function.
+    #[must_use]
+    pub fn shape(&self) -> &ShapeFunction {
+        &self.shape
+    }
+    /// The current handle transform (identity before the first edit).
+    #[must_use]
+    pub fn transform(&self) -> DMat4 {
+        self.power.transform()
+    }
+    /// Blend weights by vertex index: 0 on the fixed area, 1 on the handle.
+    #[must_use]
+    pub fn alpha(&self) -> &[f64] {
+        &self.alpha
+    }
+    /// Distances to the handle border by vertex index (`∞` off the deformable area and
+    /// its borders).
+    #[must_use]
+    pub fn handle_distances(&self) -> &[f64] {
+        &self.d_handle
+    }
+    /// Distances to the fixed border by vertex index.
+    #[must_use]
+    pub fn fixed_distances(&self) -> &[f64] {
+        &self.d_fixed
+    }
+    /// Original (undeformed) positions by vertex index.
+    #[must_use]
+    pub fn original_positions(&self) -> &[DVec3] {
+        &self.original
+    }
+
+    /// Changes the shape function and recomputes the weights (the paper's Fig. 8). Call
+    /// [`BlendSession::reapply`] to see it on the mesh.
+    pub fn set_shape(&mut self, shape: ShapeFunction) {
+        self.shape = shape;
+        self.update_alpha();
+    }
+
+    fn update_alpha(&mut self) {
+        let shape = &self.shape;
+        let roles = self.regions.roles();
+        let (dh, df) = (&self.d_handle, &self.d_fixed);
+        self.alpha
+            .par_iter_mut()
+            .enumerate()
+            .with_min_len(4096)
+            .for_each(|(i, a)| {
+                *a = match roles[i] {
+                    Role::Fixed => 0.0,
+                    Role::Handle => 1.0,
+                    Role::Deformable => shape.eval(blend_ratio(df[i], dh[i])),
+                };
+            });
+    }
+
+    fn check_mesh(&self, mesh: &Mesh) -> Result<()> {
+        if mesh.vertex_slots() != self.original.len() || mesh.n_vertices() != self.n_vertices {
+            return Err(EditError::SessionMismatch(format!(
+                "the session knows {} vertices in {} slots, the mesh has {} in {}",
+                self.n_vertices,
+                self.original.len(),
+                mesh.n_vertices(),
+                mesh.vertex_slots()
+            )));
+        }
+        Ok(())
+    }
+
+    /// Applies the handle transform `a`: the handle to `A p`, each deformable vertex to
+    /// `(α ⊙ A) p`, from the original positions. Computes `log A` once. On error the
+    /// mesh is unchanged.
+    ///
+    /// # Errors
+    /// [`EditError::SessionMismatch`] for another mesh; the errors of
+    /// [`AffinePower::new`] (no real logarithm, not affine, not finite).
+    pub fn apply(&mut self, mesh: &mut Mesh, a: DMat4) -> Result<()> {
+        self.check_mesh(mesh)?;
+        self.power = AffinePower::new(a)?;
+        self.write(mesh);
+        Ok(())
+    }
+
+    /// Applies the current transform again (after [`BlendSession::set_shape`]).
+    ///
+    /// # Errors
+    /// [`EditError::SessionMismatch`] for another mesh.
+    pub fn reapply(&self, mesh: &mut Mesh) -> Result<()> {
+        self.check_mesh(mesh)?;
+        self.write(mesh);
+        Ok(())
+    }
+
+    /// Puts the handle and the deformable area back at their original positions.
+    ///
+    /// # Errors
+    /// [`EditError::SessionMismatch`] for another mesh.
+    pub fn reset(&self, mesh: &mut Mesh) -> Result<()> {
+        self.check_mesh(mesh)?;
+        let roles = self.regions.roles();
+        mesh.positions_mut()
+            .par_iter_mut()
+            .zip(self.original.par_iter())
+            .enumerate()
+            .with_min_len(4096)
+            .for_each(|(i, (p, &o))| {
+                if roles[i] != Role::Fixed {
+                    *p = o;
+                }
+            });
+        Ok(())
+    }
+
+    fn write(&self, mesh: &mut Mesh) {
+        let roles = self.regions.roles();
+        let power = &self.power;
+        mesh.positions_mut()
+            .par_iter_mut()
+            .zip(self.original.par_iter())
+            .zip(self.alpha.par_iter())
+            .zip(roles.par_iter())
+            .with_min_len(4096)
+            .for_each(|(((p, &o), &alpha), &role)| {
+                if role != Role::Fixed {
+                    *p = power.transform_point(alpha, o);
+                }
+            });
+    }
+
+    /// Adaptive refinement of the deformable area (Sec. 6): splits, longest first, every
+    /// edge with a deformable end whose current (deformed) length exceeds
+    /// `options.max_edge_length`, until none does or the vertex budget is spent. New
+    /// vertices join the deformable area with distances from the virtual origin (see the
+    /// module docs) and are placed by the current blend. The mesh passes `check()`.
+    ///
+    /// # Errors
+    /// [`EditError::SessionMismatch`] for another mesh; [`EditError::InvalidParameter`]
+    /// for a threshold that is not finite and positive.
+    pub fn refine(&mut self, mesh: &mut Mesh, options: RefineOptions) -> Result<RefineReport> {
+        self.check_mesh(mesh)?;
+        let max = options.max_edge_length;
+        if !(max.is_finite() && max > 0.0) {
+            return Err(EditError::InvalidParameter {
+                name: "max_edge_length",
+                reason: format!("must be finite and positive, got {max}"),
+            });
+        }
+        let mut report = RefineReport::default();
+        loop {
+            let roles = self.regions.roles();
+            let mut long: Vec<(f64, halfedge::HalfedgeId)> = mesh
+                .edges()
+                .filter(|&h| {
+                    roles[mesh.vertex_index(mesh.from_vertex(h))] == Role::Deformable
+                        || roles[mesh.vertex_index(mesh.to_vertex(h))] == Role::Deformable
+                })
+                .map(|h| (mesh.edge_length(h), h))
+                .filter(|&(l, _)| l > max)
+                .collect();
+            if long.is_empty() || report.new_vertices >= options.max_new_vertices {
+                break;
+            }
+            report.passes += 1;
+            long.sort_by(|a, b| b.0.total_cmp(&a.0));
+            for (_, h) in long {
+                if report.new_vertices >= options.max_new_vertices {
+                    break;
+                }
+                // Earlier splits of this pass may have shortened or moved this edge.
+                if mesh.edge_length(h) <= max {
+                    continue;
+                }
+                let (a, b) = (mesh.from_vertex(h), mesh.to_vertex(h));
+                let (ia, ib) = (mesh.vertex_index(a), mesh.vertex_index(b));
+                let roles = self.regions.roles();
+                if roles[ia] != Role::Deformable && roles[ib] != Role::Deformable {
+                    continue;
+                }
+                self.split(mesh, h, ia, ib);
+                report.new_vertices += 1;
+            }
+            if report.passes >= 64 {
+                break;
+            }
+        }
+        let roles = self.regions.roles();
+        report.longest_edge = mesh
+            .edges()
+            .filter(|&h| {
+                roles[mesh.vertex_index(mesh.from_vertex(h))] == Role::Deformable
+                    || roles[mesh.vertex_index(mesh.to_vertex(h))] == Role::Deformable
+            })
+            .map(|h| mesh.edge_length(h))
+            .fold(0.0, f64::max);
+        Ok(report)
+    }
+
+    /// Splits the edge `h = (a → b)` at the blended image of the original midpoint.
+    fn split(&mut self, mesh: &mut Mesh, h: halfedge::HalfedgeId, ia: usize, ib: usize) {
+        let (pa, pb) = (self.original[ia], self.original[ib]);
+        let origin = 0.5 * (pa + pb);
+        let length = pa.distance(pb);
+        let mean_radius = |r: &[f64]| {
+            if r[ia].is_finite() && r[ib].is_finite() {
+                0.5 * (r[ia] + r[ib])
+            } else {
+                f64::INFINITY
+            }
+        };
+        let (rh, rf) = (mean_radius(&self.r_handle), mean_radius(&self.r_fixed));
+        let (dh, df) = match &self.grids {
+            Some((handle, fixed)) => (handle.distance(origin), fixed.distance(origin)),
+            None => (
+                virtual_origin_distance(self.d_handle[ia], self.d_handle[ib], length, rh),
+                virtual_origin_distance(self.d_fixed[ia], self.d_fixed[ib], length, rf),
+            ),
+        };
+        let alpha = self.shape.eval(blend_ratio(df, dh));
+        let position = self.power.transform_point(alpha, origin);
+        let m = mesh.split_edge(h, position);
+        let i = mesh.vertex_index(m);
+        let slots = mesh.vertex_slots();
+        if self.original.len() < slots {
+            self.original.resize(slots, DVec3::ZERO);
+            self.d_handle.resize(slots, f64::INFINITY);
+            self.d_fixed.resize(slots, f64::INFINITY);
+            self.r_handle.resize(slots, f64::INFINITY);
+            self.r_fixed.resize(slots, f64::INFINITY);
+            self.alpha.resize(slots, 0.0);
+        }
+        self.original[i] = origin;
+        self.d_handle[i] = dh;
+        self.d_fixed[i] = df;
+        self.r_handle[i] = rh;
+        self.r_fixed[i] = rf;
+        self.alpha[i] = alpha;
+        self.regions.push_deformable(mesh, m);
+        self.n_vertices += 1;
+    }
+}
+
+/// `d_fixed / (d_fixed + d_handle)` with the conventions of the module docs.
+#[inline]
+#[must_use]
+pub fn blend_ratio(d_fixed: f64, d_handle: f64) -> f64 {
+    match (d_fixed.is_finite(), d_handle.is_finite()) {
+        (true, true) => {
+            let sum = d_fixed + d_handle;
+            if sum > 0.0 {
+                d_fixed / sum
+            } else {
+                0.0
+            }
+        }
+        (false, true) => 1.0,
+        _ => 0.0,
+    }
+}
+
+/// Distance of the midpoint of an edge of length `length` from the virtual origin
+/// (Bendels & Klein, Sec. 6, *Mesh forging*), for a front of radius `radius` reaching
+/// the ends at distances `d0`, `d1`: the centre of the source circle lies at `d0 + R`
+/// and `d1 + R` from the ends, so the midpoint is at
+/// `√(((d0+R)² + (d1+R)²)/2 − L²/4) − R`, at least `|d0 − d1|/2`. `R = 0` is the
+/// paper's virtual origin (exact for a point source); `R = ∞` gives `(d0 + d1)/2`
+/// (exact for a straight front). Infinite distances stay infinite.
+#[inline]
+#[must_use]
+pub fn virtual_origin_distance(d0: f64, d1: f64, length: f64, radius: f64) -> f64 {
+    if !(d0.is_finite() && d1.is_finite()) {
+        return f64::INFINITY;
+    }
+    let floor = 0.5 * (d0 - d1).abs();
+    let mean = 0.5 * (d0 + d1);
+    if !radius.is_finite() {
+        return mean.max(floor);
+    }
+    // (m + R)² + q with q = ((d0 − d1)² − L²)/4, written to stay accurate for large R.
+    let s = mean + radius.max(0.0);
+    let q = 0.25 * ((d0 - d1) * (d0 - d1) - length * length);
+    let inside = s * s + q;
+    if inside <= 0.0 {
+        return floor;
+    }
+    (mean + q / (inside.sqrt() + s)).max(floor)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn virtual_origin_is_exact_for_point_and_line_sources() {
+        // A point source at the origin, edge from (3, 4) to (3, -4): midpoint at 3.
+        let d = virtual_origin_distance(5.0, 5.0, 8.0, 0.0);
+        assert!((d - 3.0).abs() < 1e-15);
+        // Along a ray from the source: 2 and 6, midpoint at 4.
+        assert!((virtual_origin_distance(2.0, 6.0, 4.0, 0.0) - 4.0).abs() < 1e-15);
+        // Spheres that miss each other: half the difference.
+        assert_eq!(virtual_origin_distance(0.0, 1.0, 5.0, 0.0), 0.5);
+        assert!(virtual_origin_distance(f64::INFINITY, 1.0, 1.0, 0.0).is_infinite());
+        // A straight front: the mean, also for an edge parallel to it, close to it.
+        assert_eq!(
+            virtual_origin_distance(0.05, 0.05, 0.2, f64::INFINITY),
+            0.05
+        );
+        assert_eq!(virtual_origin_distance(0.05, 0.05, 0.2, 0.0), 0.0);
+        // A front from a source circle of radius 1 around the origin: a chord at radius 3.
+        let a = DVec3::new(3.0, 0.0, 0.0);
+        let b = DVec3::new(3.0 * 0.5f64.cos(), 3.0 * 0.5f64.sin(), 0.0);
+        let d = virtual_origin_distance(2.0, 2.0, a.distance(b), 1.0);
+        assert!((d - (0.5 * (a + b)).length() + 1.0).abs() < 1e-14);
+        // Large radii tend to the mean without cancellation.
+        let d = virtual_origin_distance(1.0, 2.0, 1.5, 1e12);
+        assert!((d - 1.5).abs() < 1e-9);
+    }
+
+    #[test]
+    fn blend_ratio_conventions() {
+        assert_eq!(blend_ratio(1.0, 3.0), 0.25);
+        assert_eq!(blend_ratio(0.0, 0.0), 0.0);
+        assert_eq!(blend_ratio(f64::INFINITY, 2.0), 1.0);
+        assert_eq!(blend_ratio(2.0, f64::INFINITY), 0.0);
+        assert_eq!(blend_ratio(f64::INFINITY, f64::INFINITY), 0.0);
+    }
+}

@@ -31,6 +31,7 @@ pub mod io;
 pub mod iter;
 mod mesh;
 mod paths;
+mod split;
 mod topology;
 
 pub use attributes::{Attribute, AttributeValue, Element};

@@ -1,1 +1,0 @@
-//! Module `distance`: implementation arrives with its issue.
