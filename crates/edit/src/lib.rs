@@ -16,6 +16,7 @@
 //!   parametric surfaces* (shape surface + height surface).
 
 mod error;
+pub mod selection;
 pub mod laplace;
 
 pub mod area;
