@@ -25,7 +25,7 @@
 
 mod bend;
 mod taper;
-mod twist;
+pub(crate) mod twist;
 
 use glam::DVec3;
 use halfedge::Mesh;
