@@ -50,19 +50,6 @@ impl Resolved {
             Resolved::Sparse(v) => v.clone(),
         }
     }
-    /// A per-slot mask of the selection.
-    pub(crate) fn to_mask(&self, slots: usize) -> Vec<bool> {
-        match self {
-            Resolved::Dense(_) => vec![true; slots],
-            Resolved::Sparse(v) => {
-                let mut mask = vec![false; slots];
-                for &i in v {
-                    mask[i as usize] = true;
-                }
-                mask
-            }
-        }
-    }
 }
 
 /// True when every vertex slot of `mesh` holds a live vertex (no tombstones or free
