@@ -487,14 +487,25 @@ fn along(map: &Map, p: DVec3, start: f64, end: f64) -> f64 {
 }
 
 /// `q` (the edited position of `p`) kept on the side of `plane` where `p` was: a vertex
-/// that would cross the plane stops on it (Fig. 11).
+/// that would cross the plane stops on it (Fig. 11). The projection is nudged by a few
+/// units in the last place when rounding would leave it a hair across.
 #[inline]
 fn keep_side(plane: &Plane, p: DVec3, q: DVec3) -> DVec3 {
     let before = plane.signed_distance(p);
+    let wrong = |d: f64| (before >= 0.0 && d < 0.0) || (before < 0.0 && d > 0.0);
     let after = plane.signed_distance(q);
-    if (before >= 0.0 && after < 0.0) || (before < 0.0 && after > 0.0) {
-        q - after * plane.normal
-    } else {
-        q
+    if !wrong(after) {
+        return q;
     }
+    let mut r = q - after * plane.normal;
+    let side = if before >= 0.0 { 1.0 } else { -1.0 };
+    let mut nudge = f64::EPSILON * (r.abs().max_element() + plane.point.abs().max_element());
+    for _ in 0..64 {
+        if !wrong(plane.signed_distance(r)) {
+            break;
+        }
+        r += side * nudge * plane.normal;
+        nudge *= 2.0;
+    }
+    r
 }

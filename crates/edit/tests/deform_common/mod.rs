@@ -121,9 +121,10 @@ pub fn component(mesh: &Mesh, mask: &[bool], seed: usize) -> Vec<bool> {
     out
 }
 
-/// Slot of the vertex with the largest `key`.
+/// Slot of the vertex with the largest `key`, among vertices with faces.
 pub fn argmax(mesh: &Mesh, key: impl Fn(DVec3) -> f64) -> usize {
     mesh.vertices()
+        .filter(|&v| !mesh.is_isolated(v))
         .map(|v| mesh.vertex_index(v))
         .max_by(|&a, &b| key(mesh.positions()[a]).total_cmp(&key(mesh.positions()[b])))
         .unwrap()
