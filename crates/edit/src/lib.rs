@@ -16,8 +16,8 @@
 //!   parametric surfaces* (shape surface + height surface).
 
 mod error;
-pub mod selection;
 pub mod laplace;
+pub mod selection;
 
 pub mod area;
 pub mod mba;

@@ -77,7 +77,9 @@ impl Vertices<'_> {
                     Ok(Resolved::Dense(slots))
                 } else {
                     Ok(Resolved::Sparse(
-                        mesh.vertices().map(|v| mesh.vertex_index(v) as u32).collect(),
+                        mesh.vertices()
+                            .map(|v| mesh.vertex_index(v) as u32)
+                            .collect(),
                     ))
                 }
             }

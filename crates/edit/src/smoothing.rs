@@ -203,7 +203,13 @@ impl Smoother {
 
     /// `iterations` of Taubin's λ|μ pair (λ > 0, μ < 0). Nothing changes for zero
     /// iterations or λ = μ = 0.
-    pub fn taubin(&mut self, mesh: &mut Mesh, lambda: f64, mu: f64, iterations: usize) -> Result<()> {
+    pub fn taubin(
+        &mut self,
+        mesh: &mut Mesh,
+        lambda: f64,
+        mu: f64,
+        iterations: usize,
+    ) -> Result<()> {
         finite("lambda", lambda)?;
         finite("mu", mu)?;
         self.run(mesh, &[lambda, mu], iterations)
@@ -259,7 +265,9 @@ impl Smoother {
                 .zip(self.local_to_slot.par_iter())
                 .for_each(|(x, &i)| *x = positions[i as usize]);
         }
-        b.par_iter_mut().zip(a.par_iter()).for_each(|(y, x)| *y = *x);
+        b.par_iter_mut()
+            .zip(a.par_iter())
+            .for_each(|(y, x)| *y = *x);
     }
 
     fn scatter(&self, positions: &mut [DVec3], current: usize) {
@@ -356,7 +364,10 @@ mod tests {
         let before = mesh.positions().to_vec();
         taubin(&mut mesh, Vertices::All, &TaubinOptions::default(), 5).unwrap();
         for (a, b) in before.iter().zip(mesh.positions()) {
-            assert!((a - b).length() < 1e-15, "planar uniform grid is a fixed point");
+            assert!(
+                (a - b).length() < 1e-15,
+                "planar uniform grid is a fixed point"
+            );
         }
         let centre = mesh.vertex_at(4 + 4 * 9).unwrap();
         mesh.set_position(centre, mesh.position(centre) + DVec3::Z);

@@ -49,7 +49,10 @@ fn identity_parameters_leave_positions_bit_identical() {
     deform(&mut mesh, &twist, Vertices::All).unwrap();
     for (a, b) in before.iter().zip(mesh.positions()) {
         if a.z < 0.2 {
-            assert_eq!(a.to_array().map(f64::to_bits), b.to_array().map(f64::to_bits));
+            assert_eq!(
+                a.to_array().map(f64::to_bits),
+                b.to_array().map(f64::to_bits)
+            );
         }
     }
 }
@@ -95,7 +98,11 @@ fn taper_and_bend_inverses_restore_to_1e12() {
 #[test]
 fn bend_keeps_arc_length_of_the_axis_and_cross_sections_rigid() {
     // a slender box along y, bent by a quarter turn over its length
-    let mut mesh = closed_box(DVec3::new(-0.05, 0.0, -0.05), DVec3::new(0.05, 2.0, 0.05), [2, 40, 2]);
+    let mut mesh = closed_box(
+        DVec3::new(-0.05, 0.0, -0.05),
+        DVec3::new(0.05, 2.0, 0.05),
+        [2, 40, 2],
+    );
     let before = mesh.positions().to_vec();
     let k = std::f64::consts::FRAC_PI_2 / 2.0;
     let bend = Bend::new(DVec3::ZERO, DVec3::Y, DVec3::Z, k, Some((0.0, 2.0))).unwrap();
@@ -142,7 +149,12 @@ fn selections_move_only_their_vertices_and_errors_change_nothing() {
         Err(EditError::VertexArrayLength { .. })
     ));
     // a global taper reaching zero on the object is refused before anything moves
-    let taper = Taper::new(DVec3::ZERO, DVec3::Z, Profile::global(-1.0, 0.0, 0.0, 1.0).unwrap()).unwrap();
+    let taper = Taper::new(
+        DVec3::ZERO,
+        DVec3::Z,
+        Profile::global(-1.0, 0.0, 0.0, 1.0).unwrap(),
+    )
+    .unwrap();
     assert!(matches!(
         deform(&mut mesh, &taper, Vertices::All),
         Err(EditError::NonPositiveTaper { .. })

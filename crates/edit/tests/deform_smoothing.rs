@@ -43,8 +43,14 @@ fn taubin_keeps_sphere_volume_where_laplacian_shrinks_it() {
         let taubin_change = (vt / v0 - 1.0).abs();
         let laplace_loss = 1.0 - vl / v0;
         println!("{weights:?}: Taubin volume change {taubin_change:.4}, Laplacian loss {laplace_loss:.4}");
-        assert!(taubin_change < 0.01, "{weights:?}: Taubin changed the volume by {taubin_change}");
-        assert!(laplace_loss > 0.2, "{weights:?}: Laplacian lost only {laplace_loss}");
+        assert!(
+            taubin_change < 0.01,
+            "{weights:?}: Taubin changed the volume by {taubin_change}"
+        );
+        assert!(
+            laplace_loss > 0.2,
+            "{weights:?}: Laplacian lost only {laplace_loss}"
+        );
 
         // and Taubin did smooth: the radial noise went down (the part of the noise in
         // the pass band, k < 1/λ + 1/μ, stays: a low-pass filter)

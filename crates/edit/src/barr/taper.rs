@@ -31,7 +31,11 @@ impl Taper {
             if worst <= 0.0 {
                 return Err(EditError::NonPositiveTaper {
                     factor: worst,
-                    at: if a <= b { factor.range().0 } else { factor.range().1 },
+                    at: if a <= b {
+                        factor.range().0
+                    } else {
+                        factor.range().1
+                    },
                 });
             }
         }

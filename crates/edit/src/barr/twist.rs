@@ -105,6 +105,9 @@ mod tests {
         let q = t.deform_point(DVec3::new(1.0, 0.0, 0.5));
         let h = std::f64::consts::FRAC_1_SQRT_2;
         assert!((q - DVec3::new(h, h, 0.5)).length() < 1e-15);
-        assert_eq!(t.deform_point(DVec3::new(1.0, 0.0, -1.0)), DVec3::new(1.0, 0.0, -1.0));
+        assert_eq!(
+            t.deform_point(DVec3::new(1.0, 0.0, -1.0)),
+            DVec3::new(1.0, 0.0, -1.0)
+        );
     }
 }

@@ -36,10 +36,7 @@ impl Samples {
         };
         for i in 0..n[0] {
             for j in 0..n[1] {
-                let p = surface.value(
-                    i as f64 / (n[0] - 1) as f64,
-                    j as f64 / (n[1] - 1) as f64,
-                );
+                let p = surface.value(i as f64 / (n[0] - 1) as f64, j as f64 / (n[1] - 1) as f64);
                 s.x.push(p.x);
                 s.y.push(p.y);
                 s.z.push(p.z);
@@ -54,7 +51,8 @@ impl Samples {
         let mut best = f64::INFINITY;
         let mut best_k = 0;
         for k in 0..self.x.len() {
-            let d = (self.x[k] - p.x).powi(2) + (self.y[k] - p.y).powi(2) + (self.z[k] - p.z).powi(2);
+            let d =
+                (self.x[k] - p.x).powi(2) + (self.y[k] - p.y).powi(2) + (self.z[k] - p.z).powi(2);
             if d < best {
                 best = d;
                 best_k = k;
@@ -69,24 +67,39 @@ impl Samples {
 }
 
 /// The closest point of the surface to `p`: Newton's method on
-/// `f(u, v) = ½ |S(u, v) − p|²` (full Hessian where it is positive definite,
-/// Gauss–Newton otherwise), with the parameters kept in `[0, 1]²` (a parameter on its
+/// `f(u, v) = ½ |S(u, v) − p|²` (the Hessian shifted to positive definite where it is
+/// not), with the parameters kept in `[0, 1]²` (a parameter on its
 /// bound whose step points outward is frozen) and step halving when `f` does not
 /// decrease. At an interior minimum `p − S` is along the normal: the paper's projection.
-pub(crate) fn foot(surface: &Patches<DVec3>, samples: &Samples, p: DVec3, max_iterations: usize) -> Foot {
+pub(crate) fn foot(
+    surface: &Patches<DVec3>,
+    samples: &Samples,
+    p: DVec3,
+    max_iterations: usize,
+) -> Foot {
     let (mut u, mut v) = samples.nearest(p);
     let (mut s, mut s_u, mut s_v, mut s_uu, mut s_uv, mut s_vv) = surface.second(u, v);
     let mut f = 0.5 * (s - p).length_squared();
     for _ in 0..max_iterations {
         let d = s - p;
         let g = [d.dot(s_u), d.dot(s_v)];
-        let gn = [s_u.length_squared(), s_u.dot(s_v), s_v.length_squared()];
-        let full = [gn[0] + d.dot(s_uu), gn[1] + d.dot(s_uv), gn[2] + d.dot(s_vv)];
-        let det_full = full[0] * full[2] - full[1] * full[1];
-        let h = if full[0] > 0.0 && det_full > 1e-14 * (gn[0] * gn[2]).max(f64::MIN_POSITIVE) {
+        let full = [
+            s_u.length_squared() + d.dot(s_uu),
+            s_u.dot(s_v) + d.dot(s_uv),
+            s_v.length_squared() + d.dot(s_vv),
+        ];
+        // shift the Hessian to positive definite where it is not (far from the foot, or
+        // beyond a focal point), so that every step goes downhill; near the foot it is
+        // the plain Newton step and converges quadratically
+        let half_trace = 0.5 * (full[0] + full[2]);
+        let gap = (0.25 * (full[0] - full[2]).powi(2) + full[1] * full[1]).sqrt();
+        let lowest = half_trace - gap;
+        let floor = 1e-3 * (s_u.length_squared() + s_v.length_squared());
+        let h = if lowest > floor {
             full
         } else {
-            gn
+            let shift = floor - lowest;
+            [full[0] + shift, full[1], full[2] + shift]
         };
         let det = h[0] * h[2] - h[1] * h[1];
         let mut step = if det > 0.0 {
@@ -111,15 +124,20 @@ pub(crate) fn foot(surface: &Patches<DVec3>, samples: &Samples, p: DVec3, max_it
         if !(step[0].is_finite() && step[1].is_finite()) || (step[0] == 0.0 && step[1] == 0.0) {
             break;
         }
-        // step halving until f does not increase
+        // step halving until f decreases; near the foot f no longer resolves the
+        // progress (a tangential offset δ changes f by δ²/2), so a step that does not
+        // raise f beyond rounding and shrinks the gradient is taken too
+        let gradient = g[0].hypot(g[1]);
         let mut accepted = false;
         let mut scale = 1.0;
         for _ in 0..30 {
             let nu = (u + scale * step[0]).clamp(0.0, 1.0);
             let nv = (v + scale * step[1]).clamp(0.0, 1.0);
             let e = surface.second(nu, nv);
-            let nf = 0.5 * (e.0 - p).length_squared();
-            if nf <= f {
+            let nd = e.0 - p;
+            let nf = 0.5 * nd.length_squared();
+            let n_gradient = nd.dot(e.1).hypot(nd.dot(e.2));
+            if nf < f || (nf <= f * (1.0 + 1e-12) && n_gradient < gradient) {
                 let moved = (nu - u).abs() + (nv - v).abs();
                 u = nu;
                 v = nv;

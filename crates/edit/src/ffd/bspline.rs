@@ -161,16 +161,16 @@ impl BSplineSurface {
     pub fn derivatives(&self, u: f64, v: f64) -> (DVec3, DVec3, DVec3) {
         let (su, du) = self.basis(0, u);
         let (sv, dv) = self.basis(1, v);
-        let (ku, kv) = (self.degree[0], self.degree[1]);
         let mut s = DVec3::ZERO;
         let mut s_u = DVec3::ZERO;
         let mut s_v = DVec3::ZERO;
-        for a in 0..=ku {
-            for b in 0..=kv {
-                let p = self.control[(su + a) * self.count[1] + sv + b];
-                s += du[0][a] * dv[0][b] * p;
-                s_u += du[1][a] * dv[0][b] * p;
-                s_v += du[0][a] * dv[1][b] * p;
+        for (a, (&n0, &n1)) in du[0].iter().zip(&du[1]).enumerate() {
+            let row = (su + a) * self.count[1] + sv;
+            for (b, (&m0, &m1)) in dv[0].iter().zip(&dv[1]).enumerate() {
+                let p = self.control[row + b];
+                s += n0 * m0 * p;
+                s_u += n1 * m0 * p;
+                s_v += n0 * m1 * p;
             }
         }
         (s, s_u, s_v)
@@ -262,7 +262,8 @@ pub(crate) fn basis_derivatives(
             };
             for j in j1..=j2 {
                 let j = j as usize;
-                a[s2][j] = (a[s1][j] - a[s1][j - 1]) / ndu[(pk + 1) as usize][(rk + j as isize) as usize];
+                a[s2][j] =
+                    (a[s1][j] - a[s1][j - 1]) / ndu[(pk + 1) as usize][(rk + j as isize) as usize];
                 d += a[s2][j] * ndu[(rk + j as isize) as usize][pk as usize];
             }
             if r as isize <= pk {
@@ -274,8 +275,8 @@ pub(crate) fn basis_derivatives(
         }
     }
     let mut factor = p as f64;
-    for k in 1..=n.min(p) {
-        for x in ders[k].iter_mut() {
+    for (k, der) in ders.iter_mut().enumerate().take(n.min(p) + 1).skip(1) {
+        for x in der.iter_mut() {
             *x *= factor;
         }
         factor *= (p - k) as f64;
@@ -486,7 +487,11 @@ mod tests {
         for i in 0..cu {
             for j in 0..cv {
                 let (x, z) = (i as f64, j as f64);
-                control.push(DVec3::new(x + 0.1 * z, (x * 1.3 + z * 0.7).sin(), z - 0.2 * x));
+                control.push(DVec3::new(
+                    x + 0.1 * z,
+                    (x * 1.3 + z * 0.7).sin(),
+                    z - 0.2 * x,
+                ));
             }
         }
         BSplineSurface::new([3, 2], [cu, cv], control).unwrap()

@@ -18,7 +18,8 @@
 //! - **Global or local** (§4): when the whole object lies over `S` the deformation is
 //!   global; otherwise it is local and the control points along the borders of `S` that
 //!   the object crosses stay fixed (two layers of `S`, so that the surface *and* its
-//!   normal are unchanged along the border; one layer of `H`, so that heights are too),
+//!   normal are unchanged along the border, and two of `H`, so that heights and their
+//!   slope are too),
 //!   which keeps the deformed object continuous with its unattached part.
 //! - **Standard operations** (§4): [`Ffd::bend`] (Barr's bend of the shape surface),
 //!   [`Ffd::taper`] (the shape surface narrowed and the height surface sloped together,
@@ -122,7 +123,8 @@ pub struct AttachOptions {
     /// Layers of shape-surface control points held fixed along a crossed border in local
     /// mode (2: the surface and its normal stay continuous there).
     pub shape_layers: usize,
-    /// Layers of height-surface control points held fixed along a crossed border (1).
+    /// Layers of height-surface control points held fixed along a crossed border (2: the
+    /// heights and their slope stay continuous there).
     pub height_layers: usize,
     /// Newton iterations per vertex at most.
     pub max_iterations: usize,
@@ -135,8 +137,8 @@ impl Default for AttachOptions {
     fn default() -> Self {
         Self {
             shape_layers: 2,
-            height_layers: 1,
-            max_iterations: 30,
+            height_layers: 2,
+            max_iterations: 50,
             tolerance: 1e-10,
         }
     }
@@ -199,7 +201,8 @@ impl Ffd {
         let slots = mesh.vertex_slots();
         let patches = Patches::new(shape.degree(), shape.count(), shape.control_points());
         let spans = patches.spans();
-        let samples = attach::Samples::new(&patches, [sample_count(spans[0]), sample_count(spans[1])]);
+        let samples =
+            attach::Samples::new(&patches, [sample_count(spans[0]), sample_count(spans[1])]);
         let (lo, hi) = shape
             .control_points()
             .iter()
@@ -213,7 +216,14 @@ impl Ffd {
         let feet: Vec<attach::Foot> = indices
             .par_iter()
             .with_min_len(256)
-            .map(|&i| attach::foot(&patches, &samples, positions[i as usize], options.max_iterations))
+            .map(|&i| {
+                attach::foot(
+                    &patches,
+                    &samples,
+                    positions[i as usize],
+                    options.max_iterations,
+                )
+            })
             .collect();
 
         let mut params = vec![[f64::NAN, 0.0, 0.0]; slots];

@@ -307,7 +307,12 @@ fn check_variation(v: &Variation) -> Result<()> {
 impl SubMesh {
     /// Applies `edit` with `propagation` and returns the positions it changed, to undo it
     /// exactly with [`Snapshot::restore`]. On error nothing is changed.
-    pub fn apply(&self, mesh: &mut Mesh, edit: &Edit, propagation: Propagation) -> Result<Snapshot> {
+    pub fn apply(
+        &self,
+        mesh: &mut Mesh,
+        edit: &Edit,
+        propagation: Propagation,
+    ) -> Result<Snapshot> {
         self.check_mesh(mesh)?;
         let (map, variation) = self.resolve(mesh, edit)?;
         let positions = mesh.positions();

@@ -39,7 +39,7 @@ impl Plane {
         }
         let (values, vectors) = symmetric_eigen(c);
         // values ascending
-        if !(values[2] > 0.0) || values[1] <= 1e-12 * values[2] {
+        if values[2].is_nan() || values[2] <= 0.0 || values[1] <= 1e-12 * values[2] {
             return None;
         }
         let normal = vectors.col(0).normalize();
@@ -52,6 +52,7 @@ impl Plane {
 
 /// Eigen-decomposition of a symmetric 3×3 matrix by cyclic Jacobi rotations: eigenvalues
 /// ascending, eigenvectors as the matching columns.
+#[allow(clippy::needless_range_loop)] // index notation mirrors the rotation formulas
 pub(crate) fn symmetric_eigen(m: [[f64; 3]; 3]) -> ([f64; 3], DMat3) {
     let mut a = m;
     let mut v = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
