@@ -64,13 +64,18 @@ impl Default for TaubinOptions {
 
 /// Precomputed Laplacian of a region (CSR rows with normalised weights) and two
 /// position buffers, for repeated smoothing steps.
+///
+/// The moving vertices are numbered in breadth-first order over the mesh (a
+/// Cuthill–McKee-like ordering), so that the neighbours a row reads sit close together
+/// in memory whatever the order of the mesh's vertices (subdivided meshes scatter them).
 #[derive(Clone, Debug)]
 pub struct Smoother {
     slots: usize,
-    /// Local index → vertex slot. Rows `0..rows` are the moving vertices (or, in identity
-    /// layout, all slots with empty rows for fixed ones); the rest are fixed anchors.
+    /// Local index → vertex slot: rows `0..rows` are the moving vertices, the rest the
+    /// fixed neighbours that anchor them.
     local_to_slot: Vec<u32>,
-    identity: bool,
+    /// Vertex slot → local row for moving vertices, `u32::MAX` otherwise.
+    row_of_slot: Vec<u32>,
     rows: usize,
     offsets: Vec<u32>,
     columns: Vec<u32>,
@@ -78,6 +83,9 @@ pub struct Smoother {
     weights: Option<Vec<f64>>,
     buffers: [Vec<DVec3>; 2],
 }
+
+/// Rows per parallel block when collecting neighbour lists.
+const BLOCK: usize = 4096;
 
 impl Smoother {
     /// The Laplacian of the vertices of `region` (minus the mesh-boundary vertices when
@@ -93,65 +101,106 @@ impl Smoother {
             return Err(EditError::EmptySubMesh);
         }
         let slots = mesh.vertex_slots();
-        let moving: Vec<u32> = match resolved {
-            Resolved::Dense(n) if !fix_boundary => (0..n as u32).collect(),
-            r => r
-                .to_indices()
-                .into_iter()
+        let candidates = resolved.to_indices();
+        let moving: Vec<u32> = if fix_boundary {
+            candidates
+                .par_iter()
+                .copied()
                 .filter(|&i| {
-                    !fix_boundary
-                        || mesh
-                            .vertex_at(i as usize)
-                            .is_some_and(|v| !mesh.is_boundary_vertex(v))
+                    mesh.vertex_at(i as usize)
+                        .is_some_and(|v| !mesh.is_boundary_vertex(v))
                 })
-                .collect(),
-        };
-        // identity layout when most of the mesh moves: no gather/scatter permutation
-        let identity = moving.len() * 2 > slots;
-        let mut local_of_slot = vec![u32::MAX; slots];
-        let mut local_to_slot: Vec<u32>;
-        let rows;
-        if identity {
-            local_to_slot = (0..slots as u32).collect();
-            for (i, l) in local_of_slot.iter_mut().enumerate() {
-                *l = i as u32;
-            }
-            rows = slots;
+                .collect()
         } else {
-            local_to_slot = moving.clone();
-            for (l, &i) in moving.iter().enumerate() {
-                local_of_slot[i as usize] = l as u32;
+            candidates
+        };
+        let cotangent = weights == Weights::Cotangent;
+
+        // neighbour slots (and weights) of every moving vertex, in slot order, by blocks
+        let blocks: Vec<(Vec<u32>, Vec<u32>, Vec<f64>)> = moving
+            .par_chunks(BLOCK)
+            .map(|chunk| {
+                let mut degree = Vec::with_capacity(chunk.len());
+                let mut cols = Vec::with_capacity(chunk.len() * 7);
+                let mut w = Vec::new();
+                for &i in chunk {
+                    let v = mesh.vertex_at(i as usize).expect("moving vertices are live");
+                    let start = cols.len();
+                    for h in mesh.outgoing_halfedges(v) {
+                        cols.push(mesh.vertex_index(mesh.to_vertex(h)) as u32);
+                        if cotangent {
+                            w.push(cotan_weight(mesh, h));
+                        }
+                    }
+                    if cotangent {
+                        normalise(&mut w[start..]);
+                    }
+                    degree.push((cols.len() - start) as u32);
+                }
+                (degree, cols, w)
+            })
+            .collect();
+        let mut first = Vec::with_capacity(moving.len() + 1); // slot-order CSR offsets
+        first.push(0usize);
+        for (degree, _, _) in &blocks {
+            for &d in degree {
+                first.push(first.last().unwrap() + d as usize);
             }
-            rows = moving.len();
         }
-        let mut is_moving = vec![false; slots];
-        for &i in &moving {
-            is_moving[i as usize] = true;
+        let neighbour_slots: Vec<u32> = blocks.iter().flat_map(|b| b.1.iter().copied()).collect();
+        let neighbour_weights: Vec<f64> = blocks.iter().flat_map(|b| b.2.iter().copied()).collect();
+        drop(blocks);
+
+        // breadth-first numbering of the moving vertices
+        let mut index_of_slot = vec![u32::MAX; slots]; // slot → index in `moving`
+        for (k, &i) in moving.iter().enumerate() {
+            index_of_slot[i as usize] = k as u32;
+        }
+        let mut order: Vec<u32> = Vec::with_capacity(moving.len());
+        let mut seen = vec![false; moving.len()];
+        for start in 0..moving.len() {
+            if seen[start] {
+                continue;
+            }
+            seen[start] = true;
+            let mut head = order.len();
+            order.push(start as u32);
+            while head < order.len() {
+                let k = order[head] as usize;
+                head += 1;
+                for &j in &neighbour_slots[first[k]..first[k + 1]] {
+                    let m = index_of_slot[j as usize];
+                    if m != u32::MAX && !seen[m as usize] {
+                        seen[m as usize] = true;
+                        order.push(m);
+                    }
+                }
+            }
         }
 
+        // local numbering: moving vertices in that order, then anchors as met
+        let rows = moving.len();
+        let mut local_to_slot: Vec<u32> = order.iter().map(|&k| moving[k as usize]).collect();
+        let mut local_of_slot = vec![u32::MAX; slots];
+        for (l, &i) in local_to_slot.iter().enumerate() {
+            local_of_slot[i as usize] = l as u32;
+        }
+        let row_of_slot = local_of_slot.clone();
         let mut offsets = Vec::with_capacity(rows + 1);
-        let mut columns = Vec::with_capacity(rows * 6);
-        let mut entry_weights = Vec::new();
+        let mut columns = Vec::with_capacity(neighbour_slots.len());
+        let mut entry_weights = Vec::with_capacity(neighbour_weights.len());
         offsets.push(0u32);
-        for r in 0..rows {
-            let slot = local_to_slot[r] as usize;
-            if is_moving[slot] {
-                let v = mesh.vertex_at(slot).expect("moving vertices are live");
-                let start = columns.len();
-                for h in mesh.outgoing_halfedges(v) {
-                    let j = mesh.vertex_index(mesh.to_vertex(h));
-                    if local_of_slot[j] == u32::MAX {
-                        local_of_slot[j] = local_to_slot.len() as u32;
-                        local_to_slot.push(j as u32);
-                    }
-                    columns.push(local_of_slot[j]);
-                    if weights == Weights::Cotangent {
-                        entry_weights.push(cotan_weight(mesh, h));
-                    }
+        for &k in &order {
+            let (lo, hi) = (first[k as usize], first[k as usize + 1]);
+            for &j in &neighbour_slots[lo..hi] {
+                if local_of_slot[j as usize] == u32::MAX {
+                    local_of_slot[j as usize] = local_to_slot.len() as u32;
+                    local_to_slot.push(j);
                 }
-                if weights == Weights::Cotangent {
-                    normalise(&mut entry_weights[start..]);
-                }
+                columns.push(local_of_slot[j as usize]);
+            }
+            if cotangent {
+                entry_weights.extend_from_slice(&neighbour_weights[lo..hi]);
             }
             offsets.push(columns.len() as u32);
         }
@@ -159,11 +208,11 @@ impl Smoother {
         Ok(Self {
             slots,
             local_to_slot,
-            identity,
+            row_of_slot,
             rows,
             offsets,
             columns,
-            weights: (weights == Weights::Cotangent).then_some(entry_weights),
+            weights: cotangent.then_some(entry_weights),
             buffers: [vec![DVec3::ZERO; n_local], vec![DVec3::ZERO; n_local]],
         })
     }
@@ -194,7 +243,8 @@ impl Smoother {
         Self::new(mesh, Vertices::Mask(&mask), weights, fix_boundary)
     }
 
-    /// Number of vertices that move.
+    /// Number of vertices that move (isolated vertices in the region have no
+    /// neighbours and stay).
     pub fn moving(&self) -> usize {
         (0..self.rows)
             .filter(|&r| self.offsets[r] != self.offsets[r + 1])
@@ -256,27 +306,28 @@ impl Smoother {
 
     fn gather(&mut self, positions: &[DVec3]) {
         let [a, b] = &mut self.buffers;
-        if self.identity {
-            a.par_iter_mut()
-                .zip(positions.par_iter())
-                .for_each(|(x, p)| *x = *p);
-        } else {
-            a.par_iter_mut()
-                .zip(self.local_to_slot.par_iter())
-                .for_each(|(x, &i)| *x = positions[i as usize]);
-        }
+        a.par_iter_mut()
+            .zip(self.local_to_slot.par_iter())
+            .with_min_len(4096)
+            .for_each(|(x, &i)| *x = positions[i as usize]);
         b.par_iter_mut()
             .zip(a.par_iter())
+            .with_min_len(4096)
             .for_each(|(y, x)| *y = *x);
     }
 
     fn scatter(&self, positions: &mut [DVec3], current: usize) {
         let result = &self.buffers[current];
-        if self.identity {
+        if self.rows * 8 >= positions.len() {
             positions
                 .par_iter_mut()
-                .zip(result.par_iter())
-                .for_each(|(p, x)| *p = *x);
+                .zip(self.row_of_slot.par_iter())
+                .with_min_len(4096)
+                .for_each(|(p, &r)| {
+                    if r != u32::MAX {
+                        *p = result[r as usize];
+                    }
+                });
         } else {
             for r in 0..self.rows {
                 positions[self.local_to_slot[r] as usize] = result[r];
