@@ -11,12 +11,13 @@
 //!   `exp(α log A)` (Alexa 2002).
 //! - [`submesh`], [`barr`], [`smoothing`]: *Interactive editing of multiresolution
 //!   meshes* (sub-mesh edits with propagation levels), Barr's taper / twist / bend, Taubin
-//!   λ|μ smoothing.
+//!   λ|μ smoothing; [`selection`]: the vertex sets they act on and exact undo snapshots.
 //! - [`ffd`]: Feng, Ma & Peng, *A new free-form deformation through the control of
 //!   parametric surfaces* (shape surface + height surface).
 
 mod error;
 pub mod laplace;
+pub mod selection;
 
 pub mod area;
 pub mod mba;

@@ -1,1 +1,0 @@
-//! Module `barr`: implementation arrives with its issue.

@@ -1,1 +1,0 @@
-//! Module `ffd`: implementation arrives with its issue.

@@ -1,1 +1,0 @@
-//! Module `submesh`: implementation arrives with its issue.

@@ -1,0 +1,163 @@
+//! Barr's taper, twist and bend (Barr 1984) as standalone deformers on meshes.
+
+mod deform_common;
+
+use deform_common::{bit_identical, closed_box, load, max_distance};
+use edit::barr::{deform, Bend, Deformer, Profile, Taper, Twist};
+use edit::selection::Vertices;
+use edit::EditError;
+use glam::DVec3;
+use halfedge::generators;
+
+fn deformers() -> (Taper, Twist, Bend) {
+    let axis = DVec3::new(0.2, 1.0, -0.1);
+    let c = DVec3::new(0.1, -0.3, 0.05);
+    (
+        Taper::new(c, axis, Profile::local(-0.5, 0.8, 0.6, 1.7).unwrap()).unwrap(),
+        Twist::new(c, axis, Profile::local(-0.7, 0.9, -0.4, 1.3).unwrap()).unwrap(),
+        Bend::new(c, axis, DVec3::X, 0.9, Some((-0.4, 0.6))).unwrap(),
+    )
+}
+
+#[test]
+fn identity_parameters_leave_positions_bit_identical() {
+    let mut mesh = generators::icosphere(3);
+    // include signed zeros and odd values
+    mesh.positions_mut()[0] = DVec3::new(-0.0, 0.0, -1.0);
+    let before = mesh.positions().to_vec();
+    let axis = DVec3::new(0.3, 0.4, 1.0);
+    let c = DVec3::new(0.01, 0.02, 0.03);
+    let identities: Vec<Box<dyn Deformer>> = vec![
+        Box::new(Taper::new(c, axis, Profile::local(-1.0, 1.0, 1.0, 1.0).unwrap()).unwrap()),
+        Box::new(Taper::new(c, axis, Profile::global(-1.0, 1.0, 1.0, 1.0).unwrap()).unwrap()),
+        Box::new(Twist::linear(c, axis, -1.0, 1.0, 0.0).unwrap()),
+        Box::new(Bend::new(c, axis, DVec3::X, 0.0, None).unwrap()),
+        Box::new(Bend::new(c, axis, DVec3::X, 0.0, Some((-0.5, 0.5))).unwrap()),
+    ];
+    for d in &identities {
+        deform(&mut mesh, d.as_ref(), Vertices::All).unwrap();
+        assert!(bit_identical(&before, mesh.positions()));
+        for p in &before {
+            assert_eq!(
+                d.deform_point(*p).to_array().map(f64::to_bits),
+                p.to_array().map(f64::to_bits)
+            );
+        }
+    }
+    // a local twist leaves everything below its range bit-identical
+    let twist = Twist::linear(DVec3::ZERO, DVec3::Z, 0.2, 0.9, 1.0).unwrap();
+    deform(&mut mesh, &twist, Vertices::All).unwrap();
+    for (a, b) in before.iter().zip(mesh.positions()) {
+        if a.z < 0.2 {
+            assert_eq!(
+                a.to_array().map(f64::to_bits),
+                b.to_array().map(f64::to_bits)
+            );
+        }
+    }
+}
+
+#[test]
+fn twist_then_inverse_restores_to_1e12() {
+    let mut mesh = load("spot.obj");
+    let before = mesh.positions().to_vec();
+    let (_, twist, _) = deformers();
+    deform(&mut mesh, &twist, Vertices::All).unwrap();
+    assert!(max_distance(&before, mesh.positions()) > 0.1);
+    deform(&mut mesh, &twist.inverse(), Vertices::All).unwrap();
+    assert!(max_distance(&before, mesh.positions()) < 1e-12);
+    // the inverse is the twist by −θ
+    let minus = Twist::new(
+        twist.centre(),
+        twist.axis(),
+        Profile::local(-0.7, 0.9, 0.4, -1.3).unwrap(),
+    )
+    .unwrap();
+    deform(&mut mesh, &twist, Vertices::All).unwrap();
+    deform(&mut mesh, &minus, Vertices::All).unwrap();
+    assert!(max_distance(&before, mesh.positions()) < 1e-12);
+}
+
+#[test]
+fn taper_and_bend_inverses_restore_to_1e12() {
+    let mut mesh = load("spot.obj");
+    let before = mesh.positions().to_vec();
+    let (taper, _, bend) = deformers();
+    deform(&mut mesh, &taper, Vertices::All).unwrap();
+    assert!(max_distance(&before, mesh.positions()) > 0.05);
+    deform(&mut mesh, &taper.inverse(), Vertices::All).unwrap();
+    assert!(max_distance(&before, mesh.positions()) < 1e-12);
+
+    deform(&mut mesh, &bend, Vertices::All).unwrap();
+    assert!(max_distance(&before, mesh.positions()) > 0.05);
+    deform(&mut mesh, &bend.inverse(), Vertices::All).unwrap();
+    assert!(max_distance(&before, mesh.positions()) < 1e-12);
+    mesh.check().unwrap();
+}
+
+#[test]
+fn bend_keeps_arc_length_of_the_axis_and_cross_sections_rigid() {
+    // a slender box along y, bent by a quarter turn over its length
+    let mut mesh = closed_box(
+        DVec3::new(-0.05, 0.0, -0.05),
+        DVec3::new(0.05, 2.0, 0.05),
+        [2, 40, 2],
+    );
+    let before = mesh.positions().to_vec();
+    let k = std::f64::consts::FRAC_PI_2 / 2.0;
+    let bend = Bend::new(DVec3::ZERO, DVec3::Y, DVec3::Z, k, Some((0.0, 2.0))).unwrap();
+    deform(&mut mesh, &bend, Vertices::All).unwrap();
+    for (p, q) in before.iter().zip(mesh.positions()) {
+        // the neutral line z = 0 maps onto the circle of radius 1/k about (·, 0, 1/k)
+        let r = 1.0 / k - p.z;
+        let centre = DVec3::new(q.x, 0.0, 1.0 / k);
+        assert!((q.distance(centre) - r).abs() < 1e-12);
+        assert!((q.x - p.x).abs() < 1e-15);
+        // the angle on the circle is k·y
+        let angle = q.y.atan2(1.0 / k - q.z);
+        assert!((angle - k * p.y).abs() < 1e-12);
+    }
+}
+
+#[test]
+fn selections_move_only_their_vertices_and_errors_change_nothing() {
+    let mut mesh = generators::icosphere(3);
+    let before = mesh.positions().to_vec();
+    let (_, twist, _) = deformers();
+    let mask: Vec<bool> = before.iter().map(|p| p.x > 0.3).collect();
+    deform(&mut mesh, &twist, Vertices::Mask(&mask)).unwrap();
+    for (i, (a, b)) in before.iter().zip(mesh.positions()).enumerate() {
+        if mask[i] {
+            assert!(b.distance(twist.deform_point(*a)) == 0.0);
+        } else {
+            assert_eq!(a, b);
+        }
+    }
+    let mut mesh = generators::icosphere(3);
+    let list: Vec<_> = mesh.vertices().step_by(7).collect();
+    deform(&mut mesh, &twist, Vertices::List(&list)).unwrap();
+    let moved = before
+        .iter()
+        .zip(mesh.positions())
+        .filter(|(a, b)| a != b)
+        .count();
+    assert!(moved > 0 && moved <= list.len());
+
+    let mut mesh = generators::icosphere(3);
+    assert!(matches!(
+        deform(&mut mesh, &twist, Vertices::Mask(&[true; 5])),
+        Err(EditError::VertexArrayLength { .. })
+    ));
+    // a global taper reaching zero on the object is refused before anything moves
+    let taper = Taper::new(
+        DVec3::ZERO,
+        DVec3::Z,
+        Profile::global(-1.0, 0.0, 0.0, 1.0).unwrap(),
+    )
+    .unwrap();
+    assert!(matches!(
+        deform(&mut mesh, &taper, Vertices::All),
+        Err(EditError::NonPositiveTaper { .. })
+    ));
+    assert!(bit_identical(&before, mesh.positions()));
+}
