@@ -166,7 +166,6 @@ pub enum EditError {
         /// Upper corner of the domain.
         max: glam::DVec2,
     },
-
     // ---- precise regions (Bendels & Klein): modules `regions`, `distance`, `shape`, `matrix`, `blend` ----
 
     // ---- sub-mesh edits, Barr deformers, smoothing, FFD: modules `submesh`, `barr`, `smoothing`, `ffd` ----

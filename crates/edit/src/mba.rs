@@ -234,7 +234,11 @@ pub(crate) fn refine(src: &[DVec3], m: usize, dst: &mut Vec<DVec3>, scratch: &mu
     dst.resize(nf * nf, DVec3::ZERO);
     for i in 0..=m {
         // fine row 2i+1 (old knot) from coarse rows i, i+1, i+2
-        let (a, b, c) = (&scratch[i * nf..], &scratch[(i + 1) * nf..], &scratch[(i + 2) * nf..]);
+        let (a, b, c) = (
+            &scratch[i * nf..],
+            &scratch[(i + 1) * nf..],
+            &scratch[(i + 2) * nf..],
+        );
         let out = &mut dst[(2 * i + 1) * nf..(2 * i + 2) * nf];
         for x in 0..nf {
             out[x] = (a[x] + 6.0 * b[x] + c[x]) * 0.125;
@@ -301,7 +305,11 @@ impl ScaleSplit {
             x = x.round();
         }
         let k = (x.floor() as usize).min(levels) + 1;
-        let t = if k == levels + 1 { 0.0 } else { x - (k - 1) as f64 };
+        let t = if k == levels + 1 {
+            0.0
+        } else {
+            x - (k - 1) as f64
+        };
         Self { k, t }
     }
 
@@ -332,7 +340,12 @@ pub(crate) struct FitWorkspace {
 }
 
 /// Bases of every data point at every level, level-major: `bases[(k−1)·P + c]`.
-pub(crate) fn point_bases(points: &[DVec2], min: DVec2, max: DVec2, levels: usize) -> Vec<LatticeBasis> {
+pub(crate) fn point_bases(
+    points: &[DVec2],
+    min: DVec2,
+    max: DVec2,
+    levels: usize,
+) -> Vec<LatticeBasis> {
     let mut bases = Vec::with_capacity(points.len() * levels);
     for k in 1..=levels {
         let m = level_size(k);
@@ -614,10 +627,21 @@ impl Mba {
             .collect();
         let bases = point_bases(points, self.min, self.max, self.levels);
         let mut phi = Vec::new();
-        FitWorkspace::default().fit(self.levels, split, &bases, &residuals, self.fixed_boundary, &mut phi);
+        FitWorkspace::default().fit(
+            self.levels,
+            split,
+            &bases,
+            &residuals,
+            self.fixed_boundary,
+            &mut phi,
+        );
         let data_weight = split.data_weight(self.levels);
         // f_{l+1} carries the data values themselves, without the base.
-        let base_weight = if split.k > self.levels { 0.0 } else { 1.0 - data_weight };
+        let base_weight = if split.k > self.levels {
+            0.0
+        } else {
+            1.0 - data_weight
+        };
         Ok(MbaFit {
             lattice: ControlLattice {
                 m: level_size(self.levels),
@@ -791,7 +815,10 @@ mod tests {
         let fine = lattice.refined();
         assert_eq!(fine.m(), 8);
         for k in 0..50 {
-            let p = DVec2::new(2.0 * ((k as f64) * 0.618).fract(), ((k as f64) * 0.377).fract());
+            let p = DVec2::new(
+                2.0 * ((k as f64) * 0.618).fract(),
+                ((k as f64) * 0.377).fract(),
+            );
             assert!((lattice.evaluate(p) - fine.evaluate(p)).length() < 1e-12);
         }
     }
@@ -817,7 +844,12 @@ mod tests {
         lattice.zero_border();
         for k in 0..=20 {
             let x = k as f64 / 20.0;
-            for p in [DVec2::new(x, 0.0), DVec2::new(x, 1.0), DVec2::new(0.0, x), DVec2::new(1.0, x)] {
+            for p in [
+                DVec2::new(x, 0.0),
+                DVec2::new(x, 1.0),
+                DVec2::new(0.0, x),
+                DVec2::new(1.0, x),
+            ] {
                 assert_eq!(lattice.evaluate(p), DVec3::ZERO, "at {p}");
             }
         }
