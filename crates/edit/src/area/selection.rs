@@ -5,6 +5,7 @@
 use std::collections::VecDeque;
 
 use halfedge::{FaceId, HalfedgeId, Mesh, VertexId};
+use rayon::prelude::*;
 
 use crate::{EditError, Result};
 
@@ -416,7 +417,8 @@ impl EditingArea {
     /// Local triangles (three local indices each, in face orientation).
     pub(crate) fn local_triangles(&self, mesh: &Mesh) -> Vec<[u32; 3]> {
         self.faces
-            .iter()
+            .par_iter()
+            .with_min_len(4096)
             .map(|&f| {
                 mesh.triangle(f)
                     .map(|v| self.local_of_slot[mesh.vertex_index(v)])
