@@ -1,1 +1,0 @@
-//! Module `area`: implementation arrives with its issue.

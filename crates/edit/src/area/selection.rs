@@ -1,0 +1,615 @@
+//! The editing area (Lee 1999, §3.2): a closed region of the mesh homeomorphic to a disk,
+//! given by picked boundary vertices joined by shortest edge paths, filled on one side,
+//! and optionally grown by picked adjacent faces.
+
+use std::collections::VecDeque;
+
+use halfedge::{FaceId, HalfedgeId, Mesh, VertexId};
+use rayon::prelude::*;
+
+use crate::{EditError, Result};
+
+/// Which side of the boundary loop is the editing area.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum AreaSide {
+    /// The side with the smaller surface area (the default).
+    #[default]
+    Smaller,
+    /// The side containing this vertex (not on the loop).
+    Vertex(VertexId),
+    /// The side containing this face.
+    Face(FaceId),
+}
+
+/// An editing area: a set of faces forming a topological disk that does not touch the
+/// mesh boundary (Lee 1999, §3.2), with a dense local numbering of its vertices.
+///
+/// Local vertex order: the interior vertices first, sorted by
+/// [`Mesh::vertex_index`], then the boundary vertices in loop order, counter-clockwise
+/// around the area (the area on the left, as the faces are oriented).
+#[derive(Clone, Debug)]
+pub struct EditingArea {
+    faces: Vec<FaceId>,
+    vertices: Vec<VertexId>,
+    n_interior: usize,
+    local_of_slot: Vec<u32>,
+    picks: Vec<VertexId>,
+    mesh_vertex_slots: usize,
+    mesh_faces: usize,
+}
+
+const NONE: u32 = u32::MAX;
+
+impl EditingArea {
+    /// The area bounded by the closed loop of shortest edge paths through `picks` (in
+    /// order, the last joined to the first), filled on `side` (Lee 1999, §3.2).
+    ///
+    /// # Errors
+    /// Kernel errors for bad picks or an impossible loop; [`EditError::LoopDoesNotSeparate`],
+    /// [`EditError::SeedOnLoop`], [`EditError::SeedNotBesideLoop`], and every error of
+    /// [`from_faces`](Self::from_faces) when the filled side is not a disk.
+    pub fn from_picks(mesh: &Mesh, picks: &[VertexId], side: AreaSide) -> Result<Self> {
+        for &v in picks {
+            if !mesh.is_valid_vertex(v) {
+                return Err(EditError::InvalidVertex(v));
+            }
+        }
+        let loop_halfedges = mesh.closed_loop_through(picks)?;
+        let (region, count) = mesh.face_regions(&loop_halfedges);
+        let region_of = |h: HalfedgeId| mesh.face(h).map(|f| region[mesh.face_index(f)]);
+        let mut left = Vec::new();
+        let mut right = Vec::new();
+        for &h in &loop_halfedges {
+            if let Some(r) = region_of(h) {
+                if !left.contains(&r) {
+                    left.push(r);
+                }
+            }
+            if let Some(r) = region_of(mesh.opposite(h)) {
+                if !right.contains(&r) {
+                    right.push(r);
+                }
+            }
+        }
+        if left.iter().any(|r| right.contains(r)) {
+            return Err(EditError::LoopDoesNotSeparate);
+        }
+        let candidates: Vec<u32> = left.iter().chain(&right).copied().collect();
+        let chosen = match side {
+            AreaSide::Vertex(v) => {
+                if !mesh.is_valid_vertex(v) {
+                    return Err(EditError::InvalidVertex(v));
+                }
+                let on_loop = loop_halfedges.iter().any(|&h| mesh.from_vertex(h) == v);
+                if on_loop {
+                    return Err(EditError::SeedOnLoop(v));
+                }
+                let f = mesh
+                    .adjacent_faces(v)
+                    .next()
+                    .ok_or(EditError::SeedNotBesideLoop)?;
+                region[mesh.face_index(f)]
+            }
+            AreaSide::Face(f) => {
+                if !mesh.is_valid_face(f) {
+                    return Err(EditError::InvalidFace(f));
+                }
+                region[mesh.face_index(f)]
+            }
+            AreaSide::Smaller => {
+                let mut area = vec![0.0; count as usize];
+                for f in mesh.faces() {
+                    area[region[mesh.face_index(f)] as usize] += mesh.face_area(f);
+                }
+                *candidates
+                    .iter()
+                    .min_by(|&&a, &&b| area[a as usize].total_cmp(&area[b as usize]))
+                    .ok_or(EditError::LoopDoesNotSeparate)?
+            }
+        };
+        if !candidates.contains(&chosen) {
+            return Err(EditError::SeedNotBesideLoop);
+        }
+        let faces: Vec<FaceId> = mesh
+            .faces()
+            .filter(|&f| region[mesh.face_index(f)] == chosen)
+            .collect();
+        let mut area = Self::from_faces(mesh, &faces)?;
+        area.picks = picks.to_vec();
+        Ok(area)
+    }
+
+    /// The area made of `faces` (duplicates ignored), checked to be a topological disk
+    /// that does not touch the mesh boundary.
+    ///
+    /// # Errors
+    /// [`EditError::InvalidFace`], [`EditError::AreaEmpty`],
+    /// [`EditError::AreaTouchesMeshBoundary`], [`EditError::AreaPinched`],
+    /// [`EditError::AreaNotDisk`].
+    pub fn from_faces(mesh: &Mesh, faces: &[FaceId]) -> Result<Self> {
+        let mut in_area = vec![false; mesh.face_slots()];
+        let mut list = Vec::with_capacity(faces.len());
+        for &f in faces {
+            if !mesh.is_valid_face(f) {
+                return Err(EditError::InvalidFace(f));
+            }
+            let slot = &mut in_area[mesh.face_index(f)];
+            if !*slot {
+                *slot = true;
+                list.push(f);
+            }
+        }
+        if list.is_empty() {
+            return Err(EditError::AreaEmpty);
+        }
+        let inside = |h: HalfedgeId| mesh.face(h).is_some_and(|f| in_area[mesh.face_index(f)]);
+
+        // Vertices, and the inner halfedges of the area's boundary (area face on the left).
+        let mut seen = vec![false; mesh.vertex_slots()];
+        let mut all_vertices = Vec::new();
+        let mut boundary_out: Vec<Option<HalfedgeId>> = vec![None; mesh.vertex_slots()];
+        let mut n_boundary_halfedges = 0usize;
+        for &f in &list {
+            for h in mesh.face_halfedges(f) {
+                let v = mesh.from_vertex(h);
+                let vi = mesh.vertex_index(v);
+                if !seen[vi] {
+                    seen[vi] = true;
+                    all_vertices.push(v);
+                }
+                let o = mesh.opposite(h);
+                if mesh.is_boundary_halfedge(o) {
+                    return Err(EditError::AreaTouchesMeshBoundary { vertex: v });
+                }
+                if !inside(o) {
+                    if boundary_out[vi].is_some() {
+                        return Err(EditError::AreaPinched { vertex: v });
+                    }
+                    boundary_out[vi] = Some(h);
+                    n_boundary_halfedges += 1;
+                }
+            }
+        }
+
+        // Boundary loops.
+        let mut loops: Vec<Vec<VertexId>> = Vec::new();
+        let mut walked = vec![false; mesh.vertex_slots()];
+        for &v in &all_vertices {
+            let vi = mesh.vertex_index(v);
+            if boundary_out[vi].is_none() || walked[vi] {
+                continue;
+            }
+            let mut boundary = Vec::new();
+            let mut u = v;
+            loop {
+                let ui = mesh.vertex_index(u);
+                if walked[ui] {
+                    break;
+                }
+                walked[ui] = true;
+                boundary.push(u);
+                match boundary_out[ui] {
+                    Some(h) => u = mesh.to_vertex(h),
+                    None => break,
+                }
+            }
+            loops.push(boundary);
+        }
+
+        // Edge-connected components of the faces.
+        let mut component_seen = vec![false; mesh.face_slots()];
+        let mut components = 0usize;
+        let mut stack = Vec::new();
+        for &f in &list {
+            if component_seen[mesh.face_index(f)] {
+                continue;
+            }
+            components += 1;
+            component_seen[mesh.face_index(f)] = true;
+            stack.push(f);
+            while let Some(g) = stack.pop() {
+                for h in mesh.face_halfedges(g) {
+                    let o = mesh.opposite(h);
+                    if let Some(n) = mesh.face(o).filter(|n| in_area[mesh.face_index(*n)]) {
+                        let s = &mut component_seen[mesh.face_index(n)];
+                        if !*s {
+                            *s = true;
+                            stack.push(n);
+                        }
+                    }
+                }
+            }
+        }
+
+        let n_faces = list.len();
+        let n_edges = (3 * n_faces + n_boundary_halfedges) / 2;
+        let euler = all_vertices.len() as i64 - n_edges as i64 + n_faces as i64;
+        if loops.len() != 1 || components != 1 || euler != 1 {
+            return Err(EditError::AreaNotDisk {
+                boundary_loops: loops.len(),
+                components,
+                euler,
+            });
+        }
+        let boundary = loops.pop().expect("one loop");
+
+        let mut interior: Vec<VertexId> = all_vertices
+            .iter()
+            .copied()
+            .filter(|&v| boundary_out[mesh.vertex_index(v)].is_none())
+            .collect();
+        interior.sort_unstable_by_key(|&v| mesh.vertex_index(v));
+        let n_interior = interior.len();
+        let mut vertices = interior;
+        vertices.extend(boundary);
+        let mut local_of_slot = vec![NONE; mesh.vertex_slots()];
+        for (i, &v) in vertices.iter().enumerate() {
+            local_of_slot[mesh.vertex_index(v)] = i as u32;
+        }
+        Ok(Self {
+            faces: list,
+            vertices,
+            n_interior,
+            local_of_slot,
+            picks: Vec::new(),
+            mesh_vertex_slots: mesh.vertex_slots(),
+            mesh_faces: mesh.n_faces(),
+        })
+    }
+
+    /// A geodesic-ish disk around `seed`: rings of vertices are added breadth-first until
+    /// at least `vertex_count` vertices are reached; the area is the faces around the
+    /// vertices of all rings but the last, with holes (pockets of faces the rings enclose)
+    /// filled. Handy for examples and benches.
+    ///
+    /// # Errors
+    /// [`EditError::InvalidVertex`]; the errors of [`from_faces`](Self::from_faces) when
+    /// the rings wrap around a handle or reach the mesh boundary.
+    pub fn disk_around(mesh: &Mesh, seed: VertexId, vertex_count: usize) -> Result<Self> {
+        if !mesh.is_valid_vertex(seed) {
+            return Err(EditError::InvalidVertex(seed));
+        }
+        let mut ring = vec![u32::MAX; mesh.vertex_slots()];
+        ring[mesh.vertex_index(seed)] = 0;
+        let mut queue = VecDeque::from([seed]);
+        let mut order = Vec::new();
+        let mut last_ring = 0;
+        while let Some(v) = queue.pop_front() {
+            let r = ring[mesh.vertex_index(v)];
+            if order.len() >= vertex_count.max(1) && r > last_ring {
+                break;
+            }
+            last_ring = r;
+            order.push(v);
+            for w in mesh.adjacent_vertices(v) {
+                let rw = &mut ring[mesh.vertex_index(w)];
+                if *rw == u32::MAX {
+                    *rw = r + 1;
+                    queue.push_back(w);
+                }
+            }
+        }
+        let mut in_area = vec![false; mesh.face_slots()];
+        for &v in &order {
+            if ring[mesh.vertex_index(v)] < last_ring.max(1) {
+                for f in mesh.adjacent_faces(v) {
+                    in_area[mesh.face_index(f)] = true;
+                }
+            }
+        }
+        fill_pockets(mesh, &mut in_area);
+        let faces: Vec<FaceId> = mesh
+            .faces()
+            .filter(|&f| in_area[mesh.face_index(f)])
+            .collect();
+        Self::from_faces(mesh, &faces)
+    }
+
+    /// This area grown by `faces`, each of which must share an edge with the area or with
+    /// a face added before it in the list (Lee 1999, §3.2). Picks are kept.
+    ///
+    /// # Errors
+    /// [`EditError::FaceNotAdjacent`], and the errors of [`from_faces`](Self::from_faces)
+    /// when the result is not a disk.
+    pub fn grown(&self, mesh: &Mesh, faces: &[FaceId]) -> Result<Self> {
+        self.check_mesh(mesh)?;
+        let mut in_area = vec![false; mesh.face_slots()];
+        for &f in &self.faces {
+            in_area[mesh.face_index(f)] = true;
+        }
+        let mut all = self.faces.clone();
+        for &f in faces {
+            if !mesh.is_valid_face(f) {
+                return Err(EditError::InvalidFace(f));
+            }
+            if in_area[mesh.face_index(f)] {
+                continue;
+            }
+            let adjacent = mesh.face_neighbors(f).any(|g| in_area[mesh.face_index(g)]);
+            if !adjacent {
+                return Err(EditError::FaceNotAdjacent { face: f });
+            }
+            in_area[mesh.face_index(f)] = true;
+            all.push(f);
+        }
+        let mut area = Self::from_faces(mesh, &all)?;
+        area.picks = self.picks.clone();
+        Ok(area)
+    }
+
+    /// The faces of the area.
+    #[must_use]
+    pub fn faces(&self) -> &[FaceId] {
+        &self.faces
+    }
+
+    /// All vertices in local order: interior ones, then the boundary loop.
+    #[must_use]
+    pub fn vertices(&self) -> &[VertexId] {
+        &self.vertices
+    }
+
+    /// The interior vertices (sorted by vertex index): the ones an edit may move.
+    #[must_use]
+    pub fn interior(&self) -> &[VertexId] {
+        &self.vertices[..self.n_interior]
+    }
+
+    /// The boundary loop, counter-clockwise around the area.
+    #[must_use]
+    pub fn boundary(&self) -> &[VertexId] {
+        &self.vertices[self.n_interior..]
+    }
+
+    /// Number of interior vertices.
+    #[must_use]
+    pub fn n_interior(&self) -> usize {
+        self.n_interior
+    }
+
+    /// The picked vertices the area was made from (empty for other constructors).
+    #[must_use]
+    pub fn picks(&self) -> &[VertexId] {
+        &self.picks
+    }
+
+    /// The local index of `v` (see the type docs), if it is in the area.
+    #[must_use]
+    pub fn local_index(&self, mesh: &Mesh, v: VertexId) -> Option<usize> {
+        if !mesh.is_valid_vertex(v) {
+            return None;
+        }
+        match self.local_of_slot.get(mesh.vertex_index(v)) {
+            Some(&i) if i != NONE && self.vertices[i as usize] == v => Some(i as usize),
+            _ => None,
+        }
+    }
+
+    /// True when `v` is in the area (interior or boundary).
+    #[must_use]
+    pub fn contains(&self, mesh: &Mesh, v: VertexId) -> bool {
+        self.local_index(mesh, v).is_some()
+    }
+
+    /// True when `v` is on the area's boundary loop.
+    #[must_use]
+    pub fn is_boundary(&self, mesh: &Mesh, v: VertexId) -> bool {
+        self.local_index(mesh, v)
+            .is_some_and(|i| i >= self.n_interior)
+    }
+
+    /// Checks that `mesh` still has the vertex slots and face count the area was made on.
+    ///
+    /// # Errors
+    /// [`EditError::AreaStale`].
+    pub fn check_mesh(&self, mesh: &Mesh) -> Result<()> {
+        if mesh.vertex_slots() != self.mesh_vertex_slots || mesh.n_faces() != self.mesh_faces {
+            return Err(EditError::AreaStale {
+                area_vertex_slots: self.mesh_vertex_slots,
+                area_faces: self.mesh_faces,
+                mesh_vertex_slots: mesh.vertex_slots(),
+                mesh_faces: mesh.n_faces(),
+            });
+        }
+        Ok(())
+    }
+
+    /// Local triangles (three local indices each, in face orientation).
+    pub(crate) fn local_triangles(&self, mesh: &Mesh) -> Vec<[u32; 3]> {
+        self.faces
+            .par_iter()
+            .with_min_len(4096)
+            .map(|&f| {
+                mesh.triangle(f)
+                    .map(|v| self.local_of_slot[mesh.vertex_index(v)])
+            })
+            .collect()
+    }
+
+    /// Local index by vertex slot, `u32::MAX` outside the area.
+    pub(crate) fn local_of_slot(&self) -> &[u32] {
+        &self.local_of_slot
+    }
+}
+
+/// Adds to the area every group of faces outside it that is not the largest such group:
+/// pockets enclosed by the area become part of it.
+fn fill_pockets(mesh: &Mesh, in_area: &mut [bool]) {
+    let mut group = vec![u32::MAX; mesh.face_slots()];
+    let mut sizes: Vec<usize> = Vec::new();
+    let mut stack = Vec::new();
+    for f in mesh.faces() {
+        let fi = mesh.face_index(f);
+        if in_area[fi] || group[fi] != u32::MAX {
+            continue;
+        }
+        let id = sizes.len() as u32;
+        sizes.push(0);
+        group[fi] = id;
+        stack.push(f);
+        while let Some(g) = stack.pop() {
+            sizes[id as usize] += 1;
+            for n in mesh.face_neighbors(g) {
+                let ni = mesh.face_index(n);
+                if !in_area[ni] && group[ni] == u32::MAX {
+                    group[ni] = id;
+                    stack.push(n);
+                }
+            }
+        }
+    }
+    let Some(largest) = (0..sizes.len()).max_by_key(|&i| sizes[i]) else {
+        return;
+    };
+    for f in mesh.faces() {
+        let fi = mesh.face_index(f);
+        if !in_area[fi] && group[fi] != largest as u32 {
+            in_area[fi] = true;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use halfedge::generators;
+
+    fn vertex(mesh: &Mesh, i: usize) -> VertexId {
+        mesh.vertex_at(i).unwrap()
+    }
+
+    #[test]
+    fn picks_on_a_sphere_make_a_disk_on_the_smaller_side() {
+        let mesh = generators::icosphere(3);
+        // four vertices around the north pole region
+        let mut near: Vec<VertexId> = mesh
+            .vertices()
+            .filter(|&v| mesh.position(v).z > 0.6)
+            .collect();
+        near.sort_by(|&a, &b| {
+            let (pa, pb) = (mesh.position(a), mesh.position(b));
+            pa.y.atan2(pa.x).total_cmp(&pb.y.atan2(pb.x))
+        });
+        let picks: Vec<VertexId> = (0..4).map(|k| near[k * near.len() / 4]).collect();
+        let area = EditingArea::from_picks(&mesh, &picks, AreaSide::Smaller).unwrap();
+        assert!(area.faces().len() < mesh.n_faces() / 2);
+        assert!(area.n_interior() > 0);
+        for &p in &picks {
+            assert!(area.is_boundary(&mesh, p));
+        }
+        let top = mesh
+            .vertices()
+            .max_by(|&a, &b| mesh.position(a).z.total_cmp(&mesh.position(b).z))
+            .unwrap();
+        assert!(area.contains(&mesh, top) && !area.is_boundary(&mesh, top));
+        // the other side through a seed
+        let bottom = mesh
+            .vertices()
+            .min_by(|&a, &b| mesh.position(a).z.total_cmp(&mesh.position(b).z))
+            .unwrap();
+        let other = EditingArea::from_picks(&mesh, &picks, AreaSide::Vertex(bottom)).unwrap();
+        assert_eq!(other.faces().len() + area.faces().len(), mesh.n_faces());
+        assert!(matches!(
+            EditingArea::from_picks(&mesh, &picks, AreaSide::Vertex(picks[0])),
+            Err(EditError::SeedOnLoop(_))
+        ));
+    }
+
+    #[test]
+    fn boundary_loop_runs_counter_clockwise() {
+        let mesh = generators::grid(6, 6, 6.0, 6.0);
+        let faces: Vec<FaceId> = mesh
+            .faces()
+            .filter(|&f| {
+                let c = mesh.face_centroid(f);
+                (1.0..5.0).contains(&c.x) && (1.0..5.0).contains(&c.y)
+            })
+            .collect();
+        let area = EditingArea::from_faces(&mesh, &faces).unwrap();
+        assert_eq!(area.n_interior(), 9);
+        assert_eq!(area.boundary().len(), 16);
+        // signed area of the boundary polygon is positive
+        let b = area.boundary();
+        let mut twice = 0.0;
+        for i in 0..b.len() {
+            let (p, q) = (mesh.position(b[i]), mesh.position(b[(i + 1) % b.len()]));
+            twice += p.x * q.y - q.x * p.y;
+        }
+        assert!((twice - 2.0 * 16.0).abs() < 1e-9);
+        assert_eq!(area.local_index(&mesh, vertex(&mesh, 0)), None);
+    }
+
+    #[test]
+    fn annulus_and_mesh_boundary_are_refused() {
+        let mesh = generators::grid(6, 6, 6.0, 6.0);
+        let ring: Vec<FaceId> = mesh
+            .faces()
+            .filter(|&f| {
+                let c = mesh.face_centroid(f);
+                let inside = |a: f64, b: f64| (a..b).contains(&c.x) && (a..b).contains(&c.y);
+                inside(1.0, 5.0) && !inside(2.0, 4.0)
+            })
+            .collect();
+        assert!(matches!(
+            EditingArea::from_faces(&mesh, &ring),
+            Err(EditError::AreaNotDisk {
+                boundary_loops: 2,
+                ..
+            })
+        ));
+        let corner: Vec<FaceId> = mesh.faces().take(4).collect();
+        assert!(matches!(
+            EditingArea::from_faces(&mesh, &corner),
+            Err(EditError::AreaTouchesMeshBoundary { .. })
+        ));
+        assert!(matches!(
+            EditingArea::from_faces(&mesh, &[]),
+            Err(EditError::AreaEmpty)
+        ));
+    }
+
+    #[test]
+    fn growing_by_adjacent_faces() {
+        let mesh = generators::grid(8, 8, 8.0, 8.0);
+        let pick = |x: f64, y: f64| {
+            mesh.vertices()
+                .find(|&v| mesh.position(v).truncate() == glam::DVec2::new(x, y))
+                .unwrap()
+        };
+        let picks = [
+            pick(2.0, 2.0),
+            pick(5.0, 2.0),
+            pick(5.0, 5.0),
+            pick(2.0, 5.0),
+        ];
+        let area =
+            EditingArea::from_picks(&mesh, &picks, AreaSide::Vertex(pick(3.0, 3.0))).unwrap();
+        assert_eq!(area.faces().len(), 18);
+        let outside = mesh
+            .faces()
+            .find(|&f| {
+                let c = mesh.face_centroid(f);
+                c.x > 5.0 && c.x < 5.5 && c.y > 3.0 && c.y < 4.0
+            })
+            .unwrap();
+        let grown = area.grown(&mesh, &[outside]).unwrap();
+        assert_eq!(grown.faces().len(), 19);
+        let far = mesh
+            .faces()
+            .find(|&f| mesh.face_centroid(f).x > 7.0)
+            .unwrap();
+        assert!(matches!(
+            area.grown(&mesh, &[far]),
+            Err(EditError::FaceNotAdjacent { .. })
+        ));
+    }
+
+    #[test]
+    fn disk_around_a_vertex() {
+        let mesh = generators::icosphere(4);
+        let area = EditingArea::disk_around(&mesh, vertex(&mesh, 0), 200).unwrap();
+        assert!(area.vertices().len() >= 150);
+        assert!(area.contains(&mesh, vertex(&mesh, 0)));
+        assert!(!area.is_boundary(&mesh, vertex(&mesh, 0)));
+    }
+}

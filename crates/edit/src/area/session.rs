@@ -1,0 +1,496 @@
+//! The editing session (Lee 1999, §3.1 and §3.3): the area is specified and embedded
+//! once; then any number of edits with editing primitives of any vertex set, at any scale
+//! and with either kind of local frames, each re-running only the multilevel B-spline
+//! fit of the primitive's offsets and its evaluation at the area's vertices.
+//!
+//! Positions are always `rest + f_s(offsets)`, where `rest` are the area's positions when
+//! the edit began ([`EditingSession::commit`], called by
+//! [`EditingSession::set_primitive`]): dragging again replaces the previous drag of the
+//! same edit instead of accumulating on it, and changing the scale or the frames
+//! re-shapes the current edit ([`EditingSession::apply`]).
+//!
+//! # Speed
+//!
+//! Per area (once): the embedding, and for every interior vertex the index and the
+//! B-spline weights of its 4 × 4 control points in the finest lattice. Per primitive: the
+//! same for its vertices at every level. Per drag: the fit touches only the primitive's
+//! control points plus one dense refinement per level; the evaluation is 16 lattice reads
+//! per interior vertex, in parallel over chunks of the mesh's position array when the
+//! area is large; boundary vertices are never written.
+
+use glam::{DVec2, DVec3};
+use halfedge::{Mesh, VertexId};
+use rayon::prelude::*;
+
+use super::{EditingArea, Embedding, EmbeddingOptions, FrameKind, LocalFrames};
+use crate::mba::{level_size, point_bases, FitWorkspace, LatticeBasis, ScaleSplit, MAX_LEVELS};
+use crate::{EditError, Result};
+
+/// Options of [`EditingSession::new`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct SessionOptions {
+    /// How the area is embedded.
+    pub embedding: EmbeddingOptions,
+    /// Local frames.
+    pub frames: FrameKind,
+    /// Scale parameter `s ∈ [0, 1]` (Lee 1999 §3.6): 0 moves only the primitive, 1 the
+    /// whole area.
+    pub scale: f64,
+    /// Number `l` of B-spline levels (at least 3, since boundary fixing zeroes three
+    /// border rows on each side). `None`: the smallest `l` with
+    /// `m_l = 2^{l−1} ≥ √(area vertices) / 2`, at least 5 — about two vertices per
+    /// finest cell, so the finest level resolves the mesh.
+    pub levels: Option<usize>,
+}
+
+impl Default for SessionOptions {
+    fn default() -> Self {
+        Self {
+            embedding: EmbeddingOptions::default(),
+            frames: FrameKind::Global,
+            scale: 0.5,
+            levels: None,
+        }
+    }
+}
+
+/// Interior vertices from which the evaluation runs in parallel.
+const PARALLEL_MIN: usize = 8192;
+/// Position-array chunk of one parallel task.
+const CHUNK: usize = 4096;
+const NONE: u32 = u32::MAX;
+
+/// An area-editing session after Lee 1999: see the [module docs](self).
+///
+/// ```
+/// use edit::area::{EditingArea, EditingSession, SessionOptions};
+/// use glam::DVec3;
+/// let mut mesh = halfedge::generators::icosphere(3);
+/// let top = mesh.vertices().max_by(|&a, &b| mesh.position(a).z.total_cmp(&mesh.position(b).z)).unwrap();
+/// let area = EditingArea::disk_around(&mesh, top, 150).unwrap();
+/// let mut session = EditingSession::new(&mesh, area, &SessionOptions::default()).unwrap();
+/// session.set_primitive(&mesh, &[top]).unwrap();
+/// let before = mesh.position(top);
+/// session.drag(&mut mesh, DVec3::new(0.0, 0.0, 0.2)).unwrap();
+/// assert!((mesh.position(top) - (before + DVec3::new(0.0, 0.0, 0.2))).length() < 1e-9);
+/// ```
+#[derive(Clone, Debug)]
+pub struct EditingSession {
+    area: EditingArea,
+    embedding: Embedding,
+    levels: usize,
+    scale: f64,
+    frame_kind: FrameKind,
+    frames: LocalFrames,
+    rest: Vec<DVec3>,
+    interior_slots: Vec<u32>,
+    eval: Vec<LatticeBasis>,
+    primitive: Vec<u32>,
+    primitive_bases: Vec<LatticeBasis>,
+    data_of_local: Vec<u32>,
+    displacements: Vec<DVec3>,
+    offsets: Vec<DVec3>,
+    workspace: FitWorkspace,
+    lattice: Vec<DVec3>,
+}
+
+impl EditingSession {
+    /// Specifies the editing area: embeds it (once for the whole session), computes the
+    /// frames and the per-vertex lattice bases, and records the current positions as the
+    /// rest positions.
+    ///
+    /// # Errors
+    /// The errors of [`Embedding::new`] and [`LocalFrames::new`];
+    /// [`EditError::InvalidParameter`] for a bad scale or level count.
+    pub fn new(mesh: &Mesh, area: EditingArea, options: &SessionOptions) -> Result<Self> {
+        check_scale(options.scale)?;
+        let levels = match options.levels {
+            Some(l) => check_levels(l)?,
+            None => auto_levels(area.vertices().len()),
+        };
+        let embedding = Embedding::new(mesh, &area, &options.embedding)?;
+        let rest: Vec<DVec3> = area.vertices().iter().map(|&v| mesh.position(v)).collect();
+        let centre_seed = nearest_to_centre(&area, &embedding);
+        let frames = LocalFrames::new(mesh, &area, &rest, &options.frames, centre_seed)?;
+        let interior_slots = area
+            .interior()
+            .iter()
+            .map(|&v| mesh.vertex_index(v) as u32)
+            .collect();
+        let mut session = Self {
+            data_of_local: vec![NONE; area.n_interior()],
+            area,
+            embedding,
+            levels,
+            scale: options.scale,
+            frame_kind: options.frames.clone(),
+            frames,
+            rest,
+            interior_slots,
+            eval: Vec::new(),
+            primitive: Vec::new(),
+            primitive_bases: Vec::new(),
+            displacements: Vec::new(),
+            offsets: Vec::new(),
+            workspace: FitWorkspace::default(),
+            lattice: Vec::new(),
+        };
+        session.compute_bases();
+        Ok(session)
+    }
+
+    fn compute_bases(&mut self) {
+        let size = self.embedding.size();
+        let m = level_size(self.levels);
+        let uv = &self.embedding.uv()[..self.area.n_interior()];
+        self.eval = uv
+            .par_iter()
+            .with_min_len(1024)
+            .map(|&p| LatticeBasis::locate(p, DVec2::ZERO, size, m))
+            .collect();
+        let points: Vec<DVec2> = self
+            .primitive
+            .iter()
+            .map(|&i| self.embedding.uv()[i as usize])
+            .collect();
+        self.primitive_bases = point_bases(&points, DVec2::ZERO, size, self.levels);
+    }
+
+    /// The editing area.
+    #[must_use]
+    pub fn area(&self) -> &EditingArea {
+        &self.area
+    }
+
+    /// The area's embedding onto the rectangle.
+    #[must_use]
+    pub fn embedding(&self) -> &Embedding {
+        &self.embedding
+    }
+
+    /// Number of B-spline levels `l`.
+    #[must_use]
+    pub fn levels(&self) -> usize {
+        self.levels
+    }
+
+    /// The scale parameter `s`.
+    #[must_use]
+    pub fn scale(&self) -> f64 {
+        self.scale
+    }
+
+    /// The local frames in use.
+    #[must_use]
+    pub fn frames(&self) -> &LocalFrames {
+        &self.frames
+    }
+
+    /// The vertices of the current editing primitive.
+    #[must_use]
+    pub fn primitive(&self) -> Vec<VertexId> {
+        self.primitive
+            .iter()
+            .map(|&i| self.area.vertices()[i as usize])
+            .collect()
+    }
+
+    /// The rest positions of the area's local vertices (positions when the current edit
+    /// began).
+    #[must_use]
+    pub fn rest_positions(&self) -> &[DVec3] {
+        &self.rest
+    }
+
+    /// Sets the scale parameter `s ∈ [0, 1]` (Lee 1999 §3.6); takes effect at the next
+    /// [`drag`](Self::drag) or [`apply`](Self::apply). No re-embedding.
+    ///
+    /// # Errors
+    /// [`EditError::InvalidParameter`] outside `[0, 1]` or NaN.
+    pub fn set_scale(&mut self, s: f64) -> Result<()> {
+        check_scale(s)?;
+        self.scale = s;
+        Ok(())
+    }
+
+    /// Sets the number of B-spline levels (at least 3); recomputes the lattice bases.
+    ///
+    /// # Errors
+    /// [`EditError::InvalidParameter`] outside `3 ..= MAX_LEVELS`.
+    pub fn set_levels(&mut self, levels: usize) -> Result<()> {
+        self.levels = check_levels(levels)?;
+        self.compute_bases();
+        Ok(())
+    }
+
+    /// Changes the local frames (computed at the rest positions); takes effect at the next
+    /// drag or apply. No re-embedding.
+    ///
+    /// # Errors
+    /// [`EditError::AreaStale`]; the errors of [`LocalFrames::new`].
+    pub fn set_frames(&mut self, mesh: &Mesh, kind: FrameKind) -> Result<()> {
+        self.area.check_mesh(mesh)?;
+        let seed = nearest_to_centre(&self.area, &self.embedding);
+        self.frames = LocalFrames::new(mesh, &self.area, &self.rest, &kind, seed)?;
+        self.frame_kind = kind;
+        Ok(())
+    }
+
+    /// Chooses the editing primitive (Lee 1999 §3.3): any set of interior vertices of the
+    /// area (a single vertex, a chain, a closed loop, a scattered set; duplicates
+    /// ignored). Starts a new edit: the mesh's current positions become the rest
+    /// positions ([`commit`](Self::commit)).
+    ///
+    /// # Errors
+    /// [`EditError::EmptyPrimitive`], [`EditError::InvalidVertex`],
+    /// [`EditError::PrimitiveOutsideArea`], [`EditError::PrimitiveOnAreaBoundary`],
+    /// [`EditError::AreaStale`]; nothing changes on error.
+    pub fn set_primitive(&mut self, mesh: &Mesh, vertices: &[VertexId]) -> Result<()> {
+        self.area.check_mesh(mesh)?;
+        if vertices.is_empty() {
+            return Err(EditError::EmptyPrimitive);
+        }
+        let mut primitive = Vec::with_capacity(vertices.len());
+        for &v in vertices {
+            if !mesh.is_valid_vertex(v) {
+                return Err(EditError::InvalidVertex(v));
+            }
+            let i = self
+                .area
+                .local_index(mesh, v)
+                .ok_or(EditError::PrimitiveOutsideArea { vertex: v })?;
+            if i >= self.area.n_interior() {
+                return Err(EditError::PrimitiveOnAreaBoundary { vertex: v });
+            }
+            if !primitive.contains(&(i as u32)) {
+                primitive.push(i as u32);
+            }
+        }
+        self.commit(mesh)?;
+        for &i in &self.primitive {
+            self.data_of_local[i as usize] = NONE;
+        }
+        for (c, &i) in primitive.iter().enumerate() {
+            self.data_of_local[i as usize] = c as u32;
+        }
+        self.displacements = vec![DVec3::ZERO; primitive.len()];
+        self.offsets = vec![DVec3::ZERO; primitive.len()];
+        self.primitive = primitive;
+        self.compute_bases();
+        Ok(())
+    }
+
+    /// Ends the current edit: the mesh's positions of the area become the rest positions
+    /// (and normal-based frames are recomputed there); the primitive stays, its
+    /// displacements are reset.
+    ///
+    /// # Errors
+    /// [`EditError::AreaStale`].
+    pub fn commit(&mut self, mesh: &Mesh) -> Result<()> {
+        self.area.check_mesh(mesh)?;
+        let rest: Vec<DVec3> = self
+            .area
+            .vertices()
+            .iter()
+            .map(|&v| mesh.position(v))
+            .collect();
+        if !self.frames.is_global() {
+            let seed = nearest_to_centre(&self.area, &self.embedding);
+            self.frames = LocalFrames::new(mesh, &self.area, &rest, &self.frame_kind, seed)?;
+        }
+        self.rest = rest;
+        self.displacements.fill(DVec3::ZERO);
+        Ok(())
+    }
+
+    /// Undoes the current edit: the area's interior vertices go back to the rest positions.
+    ///
+    /// # Errors
+    /// [`EditError::AreaStale`].
+    pub fn cancel(&mut self, mesh: &mut Mesh) -> Result<()> {
+        self.area.check_mesh(mesh)?;
+        let positions = mesh.positions_mut();
+        for (i, &slot) in self.interior_slots.iter().enumerate() {
+            positions[slot as usize] = self.rest[i];
+        }
+        self.displacements.fill(DVec3::ZERO);
+        Ok(())
+    }
+
+    /// First mode of Lee 1999 §3.3: moves the whole primitive by `displacement` from its
+    /// rest positions and updates the mesh at once. Calling it again during the same edit
+    /// replaces the previous displacement.
+    ///
+    /// # Errors
+    /// [`EditError::NonFiniteDisplacement`], [`EditError::EmptyPrimitive`],
+    /// [`EditError::AreaStale`]; the mesh is unchanged on error.
+    pub fn drag(&mut self, mesh: &mut Mesh, displacement: DVec3) -> Result<()> {
+        if !displacement.is_finite() {
+            return Err(EditError::NonFiniteDisplacement { displacement });
+        }
+        self.ready(mesh)?;
+        self.displacements.fill(displacement);
+        self.update(mesh);
+        Ok(())
+    }
+
+    /// Second mode of Lee 1999 §3.3: sets the target position of one primitive vertex;
+    /// the mesh changes at [`apply`](Self::apply). Vertices not moved keep their rest
+    /// position as target (they hold the surface there).
+    ///
+    /// # Errors
+    /// [`EditError::NonFiniteTarget`], [`EditError::NotInPrimitive`],
+    /// [`EditError::AreaStale`].
+    pub fn move_vertex(&mut self, mesh: &Mesh, v: VertexId, target: DVec3) -> Result<()> {
+        self.area.check_mesh(mesh)?;
+        if !target.is_finite() {
+            return Err(EditError::NonFiniteTarget { vertex: v, target });
+        }
+        let c = self
+            .area
+            .local_index(mesh, v)
+            .filter(|&i| i < self.area.n_interior())
+            .map(|i| self.data_of_local[i])
+            .filter(|&c| c != NONE)
+            .ok_or(EditError::NotInPrimitive { vertex: v })?;
+        let i = self.primitive[c as usize] as usize;
+        self.displacements[c as usize] = target - self.rest[i];
+        Ok(())
+    }
+
+    /// Updates the mesh from the current displacements of the primitive, scale and
+    /// frames (after [`move_vertex`](Self::move_vertex), or to show a new scale).
+    ///
+    /// # Errors
+    /// [`EditError::EmptyPrimitive`], [`EditError::AreaStale`].
+    pub fn apply(&mut self, mesh: &mut Mesh) -> Result<()> {
+        self.ready(mesh)?;
+        self.update(mesh);
+        Ok(())
+    }
+
+    fn ready(&self, mesh: &Mesh) -> Result<()> {
+        self.area.check_mesh(mesh)?;
+        if self.primitive.is_empty() {
+            return Err(EditError::EmptyPrimitive);
+        }
+        Ok(())
+    }
+
+    /// Fit + evaluate + write; inputs already checked.
+    fn update(&mut self, mesh: &mut Mesh) {
+        for (c, &i) in self.primitive.iter().enumerate() {
+            self.offsets[c] = self.frames.to_offset(i as usize, self.displacements[c]);
+        }
+        let split = ScaleSplit::new(self.scale, self.levels);
+        self.workspace.fit(
+            self.levels,
+            split,
+            &self.primitive_bases,
+            &self.offsets,
+            true,
+            &mut self.lattice,
+        );
+        let evaluator = Evaluator {
+            lattice: (split.k <= self.levels).then_some(self.lattice.as_slice()),
+            n: level_size(self.levels) + 3,
+            data_weight: split.data_weight(self.levels),
+            eval: &self.eval,
+            data_of_local: &self.data_of_local,
+            offsets: &self.offsets,
+            frames: &self.frames,
+            rest: &self.rest,
+        };
+        let slots = &self.interior_slots;
+        let positions = mesh.positions_mut();
+        if slots.len() < PARALLEL_MIN {
+            for (i, &slot) in slots.iter().enumerate() {
+                positions[slot as usize] = evaluator.position(i);
+            }
+        } else {
+            positions
+                .par_chunks_mut(CHUNK)
+                .enumerate()
+                .for_each(|(chunk, out)| {
+                    let lo = chunk * CHUNK;
+                    let start = slots.partition_point(|&s| (s as usize) < lo);
+                    let end = slots.partition_point(|&s| (s as usize) < lo + out.len());
+                    for (i, &slot) in slots.iter().enumerate().take(end).skip(start) {
+                        out[slot as usize - lo] = evaluator.position(i);
+                    }
+                });
+        }
+    }
+}
+
+/// What the evaluation of one interior vertex reads.
+struct Evaluator<'a> {
+    lattice: Option<&'a [DVec3]>,
+    n: usize,
+    data_weight: f64,
+    eval: &'a [LatticeBasis],
+    data_of_local: &'a [u32],
+    offsets: &'a [DVec3],
+    frames: &'a LocalFrames,
+    rest: &'a [DVec3],
+}
+
+impl Evaluator<'_> {
+    #[inline]
+    fn position(&self, i: usize) -> DVec3 {
+        let mut offset = match self.lattice {
+            Some(phi) => self.eval[i].evaluate(phi, self.n),
+            None => DVec3::ZERO,
+        };
+        let c = self.data_of_local[i];
+        if c != NONE {
+            offset += self.offsets[c as usize] * self.data_weight;
+        }
+        self.rest[i] + self.frames.to_displacement(i, offset)
+    }
+}
+
+fn check_scale(s: f64) -> Result<()> {
+    if !(0.0..=1.0).contains(&s) {
+        return Err(EditError::InvalidParameter {
+            name: "scale",
+            reason: format!("{s} is outside [0, 1]"),
+        });
+    }
+    Ok(())
+}
+
+fn check_levels(l: usize) -> Result<usize> {
+    if !(3..=MAX_LEVELS).contains(&l) {
+        return Err(EditError::InvalidParameter {
+            name: "levels",
+            reason: format!(
+                "{l} is outside 3..={MAX_LEVELS} (boundary fixing zeroes three border rows)"
+            ),
+        });
+    }
+    Ok(l)
+}
+
+/// The smallest `l ≥ 5` with `2^{l−1} ≥ √n / 2`.
+fn auto_levels(n: usize) -> usize {
+    let target = (n as f64).sqrt() / 2.0;
+    let mut l = 5;
+    while (level_size(l) as f64) < target && l < 12 {
+        l += 1;
+    }
+    l
+}
+
+/// The interior vertex embedded nearest to the rectangle's centre (0 without interior).
+fn nearest_to_centre(area: &EditingArea, embedding: &Embedding) -> usize {
+    let centre = 0.5 * embedding.size();
+    embedding.uv()[..area.n_interior()]
+        .iter()
+        .enumerate()
+        .min_by(|a, b| {
+            a.1.distance_squared(centre)
+                .total_cmp(&b.1.distance_squared(centre))
+        })
+        .map_or(0, |(i, _)| i)
+}
