@@ -23,7 +23,7 @@ use halfedge::Mesh;
 use rayon::prelude::*;
 
 use crate::laplace::cotan_weight;
-use crate::selection::{finite, Resolved, Vertices};
+use crate::selection::{finite, Vertices};
 use crate::submesh::SubMesh;
 use crate::{EditError, Result};
 
@@ -124,7 +124,9 @@ impl Smoother {
                 let mut cols = Vec::with_capacity(chunk.len() * 7);
                 let mut w = Vec::new();
                 for &i in chunk {
-                    let v = mesh.vertex_at(i as usize).expect("moving vertices are live");
+                    let v = mesh
+                        .vertex_at(i as usize)
+                        .expect("moving vertices are live");
                     let start = cols.len();
                     for h in mesh.outgoing_halfedges(v) {
                         cols.push(mesh.vertex_index(mesh.to_vertex(h)) as u32);
