@@ -233,8 +233,8 @@ impl Smoother {
         let mut mask = submesh.mask().to_vec();
         if mask.len() != mesh.vertex_slots() {
             return Err(EditError::VertexArrayLength {
-                expected: mask.len(),
-                found: mesh.vertex_slots(),
+                expected: mesh.vertex_slots(),
+                found: mask.len(),
             });
         }
         for ring in submesh.collars(mesh, collar)? {
@@ -277,8 +277,8 @@ impl Smoother {
     fn run(&mut self, mesh: &mut Mesh, factors: &[f64], iterations: usize) -> Result<()> {
         if mesh.vertex_slots() != self.slots {
             return Err(EditError::VertexArrayLength {
-                expected: self.slots,
-                found: mesh.vertex_slots(),
+                expected: mesh.vertex_slots(),
+                found: self.slots,
             });
         }
         let steps: Vec<f64> = factors.iter().copied().filter(|&f| f != 0.0).collect();
@@ -312,10 +312,8 @@ impl Smoother {
             .zip(self.local_to_slot.par_iter())
             .with_min_len(4096)
             .for_each(|(x, &i)| *x = positions[i as usize]);
-        b.par_iter_mut()
-            .zip(a.par_iter())
-            .with_min_len(4096)
-            .for_each(|(y, x)| *y = *x);
+        // the anchors never change; the moving rows are written by the first step
+        b[self.rows..].copy_from_slice(&a[self.rows..]);
     }
 
     fn scatter(&self, positions: &mut [DVec3], current: usize) {
