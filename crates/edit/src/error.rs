@@ -227,8 +227,9 @@ pub enum EditError {
     #[error("the mesh does not match the editing session: {0}")]
     SessionMismatch(String),
     // ---- sub-mesh edits, Barr deformers, smoothing, FFD: modules `submesh`, `barr`, `smoothing`, `ffd` ----
-    /// A per-vertex array (a selection mask, sub-mesh labels) whose length is not the
-    /// mesh's [`vertex_slots`](halfedge::Mesh::vertex_slots).
+    /// A per-vertex array (a selection mask, sub-mesh labels, or the vertex slots a
+    /// sub-mesh, smoother or snapshot was built for) whose length is not the mesh's
+    /// [`vertex_slots`](halfedge::Mesh::vertex_slots): the data belongs to another mesh.
     #[error("per-vertex array has {found} entries, the mesh has {expected} vertex slots")]
     VertexArrayLength {
         /// The mesh's vertex slot count.

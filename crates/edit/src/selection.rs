@@ -171,8 +171,8 @@ impl Snapshot {
     pub fn restore(&self, mesh: &mut Mesh) -> Result<()> {
         if mesh.vertex_slots() != self.slots {
             return Err(EditError::VertexArrayLength {
-                expected: self.slots,
-                found: mesh.vertex_slots(),
+                expected: mesh.vertex_slots(),
+                found: self.slots,
             });
         }
         let positions = mesh.positions_mut();

@@ -23,7 +23,7 @@ use halfedge::Mesh;
 use rayon::prelude::*;
 
 use crate::laplace::cotan_weight;
-use crate::selection::{finite, Resolved, Vertices};
+use crate::selection::{finite, Vertices};
 use crate::submesh::SubMesh;
 use crate::{EditError, Result};
 
@@ -124,7 +124,9 @@ impl Smoother {
                 let mut cols = Vec::with_capacity(chunk.len() * 7);
                 let mut w = Vec::new();
                 for &i in chunk {
-                    let v = mesh.vertex_at(i as usize).expect("moving vertices are live");
+                    let v = mesh
+                        .vertex_at(i as usize)
+                        .expect("moving vertices are live");
                     let start = cols.len();
                     for h in mesh.outgoing_halfedges(v) {
                         cols.push(mesh.vertex_index(mesh.to_vertex(h)) as u32);
@@ -231,8 +233,8 @@ impl Smoother {
         let mut mask = submesh.mask().to_vec();
         if mask.len() != mesh.vertex_slots() {
             return Err(EditError::VertexArrayLength {
-                expected: mask.len(),
-                found: mesh.vertex_slots(),
+                expected: mesh.vertex_slots(),
+                found: mask.len(),
             });
         }
         for ring in submesh.collars(mesh, collar)? {
@@ -275,8 +277,8 @@ impl Smoother {
     fn run(&mut self, mesh: &mut Mesh, factors: &[f64], iterations: usize) -> Result<()> {
         if mesh.vertex_slots() != self.slots {
             return Err(EditError::VertexArrayLength {
-                expected: self.slots,
-                found: mesh.vertex_slots(),
+                expected: mesh.vertex_slots(),
+                found: self.slots,
             });
         }
         let steps: Vec<f64> = factors.iter().copied().filter(|&f| f != 0.0).collect();
@@ -310,10 +312,8 @@ impl Smoother {
             .zip(self.local_to_slot.par_iter())
             .with_min_len(4096)
             .for_each(|(x, &i)| *x = positions[i as usize]);
-        b.par_iter_mut()
-            .zip(a.par_iter())
-            .with_min_len(4096)
-            .for_each(|(y, x)| *y = *x);
+        // the anchors never change; the moving rows are written by the first step
+        b[self.rows..].copy_from_slice(&a[self.rows..]);
     }
 
     fn scatter(&self, positions: &mut [DVec3], current: usize) {

@@ -108,8 +108,7 @@ impl Bend {
         let clamped = y.clamp(self.range.0, self.range.1);
         let theta = k * clamped;
         let (s, c) = theta.sin_cos();
-        let half = (0.5 * theta).sin();
-        let one_minus_cos = 2.0 * half * half;
+        let one_minus_cos = one_minus_cos(s, c);
         let a = y - clamped;
         // Y = −S (z − 1/k) + C a,  Z = C (z − 1/k) + 1/k + S a, written without 1/k alone.
         let big_y = -s * z + s / k + c * a;
@@ -126,8 +125,7 @@ impl Bend {
         // 1/k so that small curvatures keep their precision.
         let unrotate = |theta: f64| {
             let (s, c) = theta.sin_cos();
-            let half = (0.5 * theta).sin();
-            let one_minus_cos = 2.0 * half * half;
+            let one_minus_cos = one_minus_cos(s, c);
             let along = c * big_y + s * big_z - s / k;
             let z = -s * big_y + c * big_z + one_minus_cos / k;
             (along, z)
@@ -156,6 +154,17 @@ impl Bend {
         let theta = middle + delta;
         let (_, z) = unrotate(theta);
         (theta / k, z)
+    }
+}
+
+/// `1 − cos θ` from `sin θ` and `cos θ` without cancellation for small angles
+/// (`sin² θ / (1 + cos θ)`).
+#[inline]
+fn one_minus_cos(s: f64, c: f64) -> f64 {
+    if c > 0.0 {
+        s * s / (1.0 + c)
+    } else {
+        1.0 - c
     }
 }
 

@@ -129,6 +129,7 @@ pub(crate) fn foot(
         // raise f beyond rounding and shrinks the gradient is taken too
         let gradient = g[0].hypot(g[1]);
         let mut accepted = false;
+        let mut converged = false;
         let mut scale = 1.0;
         for _ in 0..30 {
             let nu = (u + scale * step[0]).clamp(0.0, 1.0);
@@ -144,11 +145,13 @@ pub(crate) fn foot(
                 (s, s_u, s_v, s_uu, s_uv, s_vv) = e;
                 f = nf;
                 accepted = moved > 0.0;
+                // a full Newton step this small leaves an error of its square: done
+                converged = scale == 1.0 && !(out_u || out_v) && moved < 1e-9;
                 break;
             }
             scale *= 0.5;
         }
-        if !accepted || (scale * (step[0].abs() + step[1].abs())) < 1e-15 {
+        if converged || !accepted || (scale * (step[0].abs() + step[1].abs())) < 1e-15 {
             break;
         }
     }

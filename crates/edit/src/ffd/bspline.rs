@@ -402,17 +402,19 @@ impl<T: Coefficient> Patches<T> {
     #[inline]
     pub(crate) fn value(&self, u: f64, v: f64) -> T {
         let (base, s, t) = self.locate(u, v);
-        let ov = self.order[1];
-        let mut acc = T::default();
-        for a in (0..self.order[0]).rev() {
-            let row = &self.coef[base + a * ov..base + (a + 1) * ov];
-            let mut r = T::default();
-            for &c in row.iter().rev() {
-                r = r * t + c;
-            }
-            acc = acc * s + r;
+        let cell = &self.coef[base..base + self.order[0] * self.order[1]];
+        match self.order {
+            [2, 2] => value_fixed::<T, 2, 2>(cell, s, t),
+            [3, 3] => value_fixed::<T, 3, 3>(cell, s, t),
+            [4, 4] => value_fixed::<T, 4, 4>(cell, s, t),
+            [2, 3] => value_fixed::<T, 2, 3>(cell, s, t),
+            [3, 2] => value_fixed::<T, 3, 2>(cell, s, t),
+            [3, 4] => value_fixed::<T, 3, 4>(cell, s, t),
+            [4, 3] => value_fixed::<T, 4, 3>(cell, s, t),
+            [2, 4] => value_fixed::<T, 2, 4>(cell, s, t),
+            [4, 2] => value_fixed::<T, 4, 2>(cell, s, t),
+            [ou, ov] => value_dynamic(cell, ou, ov, s, t),
         }
-        acc
     }
 
     /// `(S, S_s, S_t)` at `(u, v)`, derivatives with respect to the cell's local
@@ -420,54 +422,39 @@ impl<T: Coefficient> Patches<T> {
     #[inline]
     pub(crate) fn first_local(&self, u: f64, v: f64) -> (T, T, T) {
         let (base, s, t) = self.locate(u, v);
-        let ov = self.order[1];
-        let (mut p, mut p_s, mut p_t) = (T::default(), T::default(), T::default());
-        for a in (0..self.order[0]).rev() {
-            let row = &self.coef[base + a * ov..base + (a + 1) * ov];
-            let (mut r, mut r_t) = (T::default(), T::default());
-            for &c in row.iter().rev() {
-                r_t = r_t * t + r;
-                r = r * t + c;
-            }
-            p_s = p_s * s + p;
-            p = p * s + r;
-            p_t = p_t * s + r_t;
+        let cell = &self.coef[base..base + self.order[0] * self.order[1]];
+        match self.order {
+            [2, 2] => first_fixed::<T, 2, 2>(cell, s, t),
+            [3, 3] => first_fixed::<T, 3, 3>(cell, s, t),
+            [4, 4] => first_fixed::<T, 4, 4>(cell, s, t),
+            [2, 3] => first_fixed::<T, 2, 3>(cell, s, t),
+            [3, 2] => first_fixed::<T, 3, 2>(cell, s, t),
+            [3, 4] => first_fixed::<T, 3, 4>(cell, s, t),
+            [4, 3] => first_fixed::<T, 4, 3>(cell, s, t),
+            [2, 4] => first_fixed::<T, 2, 4>(cell, s, t),
+            [4, 2] => first_fixed::<T, 4, 2>(cell, s, t),
+            [ou, ov] => first_dynamic(cell, ou, ov, s, t),
         }
-        (p, p_s, p_t)
     }
 
     /// `(S, S_u, S_v, S_uu, S_uv, S_vv)` at `(u, v)`, in the global parameters.
     pub(crate) fn second(&self, u: f64, v: f64) -> Second<T> {
         let (base, s, t) = self.locate(u, v);
-        let ov = self.order[1];
-        let z = T::default();
-        // Horner with first and second derivatives in t for each row, then in s.
-        let (mut p, mut p_s, mut p_ss2) = (z, z, z);
-        let (mut q, mut q_s) = (z, z); // Σ r_t s^a and its s-derivative
-        let mut w = z; // Σ r_tt s^a
-        for a in (0..self.order[0]).rev() {
-            let row = &self.coef[base + a * ov..base + (a + 1) * ov];
-            let (mut r, mut r_t, mut r_tt2) = (z, z, z);
-            for &c in row.iter().rev() {
-                r_tt2 = r_tt2 * t + r_t;
-                r_t = r_t * t + r;
-                r = r * t + c;
-            }
-            p_ss2 = p_ss2 * s + p_s;
-            p_s = p_s * s + p;
-            p = p * s + r;
-            q_s = q_s * s + q;
-            q = q * s + r_t;
-            w = w * s + r_tt2 * 2.0;
-        }
+        let cell = &self.coef[base..base + self.order[0] * self.order[1]];
+        let local = match self.order {
+            [2, 2] => second_fixed::<T, 2, 2>(cell, s, t),
+            [3, 3] => second_fixed::<T, 3, 3>(cell, s, t),
+            [4, 4] => second_fixed::<T, 4, 4>(cell, s, t),
+            [ou, ov] => second_dynamic(cell, ou, ov, s, t),
+        };
         let (nu, nv) = (self.spans[0] as f64, self.spans[1] as f64);
         (
-            p,
-            p_s * nu,
-            q * nv,
-            p_ss2 * (2.0 * nu * nu),
-            q_s * (nu * nv),
-            w * (nv * nv),
+            local.0,
+            local.1 * nu,
+            local.2 * nv,
+            local.3 * (nu * nu),
+            local.4 * (nu * nv),
+            local.5 * (nv * nv),
         )
     }
 
@@ -475,6 +462,129 @@ impl<T: Coefficient> Patches<T> {
     pub(crate) fn spans(&self) -> [usize; 2] {
         self.spans
     }
+}
+
+/// Horner evaluation of one cell, any orders.
+#[inline]
+fn value_dynamic<T: Coefficient>(cell: &[T], ou: usize, ov: usize, s: f64, t: f64) -> T {
+    let mut acc = T::default();
+    for a in (0..ou).rev() {
+        let mut r = T::default();
+        for &c in cell[a * ov..(a + 1) * ov].iter().rev() {
+            r = r * t + c;
+        }
+        acc = acc * s + r;
+    }
+    acc
+}
+
+/// Horner evaluation of one cell with orders known at compile time (unrolled).
+#[inline(always)]
+fn value_fixed<T: Coefficient, const OU: usize, const OV: usize>(cell: &[T], s: f64, t: f64) -> T {
+    let cell = &cell[..OU * OV];
+    let mut acc = T::default();
+    for a in (0..OU).rev() {
+        let mut r = T::default();
+        for b in (0..OV).rev() {
+            r = r * t + cell[a * OV + b];
+        }
+        acc = acc * s + r;
+    }
+    acc
+}
+
+/// Value and first local derivatives of one cell, any orders.
+#[inline]
+fn first_dynamic<T: Coefficient>(cell: &[T], ou: usize, ov: usize, s: f64, t: f64) -> (T, T, T) {
+    let (mut p, mut p_s, mut p_t) = (T::default(), T::default(), T::default());
+    for a in (0..ou).rev() {
+        let (mut r, mut r_t) = (T::default(), T::default());
+        for &c in cell[a * ov..(a + 1) * ov].iter().rev() {
+            r_t = r_t * t + r;
+            r = r * t + c;
+        }
+        p_s = p_s * s + p;
+        p = p * s + r;
+        p_t = p_t * s + r_t;
+    }
+    (p, p_s, p_t)
+}
+
+/// Value and first local derivatives of one cell with orders known at compile time.
+#[inline(always)]
+fn first_fixed<T: Coefficient, const OU: usize, const OV: usize>(
+    cell: &[T],
+    s: f64,
+    t: f64,
+) -> (T, T, T) {
+    let cell = &cell[..OU * OV];
+    let (mut p, mut p_s, mut p_t) = (T::default(), T::default(), T::default());
+    for a in (0..OU).rev() {
+        let (mut r, mut r_t) = (T::default(), T::default());
+        for b in (0..OV).rev() {
+            r_t = r_t * t + r;
+            r = r * t + cell[a * OV + b];
+        }
+        p_s = p_s * s + p;
+        p = p * s + r;
+        p_t = p_t * s + r_t;
+    }
+    (p, p_s, p_t)
+}
+
+/// Value, first and second local derivatives of one cell, any orders:
+/// `(S, S_s, S_t, S_ss, S_st, S_tt)`. Horner with derivatives in `t` for each row, then
+/// in `s`.
+#[inline]
+fn second_dynamic<T: Coefficient>(cell: &[T], ou: usize, ov: usize, s: f64, t: f64) -> Second<T> {
+    let z = T::default();
+    let (mut p, mut p_s, mut p_ss2) = (z, z, z);
+    let (mut q, mut q_s) = (z, z); // Σ r_t s^a and its s-derivative
+    let mut w = z; // Σ r_tt s^a
+    for a in (0..ou).rev() {
+        let (mut r, mut r_t, mut r_tt2) = (z, z, z);
+        for &c in cell[a * ov..(a + 1) * ov].iter().rev() {
+            r_tt2 = r_tt2 * t + r_t;
+            r_t = r_t * t + r;
+            r = r * t + c;
+        }
+        p_ss2 = p_ss2 * s + p_s;
+        p_s = p_s * s + p;
+        p = p * s + r;
+        q_s = q_s * s + q;
+        q = q * s + r_t;
+        w = w * s + r_tt2 * 2.0;
+    }
+    (p, p_s, q, p_ss2 * 2.0, q_s, w)
+}
+
+/// [`second_dynamic`] with orders known at compile time.
+#[inline(always)]
+fn second_fixed<T: Coefficient, const OU: usize, const OV: usize>(
+    cell: &[T],
+    s: f64,
+    t: f64,
+) -> Second<T> {
+    let cell = &cell[..OU * OV];
+    let z = T::default();
+    let (mut p, mut p_s, mut p_ss2) = (z, z, z);
+    let (mut q, mut q_s) = (z, z);
+    let mut w = z;
+    for a in (0..OU).rev() {
+        let (mut r, mut r_t, mut r_tt2) = (z, z, z);
+        for b in (0..OV).rev() {
+            r_tt2 = r_tt2 * t + r_t;
+            r_t = r_t * t + r;
+            r = r * t + cell[a * OV + b];
+        }
+        p_ss2 = p_ss2 * s + p_s;
+        p_s = p_s * s + p;
+        p = p * s + r;
+        q_s = q_s * s + q;
+        q = q * s + r_t;
+        w = w * s + r_tt2 * 2.0;
+    }
+    (p, p_s, q, p_ss2 * 2.0, q_s, w)
 }
 
 #[cfg(test)]

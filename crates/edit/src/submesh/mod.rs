@@ -302,8 +302,8 @@ impl SubMesh {
     fn check_mesh(&self, mesh: &Mesh) -> Result<()> {
         if mesh.vertex_slots() != self.slots {
             return Err(EditError::VertexArrayLength {
-                expected: self.slots,
-                found: mesh.vertex_slots(),
+                expected: mesh.vertex_slots(),
+                found: self.slots,
             });
         }
         Ok(())

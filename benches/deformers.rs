@@ -1,0 +1,126 @@
+//! Speed of the deformers of issue 6 on a mesh of about a million vertices (nefertiti
+//! subdivided twice, 0.8 M vertices): Barr taper / twist / bend, Taubin steps, FFD attach
+//! and deform. Run with `cargo bench --bench deformers`.
+
+use std::path::PathBuf;
+use std::time::Duration;
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use edit::barr::{deform, Bend, Profile, Taper, Twist};
+use edit::ffd::{AttachOptions, Ffd, Frame};
+use edit::selection::Vertices;
+use edit::smoothing::{Smoother, Weights};
+use glam::DVec3;
+use halfedge::{generators, Mesh};
+
+fn meshes_dir() -> PathBuf {
+    if let Ok(dir) = std::env::var("MULTIRES_MESHES") {
+        return PathBuf::from(dir);
+    }
+    let mut dir = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    loop {
+        let candidate = dir.join("shared").join("meshes");
+        if candidate.is_dir() {
+            return candidate;
+        }
+        assert!(dir.pop(), "no shared/meshes above the workspace");
+    }
+}
+
+/// Nefertiti subdivided twice (≈ 0.8 M vertices, 1.6 M faces).
+fn big_mesh() -> Mesh {
+    let (mesh, _) = halfedge::io::read(meshes_dir().join("nefertiti.obj")).unwrap();
+    let mesh = generators::subdivide(&generators::subdivide(&mesh));
+    eprintln!(
+        "bench mesh: {} vertices, {} faces",
+        mesh.n_vertices(),
+        mesh.n_faces()
+    );
+    mesh
+}
+
+fn deformers(c: &mut Criterion) {
+    let mut mesh = big_mesh();
+    let (lo, hi) = mesh.bounding_box().unwrap();
+    let centre = 0.5 * (lo + hi);
+    let axis = DVec3::Y;
+    let half = 0.5 * (hi.y - lo.y);
+
+    let mut group = c.benchmark_group("barr");
+    group.sample_size(20);
+    group.measurement_time(Duration::from_secs(4));
+    let taper = Taper::new(
+        centre,
+        axis,
+        Profile::local(-half, half, 1.0, 1.0001).unwrap(),
+    )
+    .unwrap();
+    group.bench_function("taper", |b| {
+        b.iter(|| deform(&mut mesh, &taper, Vertices::All).unwrap())
+    });
+    let twist = Twist::linear(centre, axis, -half, half, 1e-4).unwrap();
+    group.bench_function("twist", |b| {
+        b.iter(|| deform(&mut mesh, &twist, Vertices::All).unwrap())
+    });
+    let bend = Bend::new(centre, axis, DVec3::Z, 1e-4 / half, Some((-half, half))).unwrap();
+    group.bench_function("bend", |b| {
+        b.iter(|| deform(&mut mesh, &bend, Vertices::All).unwrap())
+    });
+    let inverse = bend.inverse();
+    group.bench_function("bend inverse", |b| {
+        b.iter(|| deform(&mut mesh, &inverse, Vertices::All).unwrap())
+    });
+    group.finish();
+
+    let mut group = c.benchmark_group("taubin");
+    group.sample_size(10);
+    group.measurement_time(Duration::from_secs(4));
+    group.bench_function("setup uniform (CSR)", |b| {
+        b.iter(|| Smoother::new(&mesh, Vertices::All, Weights::Uniform, true).unwrap())
+    });
+    group.bench_function("setup cotangent (CSR + weights)", |b| {
+        b.iter(|| Smoother::new(&mesh, Vertices::All, Weights::Cotangent, true).unwrap())
+    });
+    for weights in [Weights::Uniform, Weights::Cotangent] {
+        let mut smoother = Smoother::new(&mesh, Vertices::All, weights, true).unwrap();
+        group.bench_function(format!("one Laplacian step {weights:?}"), |b| {
+            b.iter(|| smoother.laplacian(&mut mesh, 0.33, 1).unwrap())
+        });
+        group.bench_function(format!("one lambda|mu pair {weights:?}"), |b| {
+            b.iter(|| smoother.taubin(&mut mesh, 0.33, -0.34, 1).unwrap())
+        });
+        group.bench_function(format!("ten lambda|mu pairs {weights:?}"), |b| {
+            b.iter(|| smoother.taubin(&mut mesh, 0.33, -0.34, 10).unwrap())
+        });
+    }
+    group.finish();
+
+    let mut group = c.benchmark_group("ffd");
+    group.sample_size(10);
+    group.measurement_time(Duration::from_secs(10));
+    let attach = || {
+        Ffd::covering(
+            &mesh,
+            Vertices::All,
+            Frame::WORLD,
+            ([3, 3], [6, 6]),
+            ([2, 2], [4, 4]),
+            0.05,
+            AttachOptions::default(),
+        )
+        .unwrap()
+    };
+    group.bench_function("attach (cubic 6x6 shape, quadratic 4x4 height)", |b| {
+        b.iter(attach)
+    });
+    let mut ffd = attach();
+    ffd.bend(0.5).unwrap();
+    ffd.scale_heights(1.1).unwrap();
+    group.measurement_time(Duration::from_secs(4));
+    group.sample_size(20);
+    group.bench_function("deform", |b| b.iter(|| ffd.deform(&mut mesh).unwrap()));
+    group.finish();
+}
+
+criterion_group!(benches, deformers);
+criterion_main!(benches);
