@@ -68,12 +68,6 @@ impl Details {
         }
     }
 
-    /// Number of records stored.
-    #[inline]
-    pub(crate) fn len(&self) -> usize {
-        self.centroids.len()
-    }
-
     /// Appends the record of the next collapse: the neighbours of `v0` (without `v1`) and
     /// of `v1` (without `v0`) given as vertex indices by the two iterators, and computes
     /// their centroids from `positions`.
@@ -93,15 +87,6 @@ impl Details {
         let c0 = centroid(positions, &self.neighbours[start0..start1]);
         let c1 = centroid(positions, &self.neighbours[start1..end]);
         self.centroids.push([c0, c1]);
-    }
-
-    /// Removes the records from `len` on (used when a build stops mid-way).
-    pub(crate) fn truncate(&mut self, len: usize) {
-        if len < self.len() {
-            self.centroids.truncate(len);
-            self.offsets.truncate(2 * len + 1);
-            self.neighbours.truncate(self.offsets[2 * len] as usize);
-        }
     }
 
     /// The neighbour lists of record `r`: `(v0's, v1's)`.

@@ -68,8 +68,8 @@ pub(crate) fn topology(mesh: &Mesh, h: HalfedgeId) -> Option<Placement> {
     let vl = mesh.face(h).map(|_| mesh.to_vertex(mesh.next(h)));
     let vr = mesh.face(o).map(|_| mesh.to_vertex(mesh.next(o)));
     if let (Some(vl), Some(vr)) = (vl, vr) {
-        if mesh.valence(vl) == 3 && mesh.valence(vr) == 3 && mesh.find_halfedge(vl, vr).is_some()
-        {
+        let valence_3 = |v| mesh.outgoing_halfedges(v).take(4).count() == 3;
+        if valence_3(vl) && valence_3(vr) && mesh.find_halfedge(vl, vr).is_some() {
             return None;
         }
     }
@@ -89,10 +89,50 @@ pub(crate) fn topology(mesh: &Mesh, h: HalfedgeId) -> Option<Placement> {
     })
 }
 
+/// The unit normals the faces around the survivor will have after a collapse, gathered
+/// by [`geometry`] so that the normal cache is refreshed without recomputing them.
+pub(crate) struct NewNormals {
+    items: [(u32, DVec3); NEW_NORMALS],
+    len: usize,
+}
+
+const NEW_NORMALS: usize = 64;
+
+impl NewNormals {
+    #[inline]
+    pub(crate) fn new() -> Self {
+        Self {
+            items: [(0, DVec3::ZERO); NEW_NORMALS],
+            len: 0,
+        }
+    }
+    /// Writes the gathered normals into the cache; recomputes the normals around `v1` if
+    /// there were too many to gather.
+    #[inline]
+    pub(crate) fn apply(&self, mesh: &Mesh, v1: VertexId, normals: &mut [DVec3]) {
+        if self.len > NEW_NORMALS {
+            update_normals_around(mesh, v1, normals);
+        } else {
+            for &(i, n) in &self.items[..self.len] {
+                normals[i as usize] = n;
+            }
+        }
+    }
+}
+
 /// Checks every face around `v0` and `v1` except `fl` and `fr` with the survivor moved to
 /// `p`: no normal turns by more than the bound whose cosine is `cos_flip`, no face
-/// becomes degenerate. `normals` holds the current unit face normals by face index.
-pub(crate) fn geometry(mesh: &Mesh, c: &Collapse, p: DVec3, normals: &[DVec3], cos_flip: f64) -> bool {
+/// becomes degenerate. `normals` holds the current unit face normals by face index; the
+/// new normals go to `out`.
+pub(crate) fn geometry(
+    mesh: &Mesh,
+    c: &Collapse,
+    p: DVec3,
+    normals: &[DVec3],
+    cos_flip: f64,
+    out: &mut NewNormals,
+) -> bool {
+    out.len = 0;
     for v in [c.v0, c.v1] {
         for k in mesh.outgoing_halfedges(v) {
             let Some(f) = mesh.face(k) else { continue };
@@ -109,10 +149,15 @@ pub(crate) fn geometry(mesh: &Mesh, c: &Collapse, p: DVec3, normals: &[DVec3], c
             if len2 <= (DEGENERATE * scale) * (DEGENERATE * scale) {
                 return false;
             }
-            let old = normals[mesh.face_index(f)];
-            if n.dot(old) < cos_flip * len2.sqrt() {
+            let fi = mesh.face_index(f);
+            let len = len2.sqrt();
+            if n.dot(normals[fi]) < cos_flip * len {
                 return false;
             }
+            if out.len < NEW_NORMALS {
+                out.items[out.len] = (fi as u32, n / len);
+            }
+            out.len += 1;
         }
     }
     true

@@ -35,6 +35,7 @@
 //! ```
 
 pub(crate) mod detail;
+pub(crate) mod heap;
 pub(crate) mod legality;
 pub mod qem;
 pub mod rounds;
@@ -281,8 +282,9 @@ impl Hierarchy {
 
     /// Collapses `h` while building: records the detail coefficients, collapses, moves the
     /// survivor to `p` (parameter `t` along the edge from `v1` to `v0`), appends the record.
+    /// The caller has checked the collapse with [`legality::topology`].
     #[inline]
-    pub(crate) fn record_collapse(&mut self, h: HalfedgeId, p: DVec3, t: f64) -> Result<()> {
+    pub(crate) fn record_collapse(&mut self, h: HalfedgeId, p: DVec3, t: f64) {
         debug_assert_eq!(self.applied, self.records.len());
         let mesh = &self.mesh;
         let v0 = mesh.from_vertex(h);
@@ -296,19 +298,13 @@ impl Hierarchy {
                 .filter(|&w| w != v0)
                 .map(|w| mesh.vertex_index(w) as u32),
         );
-        let record = match self.mesh.collapse(h) {
-            Ok(r) => r,
-            Err(e) => {
-                self.details.truncate(self.records.len());
-                return Err(e);
-            }
-        };
+        // The methods have just checked `is_collapse_ok` through the legality layer.
+        let record = self.mesh.collapse_unchecked(h);
         let i1 = self.mesh.vertex_index(v1);
         self.mesh.positions[i1] = p;
         self.records.push(record);
         self.placements.push((p, t));
         self.applied += 1;
-        Ok(())
     }
 
     /// Closes the current level at the current record (building only).

@@ -20,7 +20,7 @@
 
 use glam::DVec3;
 
-use super::legality::{self, Collapse, Placement};
+use super::legality::{self, Collapse, NewNormals, Placement};
 use super::{BuildProgress, Hierarchy, HierarchyOptions};
 use crate::{HalfedgeId, Mesh, Result};
 
@@ -28,28 +28,37 @@ use crate::{HalfedgeId, Mesh, Result};
 /// average normal (1 for a planar star). `fl` and `fr` are counted once.
 #[inline]
 pub(crate) fn star_planarity(mesh: &Mesh, c: &Collapse, normals: &[DVec3]) -> f64 {
+    const CAP: usize = 64;
+    let mut star = [DVec3::ZERO; CAP];
+    let mut n = 0;
     let mut sum = DVec3::ZERO;
     for (i, v) in [c.v0, c.v1].into_iter().enumerate() {
         for f in mesh.adjacent_faces(v) {
             if i == 1 && (Some(f) == c.fl || Some(f) == c.fr) {
                 continue;
             }
-            sum += normals[mesh.face_index(f)];
+            let normal = normals[mesh.face_index(f)];
+            sum += normal;
+            if n < CAP {
+                star[n] = normal;
+            }
+            n += 1;
         }
     }
     let Some(avg) = sum.try_normalize() else {
         return -1.0;
     };
-    let mut min = 1.0f64;
-    for (i, v) in [c.v0, c.v1].into_iter().enumerate() {
-        for f in mesh.adjacent_faces(v) {
-            if i == 1 && (Some(f) == c.fl || Some(f) == c.fr) {
-                continue;
+    if n > CAP {
+        // A huge star: walk it again.
+        let mut min = 1.0f64;
+        for v in [c.v0, c.v1] {
+            for f in mesh.adjacent_faces(v) {
+                min = min.min(normals[mesh.face_index(f)].dot(avg));
             }
-            min = min.min(normals[mesh.face_index(f)].dot(avg));
         }
+        return min;
     }
-    min
+    star[..n].iter().fold(1.0f64, |m, s| m.min(s.dot(avg)))
 }
 
 /// Largest distance from `p` to the plane of a face around `v0` or `v1`.
@@ -79,6 +88,7 @@ pub(crate) fn build(
     let slots = h.mesh.halfedge_slots();
     let mut round = 0u32;
     let mut since_report = 0usize;
+    let mut new_normals = NewNormals::new();
     'rounds: while h.built_levels() < options.max_levels && h.mesh.n_faces() > options.target_faces
     {
         round += 1;
@@ -118,7 +128,7 @@ pub(crate) fn build(
                 {
                     continue;
                 }
-                if !legality::geometry(mesh, &c, p, &normals, cos_flip) {
+                if !legality::geometry(mesh, &c, p, &normals, cos_flip, &mut new_normals) {
                     stats[3] += 1;
                     continue;
                 }
@@ -126,9 +136,9 @@ pub(crate) fn build(
                 (g, p, t)
             };
             let v1 = h.mesh.to_vertex(g);
-            h.record_collapse(g, p, t)?;
+            h.record_collapse(g, p, t);
             lock[h.mesh.vertex_index(v1)] = round;
-            legality::update_normals_around(&h.mesh, v1, &mut normals);
+            new_normals.apply(&h.mesh, v1, &mut normals);
             since_report += 1;
             if since_report == 1 << 16 {
                 since_report = 0;
