@@ -8,6 +8,13 @@
 //! plus `C_f − C_i`, each with its own centroids. The translation carries any edit made at
 //! a coarser level to the re-inserted vertices.
 //!
+//! Reach of an edit: a re-inserted vertex near the border of an edited part has moved and
+//! unmoved neighbours and takes a blend of their motion; as a split's neighbours may be
+//! vertices re-inserted just before in the same round, the blend spreads over a few
+//! coarse edge lengths, decaying by about a factor 10 per coarse edge (see the tests in
+//! `tests/hierarchy.rs`). Well inside an edited part the fine mesh moves with it; well
+//! outside nothing moves.
+//!
 //! Exactness: `C_i` and `C_f` are computed by the same function over the same neighbour
 //! list in the same order, so with no edit they agree bit for bit; a zero translation is
 //! then not even added (adding `+0.0` would turn a `-0.0` coordinate into `+0.0`), and

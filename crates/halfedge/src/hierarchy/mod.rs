@@ -275,6 +275,11 @@ impl Hierarchy {
             Method::Rounds => rounds::build(&mut h, options, progress)?,
             Method::Qem => qem::build(&mut h, options, progress)?,
         }
+        progress(BuildProgress {
+            levels: h.built_levels(),
+            faces: h.mesh.n_faces(),
+            input_faces: faces,
+        });
         h.records.shrink_to_fit();
         h.placements.shrink_to_fit();
         Ok(h)

@@ -386,11 +386,6 @@ pub(crate) fn build(
     if h.built_levels() < options.max_levels {
         h.close_level();
     }
-    progress(BuildProgress {
-        levels: h.built_levels(),
-        faces: h.mesh.n_faces(),
-        input_faces,
-    });
     Ok(())
 }
 
