@@ -89,7 +89,12 @@ fn snapshot(mesh: &Mesh) -> Snapshot {
             .collect(),
         faces: mesh
             .faces()
-            .map(|f| (Some(mesh.face_index(f)), mesh.halfedge_index(mesh.face_halfedge(f))))
+            .map(|f| {
+                (
+                    Some(mesh.face_index(f)),
+                    mesh.halfedge_index(mesh.face_halfedge(f)),
+                )
+            })
             .collect(),
     }
 }

@@ -75,7 +75,9 @@ impl Frontier {
                     mesh.from_vertex(next)
                 )));
             }
-            let e = mesh.halfedge_index(h).min(mesh.halfedge_index(mesh.opposite(h)));
+            let e = mesh
+                .halfedge_index(h)
+                .min(mesh.halfedge_index(mesh.opposite(h)));
             if std::mem::replace(&mut used[e], true) {
                 return Err(Error::InvalidFrontier(format!(
                     "the loop uses the edge {}–{} twice",
@@ -92,7 +94,10 @@ impl Frontier {
     }
     /// The loop's vertices in walking order (`from_vertex` of each halfedge).
     pub fn vertices(&self, mesh: &Mesh) -> Vec<VertexId> {
-        self.halfedges.iter().map(|&h| mesh.from_vertex(h)).collect()
+        self.halfedges
+            .iter()
+            .map(|&h| mesh.from_vertex(h))
+            .collect()
     }
     /// The same loop walked the other way (left and right swap).
     pub fn reversed(&self, mesh: &Mesh) -> Self {
@@ -241,7 +246,11 @@ impl Mesh {
         if loop_halfedges.len() != count {
             return Err(Error::InvalidFrontier(format!(
                 "the border of the collar with the part it cuts off is {} loops, not one",
-                if loop_halfedges.len() < count { "several" } else { "broken" }
+                if loop_halfedges.len() < count {
+                    "several"
+                } else {
+                    "broken"
+                }
             )));
         }
         Frontier::new(self, loop_halfedges)
@@ -263,11 +272,7 @@ impl Mesh {
                 "plane needs a finite point and a non-zero normal, got {point} and {normal}"
             )));
         };
-        let dist: Vec<f64> = self
-            .positions()
-            .iter()
-            .map(|&p| n.dot(p - point))
-            .collect();
+        let dist: Vec<f64> = self.positions().iter().map(|&p| n.dot(p - point)).collect();
         let side = |v: VertexId| dist[self.vertex_index(v)] >= 0.0;
         let crosses = |h: HalfedgeId| side(self.from_vertex(h)) != side(self.to_vertex(h));
         // Walk every section curve once; keep the closed one nearest to `point`.
@@ -472,9 +477,7 @@ impl Mesh {
             labels[self.vertex_index(self.from_vertex(h))] = FRONTIER;
         }
         let values = self.attribute_values_mut(attribute);
-        for v in 0..labels.len() {
-            values[v] = labels[v];
-        }
+        values[..labels.len()].copy_from_slice(&labels);
         for v in self.vertices() {
             match labels[self.vertex_index(v)] {
                 FRONTIER => counts.frontier_vertices += 1,

@@ -31,7 +31,11 @@ fn coarsen_all_refine_all_is_bit_identical_on_real_meshes() {
             let before = snapshot(&mesh);
             let mut h = Hierarchy::build(mesh, &options(method).with_target_faces(300)).unwrap();
             h.mesh().check().unwrap();
-            assert!(h.n_levels() > 2, "{name} {method:?}: {:?}", h.level_face_counts());
+            assert!(
+                h.n_levels() > 2,
+                "{name} {method:?}: {:?}",
+                h.level_face_counts()
+            );
             assert_eq!(h.current_level(), Some(h.coarsest_level()));
             h.refine_to(0).unwrap();
             h.mesh().check().unwrap();
@@ -47,8 +51,15 @@ fn coarsen_all_refine_all_is_bit_identical_on_real_meshes() {
 fn a_round_removes_about_45_percent_of_the_faces() {
     // The paper: "Each simplification step removes about 45 % of faces". (Meshes with much
     // boundary, like the teapot, have more vertices per face and lose up to 52 %.)
-    for name in ["spot.obj", "stanford-bunny.obj", "nefertiti.obj", "fandisk.obj", "cow.obj"] {
-        let h = Hierarchy::build(load(name), &HierarchyOptions::rounds().with_max_levels(2)).unwrap();
+    for name in [
+        "spot.obj",
+        "stanford-bunny.obj",
+        "nefertiti.obj",
+        "fandisk.obj",
+        "cow.obj",
+    ] {
+        let h =
+            Hierarchy::build(load(name), &HierarchyOptions::rounds().with_max_levels(2)).unwrap();
         let f = h.level_face_counts();
         assert_eq!(f.len(), 3);
         for w in f.windows(2) {
@@ -80,9 +91,13 @@ fn qem_levels_are_cut_at_the_level_ratio() {
 fn stop_criteria() {
     for method in [Method::Rounds, Method::Qem] {
         // Target face count.
-        let h = Hierarchy::build(load("spot.obj"), &options(method).with_target_faces(1000)).unwrap();
+        let h =
+            Hierarchy::build(load("spot.obj"), &options(method).with_target_faces(1000)).unwrap();
         let f = h.level_face_counts();
-        assert!(*f.last().unwrap() <= 1000 && f[f.len() - 2] > 1000, "{method:?} {f:?}");
+        assert!(
+            *f.last().unwrap() <= 1000 && f[f.len() - 2] > 1000,
+            "{method:?} {f:?}"
+        );
         // Level count.
         let h = Hierarchy::build(load("spot.obj"), &options(method).with_max_levels(3)).unwrap();
         assert_eq!(h.n_levels(), 4, "{method:?}");
@@ -99,7 +114,11 @@ fn stop_criteria() {
         let grid = generators::grid(16, 16, 1.0, 1.0);
         let faces = grid.n_faces();
         let flat = Hierarchy::build(grid, &options(method).with_max_error(1e-12)).unwrap();
-        assert!(flat.mesh().n_faces() < faces / 4, "{method:?}: {:?}", flat.level_face_counts());
+        assert!(
+            flat.mesh().n_faces() < faces / 4,
+            "{method:?}: {:?}",
+            flat.level_face_counts()
+        );
     }
 }
 
@@ -109,7 +128,11 @@ fn error_bound_holds_for_every_qem_collapse() {
     // into it (replayed from the records), is within the bound at its final position.
     let bound = 2e-3;
     let input = load("spot.obj");
-    let h = Hierarchy::build(input.clone(), &HierarchyOptions::qem().with_max_error(bound)).unwrap();
+    let h = Hierarchy::build(
+        input.clone(),
+        &HierarchyOptions::qem().with_max_error(bound),
+    )
+    .unwrap();
     let planes = halfedge::hierarchy::qem::face_planes(&input);
     let mut q = halfedge::hierarchy::qem::vertex_quadrics(&input, &planes, 10.0);
     for r in h.records() {
@@ -125,7 +148,8 @@ fn error_bound_holds_for_every_qem_collapse() {
 #[test]
 fn walking_the_levels_in_any_order_gives_the_same_meshes() {
     for method in [Method::Rounds, Method::Qem] {
-        let mut h = Hierarchy::build(load("cow.obj"), &options(method).with_target_faces(200)).unwrap();
+        let mut h =
+            Hierarchy::build(load("cow.obj"), &options(method).with_target_faces(200)).unwrap();
         let levels = h.n_levels();
         let mut seen: Vec<Option<Snapshot>> = (0..levels).map(|_| None).collect();
         let order = [0, levels - 1, 2, 1, levels - 1, 3, 0, 2, levels - 2, 1];
@@ -175,8 +199,11 @@ fn bad_arguments_are_errors() {
         Hierarchy::build(load("spot.obj"), &bad),
         Err(Error::InvalidArgument(_))
     ));
-    let mut h = Hierarchy::build(load("spot.obj"), &HierarchyOptions::rounds().with_max_levels(2))
-        .unwrap();
+    let mut h = Hierarchy::build(
+        load("spot.obj"),
+        &HierarchyOptions::rounds().with_max_levels(2),
+    )
+    .unwrap();
     assert!(matches!(h.go_to_level(7), Err(Error::InvalidArgument(_))));
     h.go_to_level(1).unwrap();
     assert!(matches!(h.refine_to(2), Err(Error::InvalidArgument(_))));
@@ -187,11 +214,17 @@ fn bad_arguments_are_errors() {
 
 #[test]
 fn topology_changed_behind_the_hierarchy_is_refused() {
-    let mut h = Hierarchy::build(load("spot.obj"), &HierarchyOptions::rounds().with_max_levels(2))
-        .unwrap();
+    let mut h = Hierarchy::build(
+        load("spot.obj"),
+        &HierarchyOptions::rounds().with_max_levels(2),
+    )
+    .unwrap();
     // Collapse an edge directly on the mesh: the hierarchy's next split must refuse.
     let mesh = h.mesh_mut();
-    let e = mesh.halfedges().find(|&e| mesh.is_collapse_ok(e).is_ok()).unwrap();
+    let e = mesh
+        .halfedges()
+        .find(|&e| mesh.is_collapse_ok(e).is_ok())
+        .unwrap();
     mesh.collapse(e).unwrap();
     let mut refused = false;
     for _ in 0..h.applied() {
@@ -253,8 +286,11 @@ fn editing_the_fine_mesh_survives_coarsening_and_refining_again() {
     let original = load("spot.obj");
     let scale = diagonal(&original);
     let t = DVec3::new(-0.2, 0.4, 0.1) * scale;
-    let mut h = Hierarchy::build(original.clone(), &HierarchyOptions::qem().with_target_faces(300))
-        .unwrap();
+    let mut h = Hierarchy::build(
+        original.clone(),
+        &HierarchyOptions::qem().with_target_faces(300),
+    )
+    .unwrap();
     h.refine_to(0).unwrap();
     for p in h.mesh_mut().positions_mut() {
         *p += t;
@@ -291,8 +327,11 @@ fn translating_a_coarse_submesh_carries_its_fine_detail_exactly() {
     // unchanged), and vertices well outside did not move at all.
     let (original, cut) = bunny_and_cut();
     let scale = diagonal(&original);
-    let mut h = Hierarchy::build(original.clone(), &HierarchyOptions::rounds().with_max_levels(3))
-        .unwrap();
+    let mut h = Hierarchy::build(
+        original.clone(),
+        &HierarchyOptions::rounds().with_max_levels(3),
+    )
+    .unwrap();
     let edge = h.mesh().mean_edge_length();
     let t = DVec3::new(0.05, 0.1, 0.2) * scale;
     for p in h.mesh_mut().positions_mut() {
@@ -312,7 +351,10 @@ fn translating_a_coarse_submesh_carries_its_fine_detail_exactly() {
         } else if p.y < cut - OUTSIDE_EDGES * edge {
             outside += 1;
             let d = (fine.position(v) - p).length() / t.length();
-            assert!(d < 1e-6, "vertex {v} outside moved by {d} of the translation");
+            assert!(
+                d < 1e-6,
+                "vertex {v} outside moved by {d} of the translation"
+            );
         }
     }
     assert!(inside > 1000 && outside > 1000, "{inside} {outside}");
@@ -326,12 +368,19 @@ fn scaling_a_coarse_submesh_carries_the_fine_detail_along() {
     // (s − 1) × a coarse edge length, and its fine detail (the offset of each vertex from
     // the centroid of its neighbours) is the input's, neither smoothed away nor scaled.
     let (original, cut) = bunny_and_cut();
-    let mut h = Hierarchy::build(original.clone(), &HierarchyOptions::rounds().with_max_levels(3))
-        .unwrap();
+    let mut h = Hierarchy::build(
+        original.clone(),
+        &HierarchyOptions::rounds().with_max_levels(3),
+    )
+    .unwrap();
     let edge = h.mesh().mean_edge_length();
     let centre = {
         let m = h.mesh();
-        let part: Vec<DVec3> = m.vertices().map(|v| m.position(v)).filter(|p| p.y > cut).collect();
+        let part: Vec<DVec3> = m
+            .vertices()
+            .map(|v| m.position(v))
+            .filter(|p| p.y > cut)
+            .collect();
         part.iter().sum::<DVec3>() / part.len() as f64
     };
     let s = 1.3;
@@ -374,7 +423,10 @@ fn scaling_a_coarse_submesh_carries_the_fine_detail_along() {
     for v in original.vertices() {
         if original.position(v).y < cut - OUTSIDE_EDGES * edge {
             let d = (fine.position(v) - original.position(v)).length() / motion;
-            assert!(d < 1e-6, "vertex {v} outside moved by {d} of the edit's motion");
+            assert!(
+                d < 1e-6,
+                "vertex {v} outside moved by {d} of the edit's motion"
+            );
         }
     }
 }

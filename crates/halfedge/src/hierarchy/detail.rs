@@ -118,10 +118,7 @@ impl Details {
     pub(crate) fn translations(&self, r: usize, positions: &[DVec3]) -> [DVec3; 2] {
         let (l0, l1) = self.lists(r);
         let [c0, c1] = self.centroids[r];
-        [
-            centroid(positions, l0) - c0,
-            centroid(positions, l1) - c1,
-        ]
+        [centroid(positions, l0) - c0, centroid(positions, l1) - c1]
     }
 
     /// Bytes used (for reports).
@@ -140,7 +137,10 @@ mod tests {
     fn zero_translation_keeps_signed_zero() {
         let p = DVec3::new(-0.0, 1.0, -2.5);
         let q = translate_exact(p, DVec3::ZERO);
-        assert_eq!(q.to_array().map(f64::to_bits), p.to_array().map(f64::to_bits));
+        assert_eq!(
+            q.to_array().map(f64::to_bits),
+            p.to_array().map(f64::to_bits)
+        );
         let q = translate_exact(p, DVec3::new(0.0, 1.0, 0.0));
         assert_eq!(q.y, 2.0);
         assert_eq!(q.x.to_bits(), (-0.0f64).to_bits());

@@ -154,8 +154,7 @@ impl HierarchyOptions {
 
     fn validate(&self) -> Result<()> {
         let bad = |what: String| Err(Error::InvalidArgument(what));
-        if !(self.max_normal_deviation > 0.0 && self.max_normal_deviation <= std::f64::consts::PI)
-        {
+        if !(self.max_normal_deviation > 0.0 && self.max_normal_deviation <= std::f64::consts::PI) {
             return bad(format!(
                 "max_normal_deviation must be in (0, π], got {}",
                 self.max_normal_deviation
@@ -180,7 +179,10 @@ impl HierarchyOptions {
             ));
         }
         if self.max_error.is_nan() || self.max_error < 0.0 {
-            return bad(format!("max_error must be non-negative, got {}", self.max_error));
+            return bad(format!(
+                "max_error must be non-negative, got {}",
+                self.max_error
+            ));
         }
         if !(0.0..1.0).contains(&self.min_level_reduction) {
             return bad(format!(

@@ -112,7 +112,7 @@ impl Quadric {
         );
         let det = a.determinant();
         let trace = m[0] + m[4] + m[7];
-        if !(det.abs() > 1e-9 * (trace / 3.0).powi(3)) {
+        if det.is_nan() || det.abs() <= 1e-9 * (trace / 3.0).powi(3) {
             return None;
         }
         let p = a.inverse() * -DVec3::new(m[3], m[6], m[8]);
@@ -336,8 +336,13 @@ pub(crate) fn build(
         let mesh = &h.mesh;
         // The collapse removed v0v1 and, with the faces, vl–v0 and v0–vr.
         let record = h.records.last().expect("just recorded");
-        for x in [Some(record.v0v1), record.vlv0, record.v0vr].into_iter().flatten() {
-            let edge = mesh.halfedge_index(x).min(mesh.halfedge_index(mesh.opposite(x)));
+        for x in [Some(record.v0v1), record.vlv0, record.v0vr]
+            .into_iter()
+            .flatten()
+        {
+            let edge = mesh
+                .halfedge_index(x)
+                .min(mesh.halfedge_index(mesh.opposite(x)));
             state[edge] = DEAD;
         }
         let (i0, i1) = (mesh.vertex_index(v0), mesh.vertex_index(v1));
@@ -347,7 +352,9 @@ pub(crate) fn build(
         // Edges around v1 changed cost; parked edges around v1 and its neighbours may
         // have become legal.
         for k in mesh.outgoing_halfedges(v1) {
-            let edge = mesh.halfedge_index(k).min(mesh.halfedge_index(mesh.opposite(k)));
+            let edge = mesh
+                .halfedge_index(k)
+                .min(mesh.halfedge_index(mesh.opposite(k)));
             match state[edge] {
                 CLEAN => state[edge] = STALE,
                 PARKED => unpark(mesh, &quadrics, k, edge, &mut state, &mut heap),
@@ -356,7 +363,9 @@ pub(crate) fn build(
             let w = mesh.to_vertex(k);
             if std::mem::take(&mut parked_near[mesh.vertex_index(w)]) {
                 for kw in mesh.outgoing_halfedges(w) {
-                    let ew = mesh.halfedge_index(kw).min(mesh.halfedge_index(mesh.opposite(kw)));
+                    let ew = mesh
+                        .halfedge_index(kw)
+                        .min(mesh.halfedge_index(mesh.opposite(kw)));
                     if state[ew] == PARKED {
                         unpark(mesh, &quadrics, kw, ew, &mut state, &mut heap);
                     }

@@ -154,7 +154,12 @@ pub(crate) fn build(
             }
         }
         let removed = faces_before - h.mesh.n_faces();
-        if std::env::var("HIER_STATS").is_ok() { eprintln!("round {round}: locked {} planarity {} topology {} geometry {} collapsed {}", stats[0], stats[1], stats[2], stats[3], stats[4]); }
+        if std::env::var("HIER_STATS").is_ok() {
+            eprintln!(
+                "round {round}: locked {} planarity {} topology {} geometry {} collapsed {}",
+                stats[0], stats[1], stats[2], stats[3], stats[4]
+            );
+        }
         h.close_level();
         progress(BuildProgress {
             levels: h.built_levels(),
@@ -171,7 +176,11 @@ pub(crate) fn build(
 /// The direction of edge `e`/`o` to collapse: the first of `e`, `o` that is
 /// topologically legal, preferring a free placement.
 #[inline]
-pub(crate) fn choose_direction(mesh: &Mesh, e: HalfedgeId, o: HalfedgeId) -> Option<(HalfedgeId, Placement)> {
+pub(crate) fn choose_direction(
+    mesh: &Mesh,
+    e: HalfedgeId,
+    o: HalfedgeId,
+) -> Option<(HalfedgeId, Placement)> {
     match legality::topology(mesh, e) {
         Some(Placement::Free) => Some((e, Placement::Free)),
         first => match legality::topology(mesh, o) {
