@@ -161,10 +161,8 @@ impl Mesh {
         if vl == vr {
             return Err(CollapseVeto::SameOppositeVertices);
         }
-        for w in self.adjacent_vertices(v0) {
-            if Some(w) != vl && Some(w) != vr && self.adjacent_vertices(v1).any(|u| u == w) {
-                return Err(CollapseVeto::LinkCondition);
-            }
+        if !self.link_condition(v0, v1, vl, vr) {
+            return Err(CollapseVeto::LinkCondition);
         }
         if self.is_boundary_vertex(v0)
             && self.is_boundary_vertex(v1)
@@ -186,6 +184,41 @@ impl Mesh {
                 halfedge: h,
                 reason,
             })?;
+        Ok(self.collapse_unchecked(h))
+    }
+
+    /// True when `v0` and `v1` share no neighbour other than `vl` and `vr` (the link
+    /// condition). `v1`'s ring is gathered once into a small stack array.
+    fn link_condition(
+        &self,
+        v0: VertexId,
+        v1: VertexId,
+        vl: Option<VertexId>,
+        vr: Option<VertexId>,
+    ) -> bool {
+        const RING: usize = 32;
+        let mut ring = [VertexId::default(); RING];
+        let mut n = 0;
+        for u in self.adjacent_vertices(v1) {
+            if n == RING {
+                // A very high valence: compare ring against ring.
+                return !self.adjacent_vertices(v0).any(|w| {
+                    Some(w) != vl && Some(w) != vr && self.adjacent_vertices(v1).any(|u| u == w)
+                });
+            }
+            ring[n] = u;
+            n += 1;
+        }
+        let ring = &ring[..n];
+        !self
+            .adjacent_vertices(v0)
+            .any(|w| Some(w) != vl && Some(w) != vr && ring.contains(&w))
+    }
+
+    /// [`collapse`](Self::collapse) without the [`is_collapse_ok`](Self::is_collapse_ok)
+    /// test, for callers that have just made it (the hierarchy's legality layer).
+    pub(crate) fn collapse_unchecked(&mut self, h: HalfedgeId) -> CollapseRecord {
+        debug_assert_eq!(self.is_collapse_ok(h), Ok(()));
         let o = self.opposite(h);
         let v0 = self.to_vertex(o);
         let v1 = self.to_vertex(h);
@@ -251,12 +284,9 @@ impl Mesh {
             }
         }
 
-        // The halfedges that move from v0 to v1, and where they start around v1.
+        // The halfedges that move from v0 to v1 (all outgoing but these), and where they
+        // start around v1.
         let removed_out = [Some(h), v0vl, v0vr];
-        let moved: Vec<HalfedgeId> = self
-            .outgoing_halfedges(v0)
-            .filter(|k| !removed_out.contains(&Some(*k)))
-            .collect();
         let start = match v1vl {
             Some(x) => x,
             None => self.next(h),
@@ -264,11 +294,26 @@ impl Mesh {
 
         let record_vertices = [v0, v1, vl.unwrap_or(v1), vr.unwrap_or(v1)];
         let old_vertex_halfedges = record_vertices.map(|v| self.vertex_halfedge(v));
+        // Only a boundary vertex can need its outgoing halfedge re-chosen afterwards: a
+        // collapse never puts an interior vertex on the boundary.
+        let on_boundary = record_vertices.map(|v| self.is_boundary_vertex(v));
 
         // --- mutate ---
-        for &k in &moved {
-            let ko = self.opposite(k);
-            self.halfedges[ko].to = v1;
+        // Rotating around v0 reads `prev` and `opposite` only, which this loop keeps.
+        let mut moved = 0u32;
+        let first = self.vertices[v0].halfedge.expect("v0 has edges");
+        let mut k = first;
+        loop {
+            let next = self.ccw_rotated(k);
+            if !removed_out.contains(&Some(k)) {
+                let ko = self.opposite(k);
+                self.halfedges[ko].to = v1;
+                moved += 1;
+            }
+            k = next;
+            if k == first {
+                break;
+            }
         }
         for &(x, _, n) in links.iter().flatten() {
             self.set_next(x, n);
@@ -287,18 +332,24 @@ impl Mesh {
             .or_else(|| self.next_outgoing_alive(v1, o))
             .expect("v1 keeps an edge");
         self.vertices[v1].halfedge = Some(v1_out);
-        self.adjust_outgoing_halfedge(v1);
+        if on_boundary[0] || on_boundary[1] {
+            self.adjust_outgoing_halfedge(v1);
+        }
         if let (Some(vl), Some(r)) = (vl, v1vl) {
             if self.vertex_halfedge(vl) == vlv0 {
                 self.vertices[vl].halfedge = Some(self.opposite(r));
             }
-            self.adjust_outgoing_halfedge(vl);
+            if on_boundary[2] {
+                self.adjust_outgoing_halfedge(vl);
+            }
         }
         if let (Some(vr), Some(r)) = (vr, vrv1) {
             if self.vertex_halfedge(vr) == vrv0 {
                 self.vertices[vr].halfedge = Some(r);
             }
-            self.adjust_outgoing_halfedge(vr);
+            if on_boundary[3] {
+                self.adjust_outgoing_halfedge(vr);
+            }
         }
         // Tombstones.
         self.vertices[v0].deleted = true;
@@ -323,7 +374,7 @@ impl Mesh {
                 new_vertex_halfedges[i],
             );
         }
-        Ok(CollapseRecord {
+        CollapseRecord {
             v0v1: h,
             v1v0: o,
             v0,
@@ -342,8 +393,8 @@ impl Mesh {
             face_halfedges,
             vertex_halfedges,
             start,
-            moved: moved.len() as u32,
-        })
+            moved,
+        }
     }
 
     /// The first outgoing halfedge of `v` counter-clockwise after `h` that is not `h`.
@@ -395,14 +446,12 @@ impl Mesh {
         if !self.is_valid_halfedge(r.start) || self.from_vertex(r.start) != r.v1 {
             return refuse("the anchor halfedge around v1 has changed");
         }
-        let mut moved = Vec::with_capacity(r.moved as usize);
         let mut k = r.start;
         for _ in 0..r.moved {
             k = self.ccw_rotated(k);
             if k == r.start {
                 return refuse("v1 has fewer edges than the collapse moved to it");
             }
-            moved.push(k);
         }
 
         // --- mutate ---
@@ -418,7 +467,10 @@ impl Mesh {
             self.faces[f].deleted = false;
             self.n_faces += 1;
         }
-        for &k in &moved {
+        // The same walk as the check above: reviving changed no `prev` or `opposite`.
+        let mut k = r.start;
+        for _ in 0..r.moved {
+            k = self.ccw_rotated(k);
             let ko = self.opposite(k);
             self.halfedges[ko].to = r.v0;
         }

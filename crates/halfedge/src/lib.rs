@@ -9,6 +9,9 @@
 //! - [Building](build) from indexed polygons with OpenMesh's importer policy, and
 //!   [`io`] for OBJ (`tobj`) and PLY (`ply-rs-bw`).
 //! - [`generators`]: grid, icosphere, 1-to-4 subdivision.
+//! - [Collapse and vertex split](collapse), the progressive [`Hierarchy`] with centroid
+//!   detail coefficients (rounds or QEM, module [`hierarchy`]) and sub-mesh
+//!   [labels](labels) that hold across its levels.
 //!
 //! ```
 //! use halfedge::generators;
@@ -27,8 +30,10 @@ mod error;
 pub mod generators;
 mod geometry;
 mod handle;
+pub mod hierarchy;
 pub mod io;
 pub mod iter;
+pub mod labels;
 mod mesh;
 mod paths;
 mod split;
@@ -39,6 +44,8 @@ pub use build::{AddFaceError, BuildReport};
 pub use collapse::{CollapseRecord, CollapseVeto};
 pub use error::{Error, Invariant, Result};
 pub use handle::{FaceId, HalfedgeId, VertexId};
+pub use hierarchy::{BuildProgress, Hierarchy, HierarchyOptions, Method};
+pub use labels::{Frontier, Label, SideCounts, FRONTIER};
 pub use mesh::Mesh;
 pub use topology::TopologyReport;
 

@@ -182,7 +182,7 @@ pub fn load(name: &str) -> Mesh {
 }
 
 /// Complete connectivity + positions snapshot, handle for handle.
-#[derive(Debug, PartialEq)]
+#[derive(Debug, PartialEq, Clone)]
 pub struct Snapshot {
     counts: (usize, usize, usize),
     vertices: Vec<(VertexId, Option<HalfedgeId>, [u64; 3])>,

@@ -1,0 +1,115 @@
+//! Hierarchy speed (issue 3): the full hierarchy of nefertiti subdivided twice
+//! (1.6 M faces) down to about 2,000 faces with every record kept, by rounds and by QEM,
+//! coarsening and refining all the way back, against meshoptimizer's `simplify` to
+//! 2,000 faces on the same mesh, in one group.
+//!
+//! Run: `cargo bench --bench hierarchy`.
+
+use std::path::PathBuf;
+use std::sync::OnceLock;
+use std::time::Duration;
+
+use criterion::{criterion_group, criterion_main, BatchSize, Criterion};
+use halfedge::{generators, Hierarchy, HierarchyOptions, Mesh};
+
+const TARGET_FACES: usize = 2000;
+
+fn meshes_dir() -> PathBuf {
+    if let Ok(dir) = std::env::var("MULTIRES_MESHES") {
+        return PathBuf::from(dir);
+    }
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .ancestors()
+        .map(|a| a.join("shared/meshes"))
+        .find(|p| p.is_dir())
+        .expect("shared/meshes not found; set MULTIRES_MESHES")
+}
+
+/// Nefertiti subdivided twice, built once per bench run.
+fn big_mesh() -> &'static Mesh {
+    static MESH: OnceLock<Mesh> = OnceLock::new();
+    MESH.get_or_init(|| {
+        let base = halfedge::io::read(meshes_dir().join("nefertiti.obj"))
+            .expect("nefertiti.obj")
+            .0;
+        generators::subdivide(&generators::subdivide(&base))
+    })
+}
+
+/// Rounds as the bench runs them: planarity bound 90° so that rounds reach ~2,000 faces.
+fn rounds_options() -> HierarchyOptions {
+    HierarchyOptions::rounds()
+        .with_max_normal_deviation(90f64.to_radians())
+        .with_target_faces(TARGET_FACES)
+}
+
+fn qem_options() -> HierarchyOptions {
+    HierarchyOptions::qem().with_target_faces(TARGET_FACES)
+}
+
+fn soup(mesh: &Mesh) -> (Vec<[f32; 3]>, Vec<u32>) {
+    let positions: Vec<[f32; 3]> = mesh
+        .positions()
+        .iter()
+        .map(|p| p.as_vec3().to_array())
+        .collect();
+    let indices = mesh
+        .faces()
+        .flat_map(|f| mesh.triangle(f).map(|v| mesh.vertex_index(v) as u32))
+        .collect();
+    (positions, indices)
+}
+
+fn bench(c: &mut Criterion) {
+    let mesh = big_mesh();
+    let mut group = c.benchmark_group("hierarchy_nefertiti_1.6M");
+    group.sample_size(10);
+    group.measurement_time(Duration::from_secs(30));
+
+    let (positions, indices) = soup(mesh);
+    let bytes: &[u8] = meshopt::typed_to_bytes(&positions);
+    group.bench_function("meshopt_simplify_to_2000", |b| {
+        b.iter(|| {
+            let adapter = meshopt::VertexDataAdapter::new(bytes, 12, 0).unwrap();
+            meshopt::simplify(
+                &indices,
+                &adapter,
+                TARGET_FACES * 3,
+                1e9,
+                meshopt::SimplifyOptions::None,
+                None,
+            )
+        })
+    });
+
+    for (name, options) in [("rounds", rounds_options()), ("qem", qem_options())] {
+        let built = Hierarchy::build(mesh.clone(), &options).unwrap();
+        eprintln!(
+            "{name}: levels {:?}, {} records, {} MB of records",
+            built.level_face_counts(),
+            built.records().len(),
+            built.record_bytes() >> 20
+        );
+        group.bench_function(format!("{name}_coarsen_to_2000"), |b| {
+            b.iter_batched(
+                || mesh.clone(),
+                |m| Hierarchy::build(m, &options).unwrap(),
+                BatchSize::LargeInput,
+            )
+        });
+        group.bench_function(format!("{name}_refine_all"), |b| {
+            b.iter_batched(
+                || built.clone(),
+                |mut h| {
+                    h.refine_to(0).unwrap();
+                    h
+                },
+                BatchSize::LargeInput,
+            )
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);

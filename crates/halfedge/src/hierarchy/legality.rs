@@ -1,0 +1,172 @@
+//! The decimation's legality layer on top of [`Mesh::is_collapse_ok`], shared by the
+//! rounds and the QEM decimation.
+//!
+//! Topological rules (OpenMesh `BaseDecimaterT::is_collapse_legal`, in its order after
+//! `is_collapse_ok`):
+//! - the *valence-3 tetrahedron*: `vl` and `vr` joined by an edge and both of valence 3
+//!   (the collapse would leave two faces glued back to back);
+//! - a boundary `v0` may only move along a boundary edge to another boundary vertex
+//!   (it never leaves the boundary, and the boundary is never pinched);
+//! - `v0` needs at least two incident faces (valence above 2).
+//!
+//! Boundaries are kept: an interior edge from an interior `v0` to a boundary `v1` places
+//! the survivor at `v1`'s position ([`Placement::AtV1`]) instead of the method's choice,
+//! so a boundary vertex never moves inwards; boundary edges collapse along the boundary.
+//!
+//! Geometric rules, tested at the survivor's new position `p` for every face around `v0`
+//! or `v1` that survives the collapse: its normal must not turn by more than the flip
+//! bound (45° by default; OpenMesh's `ModNormalFlipping` uses 90°) and it must not become
+//! degenerate (twice its area at most `1e-10` times the sum of its squared edge lengths).
+
+use glam::DVec3;
+
+use crate::{FaceId, HalfedgeId, Mesh, VertexId};
+
+/// Where the survivor of a legal collapse may go.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Placement {
+    /// Wherever the method wants (midpoint, QEM optimum).
+    Free,
+    /// At `v1`'s position: `v1` is on the boundary and `v0` is not.
+    AtV1,
+}
+
+/// Relative area below which a triangle counts as degenerate.
+const DEGENERATE: f64 = 1e-10;
+
+/// The parts of a collapse `h = v0 → v1` the tests need.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Collapse {
+    pub(crate) v0: VertexId,
+    pub(crate) v1: VertexId,
+    pub(crate) fl: Option<FaceId>,
+    pub(crate) fr: Option<FaceId>,
+}
+
+impl Collapse {
+    #[inline]
+    pub(crate) fn new(mesh: &Mesh, h: HalfedgeId) -> Self {
+        let o = mesh.opposite(h);
+        Self {
+            v0: mesh.to_vertex(o),
+            v1: mesh.to_vertex(h),
+            fl: mesh.face(h),
+            fr: mesh.face(o),
+        }
+    }
+}
+
+/// The topological legality of collapsing `h`: `None` when illegal, else how the
+/// survivor may be placed (see the module docs).
+pub(crate) fn topology(mesh: &Mesh, h: HalfedgeId) -> Option<Placement> {
+    if mesh.is_collapse_ok(h).is_err() {
+        return None;
+    }
+    let o = mesh.opposite(h);
+    let v0 = mesh.to_vertex(o);
+    let v1 = mesh.to_vertex(h);
+    let vl = mesh.face(h).map(|_| mesh.to_vertex(mesh.next(h)));
+    let vr = mesh.face(o).map(|_| mesh.to_vertex(mesh.next(o)));
+    if let (Some(vl), Some(vr)) = (vl, vr) {
+        let valence_3 = |v| mesh.outgoing_halfedges(v).take(4).count() == 3;
+        if valence_3(vl) && valence_3(vr) && mesh.find_halfedge(vl, vr).is_some() {
+            return None;
+        }
+    }
+    let b0 = mesh.is_boundary_vertex(v0);
+    let b1 = mesh.is_boundary_vertex(v1);
+    if b0 && (!b1 || (vl.is_some() && vr.is_some())) {
+        return None;
+    }
+    // At least two faces at v0: cw(cw(h)) == h means valence 2.
+    if mesh.cw_rotated(mesh.cw_rotated(o)) == o {
+        return None;
+    }
+    Some(if b1 && !b0 {
+        Placement::AtV1
+    } else {
+        Placement::Free
+    })
+}
+
+/// The unit normals the faces around the survivor will have after a collapse, gathered
+/// by [`geometry`] so that the normal cache is refreshed without recomputing them.
+pub(crate) struct NewNormals {
+    items: [(u32, DVec3); NEW_NORMALS],
+    len: usize,
+}
+
+const NEW_NORMALS: usize = 64;
+
+impl NewNormals {
+    #[inline]
+    pub(crate) fn new() -> Self {
+        Self {
+            items: [(0, DVec3::ZERO); NEW_NORMALS],
+            len: 0,
+        }
+    }
+    /// Writes the gathered normals into the cache; recomputes the normals around `v1` if
+    /// there were too many to gather.
+    #[inline]
+    pub(crate) fn apply(&self, mesh: &Mesh, v1: VertexId, normals: &mut [DVec3]) {
+        if self.len > NEW_NORMALS {
+            update_normals_around(mesh, v1, normals);
+        } else {
+            for &(i, n) in &self.items[..self.len] {
+                normals[i as usize] = n;
+            }
+        }
+    }
+}
+
+/// Checks every face around `v0` and `v1` except `fl` and `fr` with the survivor moved to
+/// `p`: no normal turns by more than the bound whose cosine is `cos_flip`, no face
+/// becomes degenerate. `normals` holds the current unit face normals by face index; the
+/// new normals go to `out`.
+pub(crate) fn geometry(
+    mesh: &Mesh,
+    c: &Collapse,
+    p: DVec3,
+    normals: &[DVec3],
+    cos_flip: f64,
+    out: &mut NewNormals,
+) -> bool {
+    out.len = 0;
+    for v in [c.v0, c.v1] {
+        for k in mesh.outgoing_halfedges(v) {
+            let Some(f) = mesh.face(k) else { continue };
+            if Some(f) == c.fl || Some(f) == c.fr {
+                continue;
+            }
+            let n1 = mesh.next(k);
+            let a = mesh.position(mesh.to_vertex(k));
+            let b = mesh.position(mesh.to_vertex(n1));
+            let (ea, eb) = (a - p, b - p);
+            let n = ea.cross(eb);
+            let len2 = n.length_squared();
+            let scale = ea.length_squared() + eb.length_squared() + (b - a).length_squared();
+            if len2 <= (DEGENERATE * scale) * (DEGENERATE * scale) {
+                return false;
+            }
+            let fi = mesh.face_index(f);
+            let len = len2.sqrt();
+            if n.dot(normals[fi]) < cos_flip * len {
+                return false;
+            }
+            if out.len < NEW_NORMALS {
+                out.items[out.len] = (fi as u32, n / len);
+            }
+            out.len += 1;
+        }
+    }
+    true
+}
+
+/// Recomputes the cached unit normals of the faces around `v`.
+#[inline]
+pub(crate) fn update_normals_around(mesh: &Mesh, v: VertexId, normals: &mut [DVec3]) {
+    for f in mesh.adjacent_faces(v) {
+        normals[mesh.face_index(f)] = mesh.face_normal(f);
+    }
+}

@@ -1,0 +1,563 @@
+//! The progressive hierarchy of the seed paper ("Interactive Editing of Multiresolution
+//! Meshes", section 3; DESIGN.md §2): a sequence of edge collapses recorded level by
+//! level, with centroid detail coefficients, that can be walked coarser and finer at will
+//! while the user edits positions (and sub-mesh labels) at any level.
+//!
+//! - **Building** ([`Hierarchy::build`]) simplifies the mesh with one of two methods
+//!   ([`Method`]): the paper's *rounds* (every unlocked edge whose star is nearly planar
+//!   collapses to its midpoint, then the edges around the survivor are locked until the
+//!   round ends; a round is a level, module [`rounds`]) or a *QEM* priority decimation
+//!   (Garland–Heckbert, module [`qem`]) whose levels are cut at fixed face-count ratios so
+//!   that they are comparable with rounds. Both share the legality layer of module
+//!   [`legality`] (OpenMesh's topological rules, no normal flips, no degenerate faces,
+//!   boundary vertices never leave the boundary). The build stops at a target face
+//!   count, a level count or an error bound ([`HierarchyOptions`]). The mesh is left at
+//!   the coarsest level.
+//! - **Walking**: [`coarsen_to`](Hierarchy::coarsen_to) / [`refine_to`](Hierarchy::refine_to)
+//!   / [`go_to_level`](Hierarchy::go_to_level) level by level, or
+//!   [`collapse_next`](Hierarchy::collapse_next) / [`split_next`](Hierarchy::split_next)
+//!   split by split. Level 0 is the input; higher levels are coarser.
+//! - **Detail coefficients** (module [`detail`]): every split re-inserts `v0` and moves
+//!   `v1` by the translation of the centroid of their recorded neighbours, so edits made
+//!   at a coarse level ride along to the fine levels, and without edits refinement
+//!   restores the input bit for bit with the same handles and connectivity.
+//! - **Labels**: sub-mesh labels attached with [`Hierarchy::attach_labels`] propagate
+//!   through splits with the paper's Fig. 4 rule (see [`crate::labels`]).
+//!
+//! ```
+//! use halfedge::{generators, Hierarchy, HierarchyOptions};
+//! let mesh = generators::icosphere(3);
+//! let faces = mesh.n_faces();
+//! let mut h = Hierarchy::build(mesh, &HierarchyOptions::rounds().with_target_faces(100)).unwrap();
+//! assert!(h.mesh().n_faces() <= 200);
+//! h.refine_to(0).unwrap();
+//! assert_eq!(h.mesh().n_faces(), faces);
+//! ```
+
+pub(crate) mod detail;
+pub(crate) mod heap;
+pub(crate) mod legality;
+pub mod qem;
+pub mod rounds;
+
+use glam::DVec3;
+
+use crate::attributes::Attribute;
+use crate::labels::{self, Label};
+use crate::{CollapseRecord, Error, HalfedgeId, Mesh, Result, VertexId};
+use detail::{translate_exact, Details};
+
+/// The simplification method of a [`Hierarchy`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Method {
+    /// The seed paper's rounds (section 3): planarity criterion, midpoint placement,
+    /// locks; one round per level.
+    Rounds,
+    /// Garland–Heckbert quadric error priority decimation, levels cut every
+    /// [`HierarchyOptions::level_ratio`] of the faces.
+    Qem,
+}
+
+/// How to build a [`Hierarchy`]: the method, its parameters and the stop criteria.
+///
+/// Stop criteria (whichever comes first): the face count reaches
+/// [`target_faces`](Self::target_faces) (the last level may then be a partial round), the
+/// hierarchy has [`max_levels`](Self::max_levels) levels below the input, no collapse
+/// within [`max_error`](Self::max_error) remains, or a level removes less than
+/// [`min_level_reduction`](Self::min_level_reduction) of its faces.
+#[derive(Clone, Debug)]
+pub struct HierarchyOptions {
+    /// The simplification method.
+    pub method: Method,
+    /// Rounds: the planarity bound, in radians. The star of edge `v0v1` (the faces
+    /// around `v0` and `v1`) is planar enough when every face normal is within this angle
+    /// of the normalised average of the star's face normals. Default 60°; 90° lets rounds
+    /// go down to about a thousand faces on most meshes.
+    pub max_normal_deviation: f64,
+    /// Both methods: a collapse is refused when it turns a surviving face's normal by more
+    /// than this angle, in radians (a flip is more than 90°). Default 45°: a tighter bound
+    /// than OpenMesh's 90° keeps coarse levels smooth enough for later rounds to go on.
+    pub max_flip_angle: f64,
+    /// QEM: each level ends when the face count drops to this fraction of the previous
+    /// level's (default 0.55, i.e. about 45 % of the faces removed per level, like rounds).
+    pub level_ratio: f64,
+    /// QEM: weight of the boundary constraint planes (planes through each boundary edge,
+    /// perpendicular to its face), relative to the face planes. Default 10.
+    pub boundary_weight: f64,
+    /// Stop when the mesh has at most this many faces. Default 0 (no face target).
+    pub target_faces: usize,
+    /// Stop after this many levels below the input. Default: no limit.
+    pub max_levels: usize,
+    /// Error bound, a distance. Rounds: a collapse is skipped when the survivor's new
+    /// position lies farther than this from the plane of a face of the star. QEM: the
+    /// decimation stops when the cheapest collapse's error (the root mean square distance
+    /// to the planes of its quadric, area-weighted) exceeds it. Default: no bound.
+    pub max_error: f64,
+    /// Stop after a level that removed less than this fraction of its faces (default 1 %).
+    pub min_level_reduction: f64,
+}
+
+impl Default for HierarchyOptions {
+    fn default() -> Self {
+        Self {
+            method: Method::Rounds,
+            max_normal_deviation: 60f64.to_radians(),
+            max_flip_angle: 45f64.to_radians(),
+            level_ratio: 0.55,
+            boundary_weight: 10.0,
+            target_faces: 0,
+            max_levels: usize::MAX,
+            max_error: f64::INFINITY,
+            min_level_reduction: 0.01,
+        }
+    }
+}
+
+impl HierarchyOptions {
+    /// The paper's rounds with default parameters.
+    pub fn rounds() -> Self {
+        Self::default()
+    }
+    /// QEM decimation with default parameters.
+    pub fn qem() -> Self {
+        Self {
+            method: Method::Qem,
+            ..Self::default()
+        }
+    }
+    /// Sets [`target_faces`](Self::target_faces).
+    pub fn with_target_faces(mut self, faces: usize) -> Self {
+        self.target_faces = faces;
+        self
+    }
+    /// Sets [`max_levels`](Self::max_levels).
+    pub fn with_max_levels(mut self, levels: usize) -> Self {
+        self.max_levels = levels;
+        self
+    }
+    /// Sets [`max_error`](Self::max_error).
+    pub fn with_max_error(mut self, error: f64) -> Self {
+        self.max_error = error;
+        self
+    }
+    /// Sets [`max_normal_deviation`](Self::max_normal_deviation) (radians).
+    pub fn with_max_normal_deviation(mut self, radians: f64) -> Self {
+        self.max_normal_deviation = radians;
+        self
+    }
+
+    /// Sets [`max_flip_angle`](Self::max_flip_angle) (radians).
+    pub fn with_max_flip_angle(mut self, radians: f64) -> Self {
+        self.max_flip_angle = radians;
+        self
+    }
+
+    fn validate(&self) -> Result<()> {
+        let bad = |what: String| Err(Error::InvalidArgument(what));
+        if !(self.max_normal_deviation > 0.0 && self.max_normal_deviation <= std::f64::consts::PI) {
+            return bad(format!(
+                "max_normal_deviation must be in (0, π], got {}",
+                self.max_normal_deviation
+            ));
+        }
+        if !(self.max_flip_angle > 0.0 && self.max_flip_angle <= std::f64::consts::PI) {
+            return bad(format!(
+                "max_flip_angle must be in (0, π], got {}",
+                self.max_flip_angle
+            ));
+        }
+        if !(self.level_ratio > 0.0 && self.level_ratio < 1.0) {
+            return bad(format!(
+                "level_ratio must be in (0, 1), got {}",
+                self.level_ratio
+            ));
+        }
+        if !(self.boundary_weight >= 0.0 && self.boundary_weight.is_finite()) {
+            return bad(format!(
+                "boundary_weight must be finite and non-negative, got {}",
+                self.boundary_weight
+            ));
+        }
+        if self.max_error.is_nan() || self.max_error < 0.0 {
+            return bad(format!(
+                "max_error must be non-negative, got {}",
+                self.max_error
+            ));
+        }
+        if !(0.0..1.0).contains(&self.min_level_reduction) {
+            return bad(format!(
+                "min_level_reduction must be in [0, 1), got {}",
+                self.min_level_reduction
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// Progress of a [`Hierarchy::build_with_progress`], reported at the end of every level
+/// and every 65,536 collapses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct BuildProgress {
+    /// Levels completed so far (below the input).
+    pub levels: usize,
+    /// Faces left.
+    pub faces: usize,
+    /// Faces of the input.
+    pub input_faces: usize,
+}
+
+/// Sub-mesh labels attached to a hierarchy: the vertex attribute and the number of
+/// collapsed records when they were defined.
+#[derive(Clone, Copy, Debug)]
+struct LabelBinding {
+    attribute: Attribute<VertexId, Label>,
+    defined_at: usize,
+}
+
+/// A mesh with its progressive hierarchy: the collapse records of every level, their
+/// detail coefficients, and the current position in the sequence (seed paper, section 3).
+///
+/// The hierarchy owns its mesh; read it with [`mesh`](Self::mesh) and edit positions or
+/// attributes with [`mesh_mut`](Self::mesh_mut) at any level. Topology must only change
+/// through the hierarchy (a topological edit would make the following split or collapse
+/// fail with an error, never silently).
+#[derive(Clone, Debug)]
+pub struct Hierarchy {
+    mesh: Mesh,
+    records: Vec<CollapseRecord>,
+    /// Survivor position chosen at build time and its parameter `t` along the edge
+    /// (`p1 + t (p0 − p1)` plus a residual), for collapsing again after an edit.
+    placements: Vec<(DVec3, f64)>,
+    details: Details,
+    /// Records collapsed at the end of each level; `level_ends[0] == 0` (the input).
+    level_ends: Vec<usize>,
+    /// Face count of each level, finest first.
+    level_faces: Vec<usize>,
+    /// Records currently collapsed (`records[..applied]`).
+    applied: usize,
+    method: Method,
+    labels: Option<LabelBinding>,
+}
+
+/// # Building
+impl Hierarchy {
+    /// Builds the hierarchy of `mesh` with `options` (see [`HierarchyOptions`] and the
+    /// [module docs](self)); the mesh is left at the coarsest level.
+    ///
+    /// # Errors
+    /// [`Error::InvalidArgument`] for options out of range.
+    pub fn build(mesh: Mesh, options: &HierarchyOptions) -> Result<Self> {
+        Self::build_with_progress(mesh, options, &mut |_| {})
+    }
+
+    /// [`build`](Self::build), reporting progress (DESIGN.md §5).
+    ///
+    /// # Errors
+    /// As [`build`](Self::build).
+    pub fn build_with_progress(
+        mesh: Mesh,
+        options: &HierarchyOptions,
+        progress: &mut dyn FnMut(BuildProgress),
+    ) -> Result<Self> {
+        options.validate()?;
+        let faces = mesh.n_faces();
+        let expected_records = mesh.n_vertices();
+        let mut h = Self {
+            mesh,
+            records: Vec::with_capacity(expected_records),
+            placements: Vec::with_capacity(expected_records),
+            details: Details::with_capacity(expected_records),
+            level_ends: vec![0],
+            level_faces: vec![faces],
+            applied: 0,
+            method: options.method,
+            labels: None,
+        };
+        match options.method {
+            Method::Rounds => rounds::build(&mut h, options, progress)?,
+            Method::Qem => qem::build(&mut h, options, progress)?,
+        }
+        progress(BuildProgress {
+            levels: h.built_levels(),
+            faces: h.mesh.n_faces(),
+            input_faces: faces,
+        });
+        h.records.shrink_to_fit();
+        h.placements.shrink_to_fit();
+        Ok(h)
+    }
+
+    /// Collapses `h` while building: records the detail coefficients, collapses, moves the
+    /// survivor to `p` (parameter `t` along the edge from `v1` to `v0`), appends the record.
+    /// The caller has checked the collapse with [`legality::topology`].
+    #[inline]
+    pub(crate) fn record_collapse(&mut self, h: HalfedgeId, p: DVec3, t: f64) {
+        debug_assert_eq!(self.applied, self.records.len());
+        let mesh = &self.mesh;
+        let v0 = mesh.from_vertex(h);
+        let v1 = mesh.to_vertex(h);
+        self.details.push(
+            mesh.positions(),
+            mesh.adjacent_vertices(v0)
+                .filter(|&w| w != v1)
+                .map(|w| mesh.vertex_index(w) as u32),
+            mesh.adjacent_vertices(v1)
+                .filter(|&w| w != v0)
+                .map(|w| mesh.vertex_index(w) as u32),
+        );
+        // The methods have just checked `is_collapse_ok` through the legality layer.
+        let record = self.mesh.collapse_unchecked(h);
+        let i1 = self.mesh.vertex_index(v1);
+        self.mesh.positions[i1] = p;
+        self.records.push(record);
+        self.placements.push((p, t));
+        self.applied += 1;
+    }
+
+    /// Closes the current level at the current record (building only).
+    pub(crate) fn close_level(&mut self) {
+        if *self.level_ends.last().unwrap_or(&0) < self.applied {
+            self.level_ends.push(self.applied);
+            self.level_faces.push(self.mesh.n_faces());
+        }
+    }
+
+    /// Levels below the input built so far.
+    pub(crate) fn built_levels(&self) -> usize {
+        self.level_ends.len() - 1
+    }
+}
+
+/// # Levels and stepping
+impl Hierarchy {
+    /// The mesh at the current position.
+    #[inline]
+    pub fn mesh(&self) -> &Mesh {
+        &self.mesh
+    }
+    /// The mesh at the current position, for editing positions and attributes. Do not
+    /// change its topology: the next split or collapse of the hierarchy would be refused.
+    #[inline]
+    pub fn mesh_mut(&mut self) -> &mut Mesh {
+        &mut self.mesh
+    }
+    /// Gives the mesh back, at its current level.
+    pub fn into_mesh(self) -> Mesh {
+        self.mesh
+    }
+    /// The method the hierarchy was built with.
+    pub fn method(&self) -> Method {
+        self.method
+    }
+    /// Number of levels, the input (level 0) included.
+    pub fn n_levels(&self) -> usize {
+        self.level_ends.len()
+    }
+    /// Index of the coarsest level.
+    pub fn coarsest_level(&self) -> usize {
+        self.level_ends.len() - 1
+    }
+    /// Face count of every level, finest (the input) first.
+    pub fn level_face_counts(&self) -> &[usize] {
+        &self.level_faces
+    }
+    /// Number of records collapsed at the end of every level (`[0, …]`).
+    pub fn level_ends(&self) -> &[usize] {
+        &self.level_ends
+    }
+    /// All collapse records, in collapse order.
+    pub fn records(&self) -> &[CollapseRecord] {
+        &self.records
+    }
+    /// Number of records currently collapsed: the position in the sequence.
+    pub fn applied(&self) -> usize {
+        self.applied
+    }
+    /// The current level, or `None` between two levels (after single steps).
+    pub fn current_level(&self) -> Option<usize> {
+        self.level_ends.iter().position(|&e| e == self.applied)
+    }
+    /// The level the mesh is at or, between levels, the finer level it has left.
+    pub fn level_at_or_finer(&self) -> usize {
+        self.level_ends.partition_point(|&e| e <= self.applied) - 1
+    }
+    /// Bytes of memory held by the records and detail coefficients.
+    pub fn record_bytes(&self) -> usize {
+        self.records.capacity() * std::mem::size_of::<CollapseRecord>()
+            + self.placements.capacity() * std::mem::size_of::<(DVec3, f64)>()
+            + self.details.heap_bytes()
+    }
+
+    fn check_level(&self, level: usize) -> Result<usize> {
+        self.level_ends.get(level).copied().ok_or_else(|| {
+            Error::InvalidArgument(format!(
+                "level {level} does not exist (levels 0..={})",
+                self.coarsest_level()
+            ))
+        })
+    }
+
+    /// Moves to `level` (coarser or finer).
+    ///
+    /// # Errors
+    /// [`Error::InvalidArgument`] for a level that does not exist; a refused split or
+    /// collapse if the topology was changed behind the hierarchy's back.
+    pub fn go_to_level(&mut self, level: usize) -> Result<()> {
+        let end = self.check_level(level)?;
+        self.seek(end)
+    }
+
+    /// Coarsens to `level` (which must not be finer than the current position).
+    ///
+    /// # Errors
+    /// As [`go_to_level`](Self::go_to_level), and [`Error::InvalidArgument`] when `level`
+    /// is finer than the current position.
+    pub fn coarsen_to(&mut self, level: usize) -> Result<()> {
+        let end = self.check_level(level)?;
+        if end < self.applied {
+            return Err(Error::InvalidArgument(format!(
+                "coarsen_to({level}): the mesh is already coarser than level {level}"
+            )));
+        }
+        self.seek(end)
+    }
+
+    /// Refines to `level` (which must not be coarser than the current position).
+    ///
+    /// # Errors
+    /// As [`go_to_level`](Self::go_to_level), and [`Error::InvalidArgument`] when `level`
+    /// is coarser than the current position.
+    pub fn refine_to(&mut self, level: usize) -> Result<()> {
+        let end = self.check_level(level)?;
+        if end > self.applied {
+            return Err(Error::InvalidArgument(format!(
+                "refine_to({level}): the mesh is already finer than level {level}"
+            )));
+        }
+        self.seek(end)
+    }
+
+    /// Collapses or splits record by record until `applied` records are collapsed.
+    ///
+    /// # Errors
+    /// [`Error::InvalidArgument`] when `applied` exceeds the number of records; a refused
+    /// split or collapse (the topology was changed behind the hierarchy's back).
+    pub fn seek(&mut self, applied: usize) -> Result<()> {
+        if applied > self.records.len() {
+            return Err(Error::InvalidArgument(format!(
+                "seek({applied}): the hierarchy has {} records",
+                self.records.len()
+            )));
+        }
+        while self.applied < applied {
+            self.collapse_next()?;
+        }
+        while self.applied > applied {
+            self.split_next()?;
+        }
+        Ok(())
+    }
+
+    /// One step coarser: collapses the next record again. The survivor goes to its build
+    /// time position; if an endpoint moved since the record was taken (an edit at a
+    /// finer level), it goes to the same place relative to the edge's current endpoints.
+    /// The centroids `C_i` are recomputed from the current positions. Returns `false` at
+    /// the coarsest level.
+    ///
+    /// # Errors
+    /// The kernel's refusal ([`Error::CollapseRefused`]) if the topology was changed
+    /// behind the hierarchy's back; nothing is changed then.
+    pub fn collapse_next(&mut self) -> Result<bool> {
+        let r = self.applied;
+        let Some(old) = self.records.get(r) else {
+            return Ok(false);
+        };
+        let (v0, v1, h) = (old.v0, old.v1, old.v0v1);
+        if !self.mesh.is_valid_halfedge(h)
+            || self.mesh.from_vertex(h) != v0
+            || self.mesh.to_vertex(h) != v1
+        {
+            return Err(Error::CollapseRefused {
+                halfedge: h,
+                reason: crate::CollapseVeto::EdgeDeleted,
+            });
+        }
+        let p0 = self.mesh.position(v0);
+        let p1 = self.mesh.position(v1);
+        let (placed, t) = self.placements[r];
+        let p = if p0 == old.p0 && p1 == old.p1 {
+            placed
+        } else {
+            let residual = placed - (old.p1 + t * (old.p0 - old.p1));
+            p1 + t * (p0 - p1) + residual
+        };
+        let record = self.mesh.collapse(h)?;
+        self.details.refresh(r, self.mesh.positions());
+        let i1 = self.mesh.vertex_index(v1);
+        self.mesh.positions[i1] = p;
+        self.records[r] = record;
+        self.applied += 1;
+        Ok(true)
+    }
+
+    /// One step finer: splits the last collapsed record, re-inserting `v0` (same handle)
+    /// and moving both endpoints by their centroid translations `C_f − C_i`. Sub-mesh
+    /// labels defined at a finer position are kept; otherwise `v0` is classified by the
+    /// paper's Fig. 4 rule. Returns `false` at the input level.
+    ///
+    /// # Errors
+    /// The kernel's refusal ([`Error::SplitRefused`]) if the topology was changed behind
+    /// the hierarchy's back; nothing is changed then.
+    pub fn split_next(&mut self) -> Result<bool> {
+        if self.applied == 0 {
+            return Ok(false);
+        }
+        let r = self.applied - 1;
+        let [d0, d1] = self.details.translations(r, self.mesh.positions());
+        let record = &self.records[r];
+        self.mesh.vertex_split(record)?;
+        let (i0, i1) = (
+            self.mesh.vertex_index(record.v0),
+            self.mesh.vertex_index(record.v1),
+        );
+        self.mesh.positions[i0] = translate_exact(record.p0, d0);
+        self.mesh.positions[i1] = translate_exact(record.p1, d1);
+        if let Some(binding) = self.labels {
+            if r < binding.defined_at {
+                labels::classify_split(&mut self.mesh, binding.attribute, record.v0);
+            }
+        }
+        self.applied = r;
+        Ok(true)
+    }
+}
+
+/// # Sub-mesh labels
+impl Hierarchy {
+    /// Attaches sub-mesh labels (a vertex attribute of this hierarchy's mesh, see
+    /// [`crate::labels`]) defined at the current position. From now on, splitting a
+    /// record that was collapsed before this position classifies the re-inserted vertex
+    /// with the paper's Fig. 4 rule; vertices that were live here keep their labels at
+    /// every level (the attribute persists on collapsed vertices).
+    pub fn attach_labels(&mut self, attribute: Attribute<VertexId, Label>) {
+        self.labels = Some(LabelBinding {
+            attribute,
+            defined_at: self.applied,
+        });
+    }
+    /// Tells the hierarchy that the attached labels were (re)defined at the current
+    /// position. Does nothing when no labels are attached.
+    pub fn labels_defined_here(&mut self) {
+        if let Some(b) = &mut self.labels {
+            b.defined_at = self.applied;
+        }
+    }
+    /// The attached label attribute, if any.
+    pub fn label_attribute(&self) -> Option<Attribute<VertexId, Label>> {
+        self.labels.map(|b| b.attribute)
+    }
+    /// Stops propagating labels through splits.
+    pub fn detach_labels(&mut self) {
+        self.labels = None;
+    }
+}

@@ -1,0 +1,426 @@
+//! Quadric error priority decimation (Garland & Heckbert 1997, "Surface Simplification
+//! Using Quadric Error Metrics"), writing the same collapse records as the rounds.
+//!
+//! - Every vertex carries the sum of the plane quadrics of its faces, each weighted by the
+//!   face's area. Boundaries are kept by **constraint planes**: every boundary edge adds,
+//!   to both its endpoints, the plane through the edge perpendicular to its face, weighted
+//!   by [`boundary_weight`](super::HierarchyOptions::boundary_weight) × the squared edge
+//!   length; besides, a boundary vertex only moves along boundary edges and an interior
+//!   edge touching the boundary collapses onto its boundary vertex (module
+//!   [`super::legality`]).
+//! - The survivor goes to the quadric's minimiser (solving the 3×3 system) when the system
+//!   is well conditioned and the minimiser lies within one edge length of the edge's
+//!   midpoint; when there is no such minimiser, or it would flip or flatten a face, to
+//!   the best legal one of the midpoint, `p0` and `p1` (candidates in order of cost).
+//! - Edges wait in a heap keyed by their cost (module [`super::heap`]) with *lazy
+//!   versioning*: every edge has one entry; a collapse marks the entries of the edges
+//!   around the survivor stale instead of re-queuing them, and a stale entry that reaches
+//!   the top is re-evaluated and re-queued unless it is still the cheapest. This is exact
+//!   because quadrics only accumulate, so an edge's cost never drops. Legality
+//!   (OpenMesh's topological rules, no normal flip, no degenerate face, the error bound)
+//!   is checked when an edge is popped; an illegal edge is *parked* out of the heap and
+//!   comes back when a collapse happens at one of its endpoints or their neighbours.
+//! - The error of a collapse is `sqrt(cost / area)`, the area-weighted root mean square
+//!   distance of the new position to the planes gathered in the quadric; collapses above
+//!   [`max_error`](super::HierarchyOptions::max_error) are parked like illegal ones.
+//! - Levels are cut whenever the face count drops to
+//!   [`level_ratio`](super::HierarchyOptions::level_ratio) of the previous level's, so
+//!   that levels remove about as much as a round does.
+
+use glam::{DMat3, DVec3};
+use rayon::prelude::*;
+
+use super::heap::{self, MinHeap};
+use super::legality::{self, Collapse, NewNormals};
+use super::rounds::choose_direction;
+use super::{BuildProgress, Hierarchy, HierarchyOptions};
+use crate::{HalfedgeId, Mesh, Result};
+
+/// A symmetric 4×4 quadric `Σ w (n·x + d)²` and the total face area it gathered.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Quadric {
+    /// Upper triangle: xx xy xz xd yy yz yd zz zd dd.
+    m: [f64; 10],
+    /// Total face area gathered (boundary constraint planes not included).
+    area: f64,
+}
+
+impl std::ops::Add for Quadric {
+    type Output = Self;
+    #[inline]
+    fn add(self, o: Self) -> Self {
+        let mut m = self.m;
+        for (a, b) in m.iter_mut().zip(o.m) {
+            *a += b;
+        }
+        Self {
+            m,
+            area: self.area + o.area,
+        }
+    }
+}
+
+impl std::ops::AddAssign for Quadric {
+    #[inline]
+    fn add_assign(&mut self, o: Self) {
+        *self = *self + o;
+    }
+}
+
+impl Quadric {
+    /// `w (n·x + d)²` for the plane `n·x + d = 0`; `area` is what the plane counts for in
+    /// the error normalisation.
+    #[inline]
+    pub fn plane(n: DVec3, d: f64, w: f64, area: f64) -> Self {
+        let (a, b, c) = (n.x, n.y, n.z);
+        Self {
+            m: [
+                w * a * a,
+                w * a * b,
+                w * a * c,
+                w * a * d,
+                w * b * b,
+                w * b * c,
+                w * b * d,
+                w * c * c,
+                w * c * d,
+                w * d * d,
+            ],
+            area,
+        }
+    }
+
+    /// The quadric's value at `p`.
+    #[inline]
+    pub fn eval(&self, p: DVec3) -> f64 {
+        let m = &self.m;
+        let (x, y, z) = (p.x, p.y, p.z);
+        x * (m[0] * x + 2.0 * (m[1] * y + m[2] * z + m[3]))
+            + y * (m[4] * y + 2.0 * (m[5] * z + m[6]))
+            + z * (m[7] * z + 2.0 * m[8])
+            + m[9]
+    }
+
+    /// The minimiser of the quadric when its 3×3 part is well conditioned.
+    #[inline]
+    pub fn minimizer(&self) -> Option<DVec3> {
+        let m = &self.m;
+        let a = DMat3::from_cols(
+            DVec3::new(m[0], m[1], m[2]),
+            DVec3::new(m[1], m[4], m[5]),
+            DVec3::new(m[2], m[5], m[7]),
+        );
+        let det = a.determinant();
+        let trace = m[0] + m[4] + m[7];
+        if det.is_nan() || det.abs() <= 1e-9 * (trace / 3.0).powi(3) {
+            return None;
+        }
+        let p = a.inverse() * -DVec3::new(m[3], m[6], m[8]);
+        p.is_finite().then_some(p)
+    }
+
+    /// The error at `p`: root mean square distance to the gathered planes.
+    #[inline]
+    pub fn error(&self, p: DVec3) -> f64 {
+        (self.eval(p).max(0.0) / self.area.max(f64::MIN_POSITIVE)).sqrt()
+    }
+}
+
+/// Unit normal and area of every face, by face index (zero for removed or degenerate
+/// faces), in parallel.
+pub fn face_planes(mesh: &Mesh) -> Vec<(DVec3, f64)> {
+    let mut planes = vec![(DVec3::ZERO, 0.0); mesh.face_slots()];
+    planes.par_iter_mut().enumerate().for_each(|(i, plane)| {
+        if let Some(f) = mesh.face_at(i) {
+            let [a, b, c] = mesh.triangle_positions(f);
+            let cross = (b - a).cross(c - a);
+            let len = cross.length();
+            if len > 0.0 {
+                *plane = (cross / len, 0.5 * len);
+            }
+        }
+    });
+    planes
+}
+
+/// Per-vertex quadrics of `mesh`, by vertex index (see the module docs), from the face
+/// planes of [`face_planes`].
+pub fn vertex_quadrics(mesh: &Mesh, planes: &[(DVec3, f64)], boundary_weight: f64) -> Vec<Quadric> {
+    let mut quadrics = vec![Quadric::default(); mesh.vertex_slots()];
+    quadrics.par_iter_mut().enumerate().for_each(|(i, q)| {
+        let Some(v) = mesh.vertex_at(i) else { return };
+        let pv = mesh.position(v);
+        let mut acc = Quadric::default();
+        for k in mesh.outgoing_halfedges(v) {
+            let fk = mesh.face(k);
+            if let Some(f) = fk {
+                let (n, area) = planes[mesh.face_index(f)];
+                if area > 0.0 {
+                    acc += Quadric::plane(n, -n.dot(pv), area, area);
+                }
+            }
+            // Boundary constraint plane of the edge of `k`, if it is on the boundary.
+            let fo = mesh.face(mesh.opposite(k));
+            let face_side = match (fk, fo) {
+                (Some(f), None) | (None, Some(f)) => Some(f),
+                _ => None,
+            };
+            if let (Some(f), true) = (face_side, boundary_weight > 0.0) {
+                let e = mesh.edge_vector(k);
+                let m = e.cross(planes[mesh.face_index(f)].0);
+                if let Some(m) = m.try_normalize() {
+                    let w = boundary_weight * e.length_squared();
+                    acc += Quadric::plane(m, -m.dot(pv), w, 0.0);
+                }
+            }
+        }
+        *q = acc;
+    });
+    quadrics
+}
+
+/// Candidate survivor positions of an edge with their quadric costs, cheapest first.
+#[derive(Clone, Copy, Debug)]
+struct Candidates {
+    items: [(f64, DVec3); 4],
+    len: usize,
+}
+
+impl Candidates {
+    #[inline]
+    fn as_slice(&self) -> &[(f64, DVec3)] {
+        &self.items[..self.len]
+    }
+    /// The cheapest cost.
+    #[inline]
+    fn cost(&self) -> f64 {
+        self.items[0].0
+    }
+}
+
+/// The summed quadric of the edge of `e` and its candidate survivor positions, cheapest
+/// first: the quadric's minimiser (when well conditioned and within one edge length of
+/// the midpoint), the midpoint and both endpoints; only the boundary vertex's position
+/// when the edge is interior and exactly one endpoint is on the boundary (the boundary
+/// rule of [`super::legality`]).
+#[inline]
+fn candidates(mesh: &Mesh, quadrics: &[Quadric], e: HalfedgeId) -> (Quadric, Candidates) {
+    let (a, b) = (mesh.from_vertex(e), mesh.to_vertex(e));
+    let (pa, pb) = (mesh.position(a), mesh.position(b));
+    let q = quadrics[mesh.vertex_index(a)] + quadrics[mesh.vertex_index(b)];
+    let boundary_edge = mesh.is_boundary_edge(e);
+    let (ba, bb) = (mesh.is_boundary_vertex(a), mesh.is_boundary_vertex(b));
+    let mut c = Candidates {
+        items: [(0.0, DVec3::ZERO); 4],
+        len: 0,
+    };
+    let mut add = |p: DVec3| {
+        c.items[c.len] = (q.eval(p).max(0.0), p);
+        c.len += 1;
+    };
+    if !boundary_edge && ba != bb {
+        add(if ba { pa } else { pb });
+        return (q, c);
+    }
+    let mid = 0.5 * (pa + pb);
+    if let Some(p) = q.minimizer() {
+        if (p - mid).length_squared() <= (pa - pb).length_squared() {
+            add(p);
+        }
+    }
+    add(mid);
+    add(pa);
+    add(pb);
+    c.items[..c.len].sort_by(|x, y| x.0.total_cmp(&y.0));
+    (q, c)
+}
+
+/// The heap cost of the edge of `e`: its cheapest candidate's.
+#[inline]
+fn edge_cost(mesh: &Mesh, quadrics: &[Quadric], e: HalfedgeId) -> f64 {
+    candidates(mesh, quadrics, e).1.cost()
+}
+
+/// Builds the levels of `h` by QEM decimation until a stop criterion holds.
+pub(crate) fn build(
+    h: &mut Hierarchy,
+    options: &HierarchyOptions,
+    progress: &mut dyn FnMut(BuildProgress),
+) -> Result<()> {
+    let input_faces = h.mesh.n_faces();
+    let cos_flip = options.max_flip_angle.cos();
+    let planes = face_planes(&h.mesh);
+    let mut quadrics = vertex_quadrics(&h.mesh, &planes, options.boundary_weight);
+    let mut normals: Vec<DVec3> = planes.into_iter().map(|(n, _)| n).collect();
+    let slots = h.mesh.halfedge_slots();
+    // Every edge (by its smaller halfedge index) has at most one heap entry; its state
+    // says whether that entry's cost is current, stale, or the edge is parked (illegal,
+    // out of the heap until its neighbourhood changes).
+    let mut state = vec![CLEAN; slots];
+    // Vertices that may have parked edges around them.
+    let mut parked_near = vec![false; h.mesh.vertex_slots()];
+    let keys: Vec<u64> = {
+        let mesh = &h.mesh;
+        let quadrics = &quadrics;
+        (0..slots)
+            .into_par_iter()
+            .filter_map(|i| {
+                let e = mesh.halfedge_at(i)?;
+                if mesh.halfedge_index(mesh.opposite(e)) < i {
+                    return None;
+                }
+                Some(heap::pack(edge_cost(mesh, quadrics, e), i as u32))
+            })
+            .collect()
+    };
+    let mut heap = MinHeap::from_vec(keys);
+    let mut next_level = level_target(input_faces, options.level_ratio);
+    let mut since_report = 0usize;
+    let mut new_normals = NewNormals::new();
+    while let Some(key) = heap.pop() {
+        if h.mesh.n_faces() <= options.target_faces || h.built_levels() >= options.max_levels {
+            break;
+        }
+        let edge = heap::unpack(key).1 as usize;
+        if state[edge] == DEAD {
+            continue;
+        }
+        let (g, p, t, q) = {
+            let mesh = &h.mesh;
+            let Some(e) = mesh.halfedge_at(edge) else {
+                continue;
+            };
+            let (q, cands) = candidates(mesh, &quadrics, e);
+            if state[edge] == STALE {
+                // Costs only grow as quadrics accumulate: re-queue with the current cost
+                // unless it is still the cheapest.
+                state[edge] = CLEAN;
+                let key = heap::pack(cands.cost(), edge as u32);
+                if heap.peek().is_some_and(|top| top < key) {
+                    heap.push(key);
+                    continue;
+                }
+            }
+            let park = |state: &mut [u8], parked_near: &mut [bool]| {
+                state[edge] = PARKED;
+                parked_near[mesh.vertex_index(mesh.from_vertex(e))] = true;
+                parked_near[mesh.vertex_index(mesh.to_vertex(e))] = true;
+            };
+            let o = mesh.opposite(e);
+            let Some((g, _)) = choose_direction(mesh, e, o) else {
+                park(&mut state, &mut parked_near);
+                continue;
+            };
+            let c = Collapse::new(mesh, g);
+            // The cheapest candidate that is within the error bound and legal.
+            let chosen = cands.as_slice().iter().find(|&&(_, p)| {
+                !(options.max_error.is_finite() && q.error(p) > options.max_error)
+                    && legality::geometry(mesh, &c, p, &normals, cos_flip, &mut new_normals)
+            });
+            let Some(&(_, p)) = chosen else {
+                park(&mut state, &mut parked_near);
+                continue;
+            };
+            let (p0, p1) = (mesh.position(c.v0), mesh.position(c.v1));
+            let d = p0 - p1;
+            let t = if d.length_squared() > 0.0 {
+                (p - p1).dot(d) / d.length_squared()
+            } else {
+                0.5
+            };
+            (g, p, t, q)
+        };
+        let v0 = h.mesh.from_vertex(g);
+        let v1 = h.mesh.to_vertex(g);
+        h.record_collapse(g, p, t);
+        let mesh = &h.mesh;
+        // The collapse removed v0v1 and, with the faces, vl–v0 and v0–vr.
+        let record = h.records.last().expect("just recorded");
+        for x in [Some(record.v0v1), record.vlv0, record.v0vr]
+            .into_iter()
+            .flatten()
+        {
+            let edge = mesh
+                .halfedge_index(x)
+                .min(mesh.halfedge_index(mesh.opposite(x)));
+            state[edge] = DEAD;
+        }
+        let (i0, i1) = (mesh.vertex_index(v0), mesh.vertex_index(v1));
+        quadrics[i1] = q;
+        parked_near[i1] |= parked_near[i0];
+        new_normals.apply(mesh, v1, &mut normals);
+        // Edges around v1 changed cost; parked edges around v1 and its neighbours may
+        // have become legal.
+        for k in mesh.outgoing_halfedges(v1) {
+            let edge = mesh
+                .halfedge_index(k)
+                .min(mesh.halfedge_index(mesh.opposite(k)));
+            match state[edge] {
+                CLEAN => state[edge] = STALE,
+                PARKED => unpark(mesh, &quadrics, k, edge, &mut state, &mut heap),
+                _ => {}
+            }
+            let w = mesh.to_vertex(k);
+            if std::mem::take(&mut parked_near[mesh.vertex_index(w)]) {
+                for kw in mesh.outgoing_halfedges(w) {
+                    let ew = mesh
+                        .halfedge_index(kw)
+                        .min(mesh.halfedge_index(mesh.opposite(kw)));
+                    if state[ew] == PARKED {
+                        unpark(mesh, &quadrics, kw, ew, &mut state, &mut heap);
+                    }
+                }
+            }
+        }
+        parked_near[i1] = false;
+        if mesh.n_faces() <= next_level {
+            h.close_level();
+            next_level = level_target(h.mesh.n_faces(), options.level_ratio);
+            progress(BuildProgress {
+                levels: h.built_levels(),
+                faces: h.mesh.n_faces(),
+                input_faces,
+            });
+        }
+        since_report += 1;
+        if since_report == 1 << 16 {
+            since_report = 0;
+            progress(BuildProgress {
+                levels: h.built_levels(),
+                faces: h.mesh.n_faces(),
+                input_faces,
+            });
+        }
+    }
+    if h.built_levels() < options.max_levels {
+        h.close_level();
+    }
+    Ok(())
+}
+
+/// Edge states: in the heap with its current cost, in the heap with a stale (lower)
+/// cost, out of the heap because it was illegal, removed.
+const CLEAN: u8 = 0;
+const STALE: u8 = 1;
+const PARKED: u8 = 2;
+/// Removed by a collapse (its heap entry is skipped without touching the mesh).
+const DEAD: u8 = 3;
+
+/// Puts a parked edge back into the heap with its current cost.
+#[inline]
+fn unpark(
+    mesh: &Mesh,
+    quadrics: &[Quadric],
+    k: HalfedgeId,
+    edge: usize,
+    state: &mut [u8],
+    heap: &mut MinHeap,
+) {
+    heap.push(heap::pack(edge_cost(mesh, quadrics, k), edge as u32));
+    state[edge] = CLEAN;
+}
+
+#[inline]
+fn level_target(faces: usize, ratio: f64) -> usize {
+    (faces as f64 * ratio).floor() as usize
+}
