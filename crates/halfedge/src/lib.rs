@@ -19,9 +19,11 @@
 //! assert_eq!(mesh.adjacent_vertices(v).count(), mesh.valence(v));
 //! ```
 
+mod add_face;
 pub mod attributes;
 pub mod build;
 mod check;
+mod compact_build;
 mod error;
 pub mod generators;
 mod geometry;
