@@ -96,8 +96,7 @@ impl PolygonSoup {
     }
 }
 
-/// The two elements the reader looks for in a face-like element: which element, and which
-/// list property holds the vertex indices.
+/// The two face-like elements the reader understands.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum FaceKind {
     /// `face`: one polygon per element.
@@ -133,22 +132,18 @@ fn check_header(header: &Header, format: &dyn Fn(String) -> Error) -> Result<Lay
             }
         }
     }
-    for (name, kind) in [
-        ("face", FaceKind::Polygons),
-        ("tristrips", FaceKind::Strips),
-    ] {
+    for name in ["face", "tristrips"] {
         let Some(element) = header.elements.get(name) else {
             continue;
         };
-        let property = index_property(element, kind).map_err(&format)?;
+        let property = index_property(element).map_err(&format)?;
         if let Some(property) = property {
-            let PropertyType::List(count, item) = &element.properties[property].data_type else {
-                unreachable!("index_property returns list properties only");
-            };
-            if !is_integer(count) || !is_integer(item) {
-                return Err(format(format!(
-                    "{name} property '{property}' must be a list of integers, found list {count:?} {item:?}"
-                )));
+            if let PropertyType::List(count, item) = &element.properties[property].data_type {
+                if !is_integer(count) || !is_integer(item) {
+                    return Err(format(format!(
+                        "{name} property '{property}' must be a list of integers, found list {count:?} {item:?}"
+                    )));
+                }
             }
         } else if element.count > 0 {
             return Err(format(format!(
@@ -165,7 +160,6 @@ fn check_header(header: &Header, format: &dyn Fn(String) -> Error) -> Result<Lay
 /// `vertex_index` as some writers name it).
 pub(crate) fn index_property(
     element: &ElementDef,
-    kind: FaceKind,
 ) -> std::result::Result<Option<&'static str>, String> {
     let mut found = None;
     for name in ["vertex_indices", "vertex_index"] {
@@ -188,7 +182,6 @@ pub(crate) fn index_property(
             None => {}
         }
     }
-    let _ = kind;
     Ok(found)
 }
 

@@ -168,7 +168,7 @@ fn plan(element: &ElementDef) -> Option<Plan<'_>> {
             return record_size(element).map(|stride| Plan::Skip { stride });
         }
     };
-    let name = index_property(element, kind).ok()??;
+    let name = index_property(element).ok()??;
     if element.properties.len() != 1 {
         return None;
     }
