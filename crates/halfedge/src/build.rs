@@ -135,6 +135,8 @@ impl Mesh {
             let mut mesh = Mesh::with_capacity(n, n_faces);
             let progress = Progress::default();
             let build = |report: &mut BuildReport| {
+                // Should the algorithm ever panic, the element thread must still stop.
+                let _stop = progress.stop_on_drop();
                 let mut compact = Compact::new(n, n_faces, Some(&progress));
                 add_polygons(&mut compact, |i| i, polygons, report);
                 progress.finish(&compact);

@@ -54,6 +54,18 @@ impl Progress {
         self.faces.store(faces, Ordering::Release);
     }
 
+    /// A guard that marks the work done when dropped (also when unwinding), so that
+    /// [`create_elements`] never waits for ever.
+    pub(crate) fn stop_on_drop(&self) -> impl Drop + '_ {
+        struct Stop<'a>(&'a Progress);
+        impl Drop for Stop<'_> {
+            fn drop(&mut self) {
+                self.0.done.store(true, Ordering::Release);
+            }
+        }
+        Stop(self)
+    }
+
     /// Publishes the final counts.
     pub(crate) fn finish(&self, compact: &Compact<'_>) {
         self.publish(compact.halfedges.len(), compact.face_halfedge.len());

@@ -57,17 +57,31 @@ pub(crate) struct PolygonSoup {
     pub(crate) positions: Vec<DVec3>,
     /// All polygon indices, one polygon after another.
     pub(crate) indices: Vec<u32>,
-    /// Start of every polygon in `indices`, plus the end of the last one.
-    pub(crate) offsets: Vec<usize>,
+    /// Start of every polygon in `indices`, plus the end of the last one; `None` while all
+    /// polygons are triangles (the common case, which then needs no offsets).
+    offsets: Option<Vec<usize>>,
 }
 
 impl PolygonSoup {
+    /// Appends a polygon.
     pub(crate) fn push_polygon(&mut self, polygon: impl IntoIterator<Item = u32>) {
-        if self.offsets.is_empty() {
-            self.offsets.push(0);
-        }
+        let start = self.indices.len();
         self.indices.extend(polygon);
-        self.offsets.push(self.indices.len());
+        self.end_polygon(start);
+    }
+
+    /// Records that the polygon starting at `start` in `indices` ends at their end.
+    fn end_polygon(&mut self, start: usize) {
+        let end = self.indices.len();
+        match &mut self.offsets {
+            Some(offsets) => offsets.push(end),
+            None if end - start == 3 => {}
+            None => {
+                let mut offsets: Vec<usize> = (0..=start).step_by(3).collect();
+                offsets.push(end);
+                self.offsets = Some(offsets);
+            }
+        }
     }
 
     /// Builds the mesh; builder errors are turned into format errors naming the file.
@@ -79,8 +93,14 @@ impl PolygonSoup {
         if self.positions.is_empty() {
             return Err(format("no vertices (the vertex element is empty)".into()));
         }
-        let polygons = self.offsets.windows(2).map(|w| &self.indices[w[0]..w[1]]);
-        Mesh::from_polygons(&self.positions, polygons).map_err(|e| match e {
+        let built = match &self.offsets {
+            None => Mesh::from_polygons(&self.positions, self.indices.chunks_exact(3)),
+            Some(offsets) => Mesh::from_polygons(
+                &self.positions,
+                offsets.windows(2).map(|w| &self.indices[w[0]..w[1]]),
+            ),
+        };
+        built.map_err(|e| match e {
             Error::IndexOutOfRange {
                 face,
                 index,
@@ -287,14 +307,12 @@ pub(crate) fn push_face(
     n_vertices: usize,
     format: &dyn Fn(String) -> Error,
 ) -> Result<()> {
-    if soup.offsets.is_empty() {
-        soup.offsets.push(0);
-    }
+    let start = soup.indices.len();
     for index in indices {
         soup.indices
             .push(check_index(index, n_vertices, "face", face, format)?);
     }
-    soup.offsets.push(soup.indices.len());
+    soup.end_polygon(start);
     Ok(())
 }
 

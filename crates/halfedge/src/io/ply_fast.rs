@@ -243,7 +243,6 @@ fn read<O: ByteOrder>(
                         .count
                         .min((payload.len() - pos) / (count_size + 3 * index_size));
                     soup.indices.reserve(3 * faces);
-                    soup.offsets.reserve(faces + 1);
                 }
                 let mut list: Vec<i64> = Vec::new();
                 for number in 0..element.count {
