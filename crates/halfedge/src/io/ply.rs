@@ -25,24 +25,28 @@
 //! non-finite coordinates and malformed headers are [`Error::Format`] errors naming the
 //! file, the element and the position; nothing panics.
 
-use std::io::ErrorKind;
+use std::io::{BufRead, BufReader, ErrorKind};
 use std::path::Path;
 
 use glam::DVec3;
 use ply_rs_bw::parser::{Parser, Reader};
 use ply_rs_bw::ply::{
-    BeginList, ElementDef, Encoding, Header, PropertyAccess, PropertyAccessResult, PropertyType,
-    ScalarType,
+    BeginList, ElementDef, Header, PropertyAccess, PropertyAccessResult, PropertyType, ScalarType,
 };
 
 use crate::{BuildReport, Error, Mesh, Result};
 
 /// Reads a PLY file (ASCII, binary little or big endian). Vertex `i` of the file is the
 /// vertex with [`Mesh::vertex_index`] `i`; see the [module docs](self) for what is read.
+/// The file is streamed, not read into memory first.
 pub fn read_ply(path: impl AsRef<Path>) -> Result<(Mesh, BuildReport)> {
     let path = path.as_ref();
-    let bytes = super::read_bytes(path)?;
-    read_ply_from_bytes(&bytes, path)
+    let file = std::fs::File::open(path).map_err(|source| Error::Io {
+        path: path.to_owned(),
+        source,
+    })?;
+    let soup = read_ply_soup(BufReader::with_capacity(1 << 16, file), path)?;
+    soup.build(path)
 }
 
 /// Reads PLY data from memory; `path` is only used in error messages.
@@ -210,49 +214,57 @@ fn is_integer(t: &ScalarType) -> bool {
 }
 
 /// Parses the header and the payload into a polygon soup.
-pub(crate) fn read_ply_soup(bytes: &[u8], path: &Path) -> Result<PolygonSoup> {
+pub(crate) fn read_ply_soup<R: BufRead>(mut input: R, path: &Path) -> Result<PolygonSoup> {
     let format = |message: String| Error::Format {
         path: path.to_owned(),
         message,
     };
-    if bytes.is_empty() {
+    let io = |source: std::io::Error| Error::Io {
+        path: path.to_owned(),
+        source,
+    };
+    if input.fill_buf().map_err(io)?.is_empty() {
         return Err(format("empty file".into()));
     }
-    let mut reader = Reader::new(bytes);
+    let mut reader = Reader::new(input);
     let header = Parser::<SkippedElement>::new()
         .read_header(&mut reader)
         .map_err(|e| format(format!("malformed PLY header: {e}")))?;
     let layout = check_header(&header, &format)?;
-    let header_len = bytes.len() - reader.get_ref().len();
-    if header.encoding != Encoding::Ascii {
-        if let Some(soup) =
-            super::ply_fast::read_binary(&header, &bytes[header_len..], &layout, &format)?
-        {
-            return Ok(soup);
-        }
+    if let Some(plans) = super::ply_fast::plans(&header) {
+        return super::ply_fast::read_binary(&header, &plans, reader.get_mut(), &layout, path);
     }
-    read_general(&header, reader, &layout, &format)
+    read_general(&header, reader, &layout, path)
 }
 
 /// The general route: `ply-rs-bw` with own element structs.
-fn read_general(
+fn read_general<R: BufRead>(
     header: &Header,
-    mut reader: Reader<&[u8]>,
+    mut reader: Reader<R>,
     layout: &Layout,
-    format: &dyn Fn(String) -> Error,
+    path: &Path,
 ) -> Result<PolygonSoup> {
-    // The declared count is not trusted for allocation: every vertex takes at least a
-    // few bytes of the file.
-    let room = layout.n_vertices.min(reader.get_ref().len() / 3);
+    let format = |message: String| Error::Format {
+        path: path.to_owned(),
+        message,
+    };
+    let format = &format;
+    // The declared count is not trusted for allocation (the vector grows as vertices are
+    // actually read).
     let mut soup = PolygonSoup {
-        positions: Vec::with_capacity(room),
+        positions: Vec::with_capacity(layout.n_vertices.min(1 << 20)),
         ..PolygonSoup::default()
     };
     let payload_error = |element: &ElementDef, e: ply_rs_bw::parser::ParseError| {
-        let what = if e.kind() == ErrorKind::UnexpectedEof {
-            "truncated file"
-        } else {
-            "malformed data"
+        let what = match e.kind() {
+            ErrorKind::UnexpectedEof => "truncated file",
+            ErrorKind::InvalidInput | ErrorKind::InvalidData => "malformed data",
+            _ => {
+                return Error::Io {
+                    path: path.to_owned(),
+                    source: e.into(),
+                }
+            }
         };
         format(format!(
             "{what} in element '{}' ({} declared): {e}",
