@@ -32,6 +32,9 @@ pub(crate) trait Connectivity {
     /// Creates the halfedges `a → b` (returned) and `b → a`, unlinked and without face.
     fn new_edge(&mut self, a: Self::V, b: Self::V) -> Self::H;
     fn new_face(&mut self, h: Self::H) -> Self::F;
+    /// Called when face `f` has been added completely.
+    #[inline]
+    fn face_added(&mut self, _f: Self::F) {}
     /// Makes the vertex halfedge of `v` a boundary halfedge when there is one, searching
     /// clockwise as OpenMesh does.
     fn adjust_outgoing_halfedge(&mut self, v: Self::V) {
@@ -225,6 +228,7 @@ pub(crate) fn add_face<M: Connectivity>(
             m.adjust_outgoing_halfedge(v);
         }
     }
+    m.face_added(f);
     Ok(f)
 }
 

@@ -11,16 +11,19 @@
 //! - When a face cannot be added (for a polygon: when its last fan triangle fails), it is
 //!   added again on fresh copies of its vertices (same positions); the copies are counted.
 //! - Out-of-range indices, non-finite coordinates and empty input are errors, checked
-//!   before anything is built.
-//! - The faces are added on compact `u32` arrays (OpenMesh's layout) and the [`Mesh`] is
-//!   filled from them in one pass, which gives the same mesh as adding the faces to it one
-//!   by one, twice as fast (see `compact_build.rs`). Unreferenced vertices stay as isolated vertices, and vertex
-//!   `i` of the input is the vertex with [`Mesh::vertex_index`] `i`.
+//!   before anything is built. Unreferenced vertices stay as isolated vertices, and
+//!   vertex `i` of the input is the vertex with [`Mesh::vertex_index`] `i`.
+//!
+//! For speed the faces are added on compact `u32` arrays (OpenMesh's layout) and, for
+//! large inputs, a second thread writes the [`Mesh`]'s memory meanwhile (see
+//! `compact_build.rs`). The result is the very mesh that adding the faces to it one by
+//! one gives (same handles, links and order; a unit test compares both on non-manifold
+//! input); on nefertiti subdivided twice (1.6 M faces) building takes about half the time.
 
 use glam::DVec3;
 
 use crate::add_face::{add_face, Connectivity, Refusal, Scratch};
-use crate::compact_build::{create_elements, Compact, Progress};
+use crate::compact_build::{create_elements, Compact};
 use crate::{Error, FaceId, Mesh, Result, VertexId};
 
 /// What [`Mesh::from_polygons`] had to do to turn the input into a manifold triangle mesh.
@@ -133,32 +136,29 @@ impl Mesh {
         let max_halfedges = n_faces.saturating_mul(12);
         if compact && max_halfedges <= Compact::MAX_HALFEDGES && n <= Compact::MAX_HALFEDGES {
             let mut mesh = Mesh::with_capacity(n, n_faces);
-            let progress = Progress::default();
-            let build = |report: &mut BuildReport| {
-                // Should the algorithm ever panic, the element thread must still stop.
-                let _stop = progress.stop_on_drop();
-                let mut compact = Compact::new(n, n_faces, Some(&progress));
-                add_polygons(&mut compact, |i| i, polygons, report);
-                progress.finish(&compact);
-                compact
-            };
             let parallel = n_faces >= PARALLEL_FROM_FACES
                 && std::thread::available_parallelism().is_ok_and(|p| p.get() > 1);
             let compact = if parallel {
+                let (sender, batches) = std::sync::mpsc::sync_channel(64);
                 std::thread::scope(|scope| {
-                    let elements = scope.spawn(|| create_elements(&mut mesh, positions, &progress));
-                    let compact = build(&mut report);
+                    let elements = scope.spawn(|| create_elements(&mut mesh, positions, batches));
+                    // Dropping the compact arrays' sender (also when unwinding) ends the
+                    // element thread.
+                    let mut compact = Compact::new(n, n_faces, Some(sender));
+                    add_polygons(&mut compact, |i| i, polygons, &mut report);
+                    compact.finish_sending();
                     if let Err(panic) = elements.join() {
                         std::panic::resume_unwind(panic);
                     }
                     compact
                 })
             } else {
-                let compact = build(&mut report);
-                create_elements(&mut mesh, positions, &progress);
+                let mut compact = Compact::new(n, n_faces, None);
+                add_polygons(&mut compact, |i| i, polygons, &mut report);
+                compact.create_all(&mut mesh, positions);
                 compact
             };
-            compact.fill(&mut mesh, positions);
+            compact.finish(&mut mesh);
             return Ok((mesh, report));
         }
         // Too large for `u32` handles: build on the mesh itself (same algorithm).
@@ -214,7 +214,7 @@ impl BuildTarget for Mesh {
     }
 }
 
-impl BuildTarget for Compact<'_> {
+impl BuildTarget for Compact {
     fn copy_vertex(&mut self, v: u32) -> u32 {
         Compact::copy_vertex(self, v)
     }
@@ -343,6 +343,17 @@ mod tests {
         assert_eq!(ra, rb);
         assert_eq!(a.positions(), b.positions());
         assert_eq!(links(&a), links(&b));
+        let counts = |m: &Mesh| {
+            [
+                m.n_vertices(),
+                m.n_halfedges(),
+                m.n_faces(),
+                m.vertex_slots(),
+                m.halfedge_slots(),
+                m.face_slots(),
+            ]
+        };
+        assert_eq!(counts(&a), counts(&b));
     }
 
     #[test]

@@ -10,16 +10,18 @@
 //! gives: halfedge `i` here becomes the `i`-th halfedge created there, face `f` the
 //! `f`-th face, and every link, face and vertex halfedge is copied over.
 //!
-//! The other half of the cost is the first touch of the mesh's memory (page faults:
-//! about 400 MB for 1.6 M faces). For large inputs a second thread creates the mesh's
-//! vertices and placeholder halfedges and faces while the first one runs the add-face
-//! algorithm, following the counts it publishes ([`Progress`]); the first thread then
-//! fills in the links. On nefertiti subdivided twice (1.6 M faces) this makes building
-//! about a third faster than on the [`Mesh`] alone.
+//! The other half of the cost is writing the mesh's memory for the first time (page
+//! faults: about 400 MB for 1.6 M faces). For large inputs a second thread does that
+//! while the first runs the add-face algorithm: the first sends it [`Batch`]es of what
+//! it has created, and the halfedges whose links have become final — a halfedge never
+//! changes once its face has been added, since later faces only re-link boundary
+//! halfedges — so that most slots are written once, with their final contents, by the
+//! second thread. After both have finished, the first writes what is left: the
+//! boundary halfedges and the vertices' halfedges.
+
+use std::sync::mpsc::{Receiver, SyncSender};
 
 use glam::DVec3;
-
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
 use crate::add_face::Connectivity;
 use crate::Mesh;
@@ -27,109 +29,64 @@ use crate::Mesh;
 /// "No element" in the compact arrays.
 const NONE: u32 = u32::MAX;
 
-#[derive(Clone, Copy)]
-struct CompactHalfedge {
+/// A halfedge in the compact arrays.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct CompactHalfedge {
     to: u32,
     next: u32,
     prev: u32,
     face: u32,
 }
 
-/// How far the add-face algorithm has got: the numbers of halfedges and faces created so
-/// far (published every [`Progress::EVERY`] faces) and whether it has finished.
+/// What the add-face thread sends the element thread: the elements created since the
+/// last batch, and halfedges whose contents are final.
 #[derive(Default)]
-pub(crate) struct Progress {
-    halfedges: AtomicUsize,
-    faces: AtomicUsize,
-    done: AtomicBool,
+pub(crate) struct Batch {
+    /// Halfedges created so far, in all.
+    halfedges: usize,
+    /// Vertices added as copies since the last batch: the input vertex each one copies.
+    copies: Vec<u32>,
+    /// Faces created since the last batch: the halfedge of each.
+    faces: Vec<u32>,
+    /// Halfedges whose contents are final, with their index.
+    finals: Vec<(u32, CompactHalfedge)>,
 }
 
-impl Progress {
-    /// Faces between two publications (rarely, so that the two threads do not fight over
-    /// the cache line).
-    const EVERY: usize = 1024;
-
-    fn publish(&self, halfedges: usize, faces: usize) {
-        self.halfedges.store(halfedges, Ordering::Release);
-        self.faces.store(faces, Ordering::Release);
-    }
-
-    /// A guard that marks the work done when dropped (also when unwinding), so that
-    /// [`create_elements`] never waits for ever.
-    pub(crate) fn stop_on_drop(&self) -> impl Drop + '_ {
-        struct Stop<'a>(&'a Progress);
-        impl Drop for Stop<'_> {
-            fn drop(&mut self) {
-                self.0.done.store(true, Ordering::Release);
-            }
-        }
-        Stop(self)
-    }
-
-    /// Publishes the final counts.
-    pub(crate) fn finish(&self, compact: &Compact<'_>) {
-        self.publish(compact.halfedges.len(), compact.face_halfedge.len());
-        self.done.store(true, Ordering::Release);
-    }
-}
-
-/// Creates the input vertices of `mesh` and then, following `progress`, as many
-/// placeholder halfedges (in pairs) and faces as the add-face algorithm has created, until
-/// it has finished. [`Compact::fill`] sets their contents afterwards.
-pub(crate) fn create_elements(mesh: &mut Mesh, positions: &[DVec3], progress: &Progress) {
-    for &p in positions {
-        mesh.add_vertex(p);
-    }
-    let v = mesh.vertex_keys[0];
-    loop {
-        let done = progress.done.load(Ordering::Acquire);
-        let halfedges = progress.halfedges.load(Ordering::Acquire);
-        let faces = progress.faces.load(Ordering::Acquire);
-        let idle = mesh.halfedge_keys.len() == halfedges && mesh.face_keys.len() == faces;
-        while mesh.halfedge_keys.len() < halfedges {
-            mesh.new_edge(v, v);
-        }
-        while mesh.face_keys.len() < faces {
-            let h = mesh.halfedge_keys[0];
-            mesh.new_face(h);
-        }
-        if done {
-            return;
-        }
-        if idle {
-            std::thread::yield_now();
-        }
-    }
+impl Batch {
+    /// Faces per batch: enough to keep the channel quiet, few enough that the second
+    /// thread writes the final contents while the placeholders are still in cache.
+    const FACES: usize = 1024;
 }
 
 /// Connectivity in plain `u32` arrays; the opposite of halfedge `h` is `h ^ 1`.
-pub(crate) struct Compact<'p> {
-    progress: Option<&'p Progress>,
+pub(crate) struct Compact {
     /// Outgoing halfedge per vertex (`NONE` for an isolated vertex).
     vertex_halfedge: Vec<u32>,
-    /// For vertices added as copies: the vertex they copy (by input index); vertex
-    /// `n_input + k` is `copies[k]`.
+    /// For vertices added as copies: the input vertex they copy; vertex `n_input + k` is
+    /// `copies[k]`.
     copies: Vec<u32>,
     n_input: usize,
     halfedges: Vec<CompactHalfedge>,
     face_halfedge: Vec<u32>,
+    /// Where batches go when a second thread fills the mesh, and the batch being made.
+    sink: Option<(SyncSender<Batch>, Batch)>,
 }
 
-impl<'p> Compact<'p> {
+impl Compact {
     /// Largest number of halfedges the `u32` handles can address.
     pub(crate) const MAX_HALFEDGES: usize = (u32::MAX - 1) as usize;
 
-    /// Room for `n_vertices` input vertices and `n_faces` triangles.
-    /// Counts are published to `progress`, when given.
-    pub(crate) fn new(n_vertices: usize, n_faces: usize, progress: Option<&'p Progress>) -> Self {
+    /// Room for `n_vertices` input vertices and `n_faces` triangles; batches go to
+    /// `sink`, when given.
+    pub(crate) fn new(n_vertices: usize, n_faces: usize, sink: Option<SyncSender<Batch>>) -> Self {
         Self {
-            progress,
             vertex_halfedge: vec![NONE; n_vertices],
             copies: Vec::new(),
             n_input: n_vertices,
             // A closed triangle mesh has 3F halfedges; open ones a few more.
             halfedges: Vec::with_capacity(3 * n_faces + 6),
             face_halfedge: Vec::with_capacity(n_faces),
+            sink: sink.map(|s| (s, Batch::default())),
         }
     }
 
@@ -141,41 +98,131 @@ impl<'p> Compact<'p> {
             self.copies[v as usize - self.n_input]
         };
         self.copies.push(original);
+        if let Some((_, batch)) = &mut self.sink {
+            batch.copies.push(original);
+        }
         self.vertex_halfedge.push(NONE);
         (self.vertex_halfedge.len() - 1) as u32
     }
 
-    /// Fills `mesh` with this connectivity. The mesh holds the input vertices and
-    /// placeholder halfedges and faces, as many as here, made by [`create_elements`] on a
-    /// fresh mesh (so element `i` here is in slot `i` there).
-    pub(crate) fn fill(self, mesh: &mut Mesh, positions: &[DVec3]) {
-        debug_assert_eq!(mesh.vertex_keys.len(), positions.len());
+    /// Sends the batch being made (if any) and starts a new one.
+    fn send(&mut self) {
+        if let Some((sender, batch)) = &mut self.sink {
+            batch.halfedges = self.halfedges.len();
+            let full = std::mem::take(batch);
+            // If the element thread is gone it has panicked; joining it reports that.
+            let _ = sender.send(full);
+        }
+    }
+
+    /// Sends what is left and closes the channel, so that the element thread finishes.
+    pub(crate) fn finish_sending(&mut self) {
+        self.send();
+        self.sink = None;
+    }
+
+    /// Creates the mesh's elements and writes every halfedge and face, without a second
+    /// thread: the same steps as [`create_elements`] and [`apply`] on one batch holding
+    /// everything.
+    pub(crate) fn create_all(&self, mesh: &mut Mesh, positions: &[DVec3]) {
+        create_vertices(mesh, positions);
+        apply(
+            mesh,
+            positions,
+            &self.copies,
+            self.halfedges.len(),
+            &self.face_halfedge,
+            self.halfedges
+                .iter()
+                .enumerate()
+                .map(|(i, &c)| (i as u32, c)),
+        );
+    }
+
+    /// Writes what the element thread has not: halfedges without face (their links were
+    /// final only at the end) and every vertex's halfedge. Afterwards `mesh` has exactly
+    /// this connectivity.
+    pub(crate) fn finish(self, mesh: &mut Mesh) {
         debug_assert_eq!(mesh.halfedge_keys.len(), self.halfedges.len());
         debug_assert_eq!(mesh.face_keys.len(), self.face_halfedge.len());
-        for &c in &self.copies {
-            mesh.add_vertex(positions[c as usize]);
-        }
-        let (vertices, halfedges, faces) =
-            (&mesh.vertex_keys, &mesh.halfedge_keys, &mesh.face_keys);
-        for (c, &h) in self.halfedges.iter().zip(halfedges) {
-            let slot = &mut mesh.halfedges[h];
-            slot.to = vertices[c.to as usize];
-            slot.next = halfedges[c.next as usize];
-            slot.prev = halfedges[c.prev as usize];
-            slot.face = (c.face != NONE).then(|| faces[c.face as usize]);
-        }
-        for (&h, &f) in self.face_halfedge.iter().zip(faces) {
-            mesh.faces[f].halfedge = halfedges[h as usize];
-        }
-        for (&h, &v) in self.vertex_halfedge.iter().zip(vertices) {
+        debug_assert_eq!(mesh.vertex_keys.len(), self.vertex_halfedge.len());
+        write_finals(
+            mesh,
+            self.halfedges
+                .iter()
+                .enumerate()
+                .filter(|(_, c)| c.face == NONE)
+                .map(|(i, &c)| (i as u32, c)),
+        );
+        for (&h, &v) in self.vertex_halfedge.iter().zip(&mesh.vertex_keys) {
             if h != NONE {
-                mesh.vertices[v].halfedge = Some(halfedges[h as usize]);
+                mesh.vertices[v].halfedge = Some(mesh.halfedge_keys[h as usize]);
             }
         }
     }
 }
 
-impl Connectivity for Compact<'_> {
+/// Creates the input vertices in a fresh mesh.
+fn create_vertices(mesh: &mut Mesh, positions: &[DVec3]) {
+    for &p in positions {
+        mesh.add_vertex(p);
+    }
+}
+
+/// The element thread: creates the input vertices, then applies batches until the
+/// add-face thread closes the channel.
+pub(crate) fn create_elements(mesh: &mut Mesh, positions: &[DVec3], batches: Receiver<Batch>) {
+    create_vertices(mesh, positions);
+    for batch in batches {
+        apply(
+            mesh,
+            positions,
+            &batch.copies,
+            batch.halfedges,
+            &batch.faces,
+            batch.finals.into_iter(),
+        );
+    }
+}
+
+/// Adds the copied vertices, placeholder halfedges up to `halfedges` in all, and the
+/// faces, then writes the final halfedges. Elements are created in the compact order,
+/// so element `i` there is in slot `i` of the (fresh) mesh.
+fn apply(
+    mesh: &mut Mesh,
+    positions: &[DVec3],
+    copies: &[u32],
+    halfedges: usize,
+    faces: &[u32],
+    finals: impl Iterator<Item = (u32, CompactHalfedge)>,
+) {
+    for &c in copies {
+        mesh.add_vertex(positions[c as usize]);
+    }
+    let v = mesh.vertex_keys[0];
+    while mesh.halfedge_keys.len() < halfedges {
+        mesh.new_edge(v, v);
+    }
+    for &h in faces {
+        let h = mesh.halfedge_keys[h as usize];
+        mesh.new_face(h);
+    }
+    write_finals(mesh, finals);
+}
+
+/// Writes the contents of halfedges into their (existing) slots.
+fn write_finals(mesh: &mut Mesh, finals: impl Iterator<Item = (u32, CompactHalfedge)>) {
+    let (vertices, halfedges, faces) = (&mesh.vertex_keys, &mesh.halfedge_keys, &mesh.face_keys);
+    for (i, c) in finals {
+        let slot = &mut mesh.halfedges[halfedges[i as usize]];
+        slot.to = vertices[c.to as usize];
+        slot.next = halfedges[c.next as usize];
+        slot.prev = halfedges[c.prev as usize];
+        slot.face = (c.face != NONE).then(|| faces[c.face as usize]);
+    }
+}
+
+impl Connectivity for Compact {
     type V = u32;
     type H = u32;
     type F = u32;
@@ -238,12 +285,30 @@ impl Connectivity for Compact<'_> {
     #[inline]
     fn new_face(&mut self, h: u32) -> u32 {
         self.face_halfedge.push(h);
-        let n = self.face_halfedge.len();
-        if n % Progress::EVERY == 0 {
-            if let Some(progress) = self.progress {
-                progress.publish(self.halfedges.len(), n);
+        if let Some((_, batch)) = &mut self.sink {
+            batch.faces.push(h);
+        }
+        (self.face_halfedge.len() - 1) as u32
+    }
+    /// The halfedges of a face just added are final (see the [module docs](self)): they
+    /// go into the batch, which is sent every [`Batch::FACES`] faces.
+    #[inline]
+    fn face_added(&mut self, f: u32) {
+        let Some((_, batch)) = &mut self.sink else {
+            return;
+        };
+        let start = self.face_halfedge[f as usize];
+        let mut h = start;
+        loop {
+            let c = self.halfedges[h as usize];
+            batch.finals.push((h, c));
+            h = c.next;
+            if h == start {
+                break;
             }
         }
-        (n - 1) as u32
+        if batch.faces.len() >= Batch::FACES {
+            self.send();
+        }
     }
 }
