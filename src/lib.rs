@@ -11,3 +11,8 @@ pub mod prelude {
     pub use glam::DVec3;
     pub use halfedge::{FaceId, HalfedgeId, Mesh, VertexId};
 }
+
+/// The README's code, compiled and run as a doctest so that the tour stays true.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

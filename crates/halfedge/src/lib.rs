@@ -22,10 +22,12 @@
 //! assert_eq!(mesh.adjacent_vertices(v).count(), mesh.valence(v));
 //! ```
 
+mod add_face;
 pub mod attributes;
 pub mod build;
 mod check;
 pub mod collapse;
+mod compact_build;
 mod error;
 pub mod generators;
 mod geometry;

@@ -25,24 +25,28 @@
 //! non-finite coordinates and malformed headers are [`Error::Format`] errors naming the
 //! file, the element and the position; nothing panics.
 
-use std::io::ErrorKind;
+use std::io::{BufRead, BufReader, ErrorKind};
 use std::path::Path;
 
 use glam::DVec3;
 use ply_rs_bw::parser::{Parser, Reader};
 use ply_rs_bw::ply::{
-    BeginList, ElementDef, Encoding, Header, PropertyAccess, PropertyAccessResult, PropertyType,
-    ScalarType,
+    BeginList, ElementDef, Header, PropertyAccess, PropertyAccessResult, PropertyType, ScalarType,
 };
 
 use crate::{BuildReport, Error, Mesh, Result};
 
 /// Reads a PLY file (ASCII, binary little or big endian). Vertex `i` of the file is the
 /// vertex with [`Mesh::vertex_index`] `i`; see the [module docs](self) for what is read.
+/// The file is streamed, not read into memory first.
 pub fn read_ply(path: impl AsRef<Path>) -> Result<(Mesh, BuildReport)> {
     let path = path.as_ref();
-    let bytes = super::read_bytes(path)?;
-    read_ply_from_bytes(&bytes, path)
+    let file = std::fs::File::open(path).map_err(|source| Error::Io {
+        path: path.to_owned(),
+        source,
+    })?;
+    let soup = read_ply_soup(BufReader::with_capacity(1 << 16, file), path)?;
+    soup.build(path)
 }
 
 /// Reads PLY data from memory; `path` is only used in error messages.
@@ -57,17 +61,31 @@ pub(crate) struct PolygonSoup {
     pub(crate) positions: Vec<DVec3>,
     /// All polygon indices, one polygon after another.
     pub(crate) indices: Vec<u32>,
-    /// Start of every polygon in `indices`, plus the end of the last one.
-    pub(crate) offsets: Vec<usize>,
+    /// Start of every polygon in `indices`, plus the end of the last one; `None` while all
+    /// polygons are triangles (the common case, which then needs no offsets).
+    offsets: Option<Vec<usize>>,
 }
 
 impl PolygonSoup {
+    /// Appends a polygon.
     pub(crate) fn push_polygon(&mut self, polygon: impl IntoIterator<Item = u32>) {
-        if self.offsets.is_empty() {
-            self.offsets.push(0);
-        }
+        let start = self.indices.len();
         self.indices.extend(polygon);
-        self.offsets.push(self.indices.len());
+        self.end_polygon(start);
+    }
+
+    /// Records that the polygon starting at `start` in `indices` ends at their end.
+    fn end_polygon(&mut self, start: usize) {
+        let end = self.indices.len();
+        match &mut self.offsets {
+            Some(offsets) => offsets.push(end),
+            None if end - start == 3 => {}
+            None => {
+                let mut offsets: Vec<usize> = (0..=start).step_by(3).collect();
+                offsets.push(end);
+                self.offsets = Some(offsets);
+            }
+        }
     }
 
     /// Builds the mesh; builder errors are turned into format errors naming the file.
@@ -79,8 +97,14 @@ impl PolygonSoup {
         if self.positions.is_empty() {
             return Err(format("no vertices (the vertex element is empty)".into()));
         }
-        let polygons = self.offsets.windows(2).map(|w| &self.indices[w[0]..w[1]]);
-        Mesh::from_polygons(&self.positions, polygons).map_err(|e| match e {
+        let built = match &self.offsets {
+            None => Mesh::from_polygons(&self.positions, self.indices.chunks_exact(3)),
+            Some(offsets) => Mesh::from_polygons(
+                &self.positions,
+                offsets.windows(2).map(|w| &self.indices[w[0]..w[1]]),
+            ),
+        };
+        built.map_err(|e| match e {
             Error::IndexOutOfRange {
                 face,
                 index,
@@ -96,8 +120,7 @@ impl PolygonSoup {
     }
 }
 
-/// The two elements the reader looks for in a face-like element: which element, and which
-/// list property holds the vertex indices.
+/// The two face-like elements the reader understands.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum FaceKind {
     /// `face`: one polygon per element.
@@ -133,22 +156,18 @@ fn check_header(header: &Header, format: &dyn Fn(String) -> Error) -> Result<Lay
             }
         }
     }
-    for (name, kind) in [
-        ("face", FaceKind::Polygons),
-        ("tristrips", FaceKind::Strips),
-    ] {
+    for name in ["face", "tristrips"] {
         let Some(element) = header.elements.get(name) else {
             continue;
         };
-        let property = index_property(element, kind).map_err(&format)?;
+        let property = index_property(element).map_err(&format)?;
         if let Some(property) = property {
-            let PropertyType::List(count, item) = &element.properties[property].data_type else {
-                unreachable!("index_property returns list properties only");
-            };
-            if !is_integer(count) || !is_integer(item) {
-                return Err(format(format!(
-                    "{name} property '{property}' must be a list of integers, found list {count:?} {item:?}"
-                )));
+            if let PropertyType::List(count, item) = &element.properties[property].data_type {
+                if !is_integer(count) || !is_integer(item) {
+                    return Err(format(format!(
+                        "{name} property '{property}' must be a list of integers, found list {count:?} {item:?}"
+                    )));
+                }
             }
         } else if element.count > 0 {
             return Err(format(format!(
@@ -165,7 +184,6 @@ fn check_header(header: &Header, format: &dyn Fn(String) -> Error) -> Result<Lay
 /// `vertex_index` as some writers name it).
 pub(crate) fn index_property(
     element: &ElementDef,
-    kind: FaceKind,
 ) -> std::result::Result<Option<&'static str>, String> {
     let mut found = None;
     for name in ["vertex_indices", "vertex_index"] {
@@ -188,7 +206,6 @@ pub(crate) fn index_property(
             None => {}
         }
     }
-    let _ = kind;
     Ok(found)
 }
 
@@ -197,49 +214,57 @@ fn is_integer(t: &ScalarType) -> bool {
 }
 
 /// Parses the header and the payload into a polygon soup.
-pub(crate) fn read_ply_soup(bytes: &[u8], path: &Path) -> Result<PolygonSoup> {
+pub(crate) fn read_ply_soup<R: BufRead>(mut input: R, path: &Path) -> Result<PolygonSoup> {
     let format = |message: String| Error::Format {
         path: path.to_owned(),
         message,
     };
-    if bytes.is_empty() {
+    let io = |source: std::io::Error| Error::Io {
+        path: path.to_owned(),
+        source,
+    };
+    if input.fill_buf().map_err(io)?.is_empty() {
         return Err(format("empty file".into()));
     }
-    let mut reader = Reader::new(bytes);
+    let mut reader = Reader::new(input);
     let header = Parser::<SkippedElement>::new()
         .read_header(&mut reader)
         .map_err(|e| format(format!("malformed PLY header: {e}")))?;
     let layout = check_header(&header, &format)?;
-    let header_len = bytes.len() - reader.get_ref().len();
-    if header.encoding != Encoding::Ascii {
-        if let Some(soup) =
-            super::ply_fast::read_binary(&header, &bytes[header_len..], &layout, &format)?
-        {
-            return Ok(soup);
-        }
+    if let Some(plans) = super::ply_fast::plans(&header) {
+        return super::ply_fast::read_binary(&header, &plans, reader.get_mut(), &layout, path);
     }
-    read_general(&header, reader, &layout, &format)
+    read_general(&header, reader, &layout, path)
 }
 
 /// The general route: `ply-rs-bw` with own element structs.
-fn read_general(
+fn read_general<R: BufRead>(
     header: &Header,
-    mut reader: Reader<&[u8]>,
+    mut reader: Reader<R>,
     layout: &Layout,
-    format: &dyn Fn(String) -> Error,
+    path: &Path,
 ) -> Result<PolygonSoup> {
-    // The declared count is not trusted for allocation: every vertex takes at least a
-    // few bytes of the file.
-    let room = layout.n_vertices.min(reader.get_ref().len() / 3);
+    let format = |message: String| Error::Format {
+        path: path.to_owned(),
+        message,
+    };
+    let format = &format;
+    // The declared count is not trusted for allocation (the vector grows as vertices are
+    // actually read).
     let mut soup = PolygonSoup {
-        positions: Vec::with_capacity(room),
+        positions: Vec::with_capacity(layout.n_vertices.min(1 << 20)),
         ..PolygonSoup::default()
     };
     let payload_error = |element: &ElementDef, e: ply_rs_bw::parser::ParseError| {
-        let what = if e.kind() == ErrorKind::UnexpectedEof {
-            "truncated file"
-        } else {
-            "malformed data"
+        let what = match e.kind() {
+            ErrorKind::UnexpectedEof => "truncated file",
+            ErrorKind::InvalidInput | ErrorKind::InvalidData => "malformed data",
+            _ => {
+                return Error::Io {
+                    path: path.to_owned(),
+                    source: e.into(),
+                }
+            }
         };
         format(format!(
             "{what} in element '{}' ({} declared): {e}",
@@ -294,14 +319,12 @@ pub(crate) fn push_face(
     n_vertices: usize,
     format: &dyn Fn(String) -> Error,
 ) -> Result<()> {
-    if soup.offsets.is_empty() {
-        soup.offsets.push(0);
-    }
+    let start = soup.indices.len();
     for index in indices {
         soup.indices
             .push(check_index(index, n_vertices, "face", face, format)?);
     }
-    soup.offsets.push(soup.indices.len());
+    soup.end_polygon(start);
     Ok(())
 }
 

@@ -1,18 +1,22 @@
-//! The fast route for binary PLY: the payload is decoded in place.
+//! The fast route for binary PLY: the payload is decoded straight from the input, in
+//! chunks of a megabyte.
 //!
 //! Why it exists: `ply-rs-bw` reads element by element through a `Read` trait, looks
 //! every value's property name up in the destination struct and builds one `Vec` per
 //! face. On a 1.6-million-face binary PLY (nefertiti subdivided twice) that took about
 //! 0.17 s of parsing alone, on top of building the mesh, while OpenMesh's whole load
 //! (parse and build) takes about 0.36 s; decoding the bytes in place takes a few
-//! hundredths of a second and brings the whole load under OpenMesh's.
+//! hundredths of a second. The file is streamed rather than read whole, which spares
+//! touching (and page-faulting) another copy of it.
 //!
-//! It takes the common layout only, and returns `None` for anything else (which then
-//! goes the general `ply-rs-bw` route):
+//! It takes the common layout only; anything else goes the general `ply-rs-bw` route:
 //! - `vertex`: scalar properties only (any types; `x`, `y`, `z` anywhere among them);
 //! - `face` / `tristrips`: the index list (`vertex_indices` or `vertex_index`, any
 //!   integer count and index types) as the only property;
 //! - any other element: scalar properties only (skipped by its record size).
+
+use std::io::Read;
+use std::path::Path;
 
 use ply_rs_bw::ply::{ElementDef, Encoding, Header, PropertyType, ScalarType};
 
@@ -114,23 +118,8 @@ fn record_size(element: &ElementDef) -> Option<usize> {
         .sum()
 }
 
-/// Reads a binary payload on the fast route, or returns `None` when the layout is not
-/// the common one (see the [module docs](self)).
-pub(crate) fn read_binary(
-    header: &Header,
-    payload: &[u8],
-    layout: &Layout,
-    format: &dyn Fn(String) -> Error,
-) -> Result<Option<PolygonSoup>> {
-    match header.encoding {
-        Encoding::BinaryLittleEndian => read::<Little>(header, payload, layout, format),
-        Encoding::BinaryBigEndian => read::<Big>(header, payload, layout, format),
-        Encoding::Ascii => Ok(None),
-    }
-}
-
 /// How an element is read on the fast route.
-enum Plan<'h> {
+pub(crate) enum Plan<'h> {
     Vertices {
         stride: usize,
         axes: [(usize, &'h ScalarType); 3],
@@ -168,7 +157,7 @@ fn plan(element: &ElementDef) -> Option<Plan<'_>> {
             return record_size(element).map(|stride| Plan::Skip { stride });
         }
     };
-    let name = index_property(element, kind).ok()??;
+    let name = index_property(element).ok()??;
     if element.properties.len() != 1 {
         return None;
     }
@@ -178,81 +167,165 @@ fn plan(element: &ElementDef) -> Option<Plan<'_>> {
     Some(Plan::Lists { kind, count, index })
 }
 
-fn read<O: ByteOrder>(
+/// The fast-route plan of every element, or `None` when the file is ASCII or not laid
+/// out the common way (see the [module docs](self)).
+pub(crate) fn plans(header: &Header) -> Option<Vec<Plan<'_>>> {
+    if header.encoding == Encoding::Ascii {
+        return None;
+    }
+    header.elements.values().map(plan).collect()
+}
+
+/// Reads the payload that follows the header in `input` on the fast route.
+pub(crate) fn read_binary<R: Read>(
     header: &Header,
-    payload: &[u8],
+    plans: &[Plan<'_>],
+    input: &mut R,
     layout: &Layout,
-    format: &dyn Fn(String) -> Error,
-) -> Result<Option<PolygonSoup>> {
-    let Some(plans) = header
-        .elements
-        .values()
-        .map(plan)
-        .collect::<Option<Vec<_>>>()
-    else {
-        return Ok(None);
+    path: &Path,
+) -> Result<PolygonSoup> {
+    let mut input = Chunks::new(input);
+    match header.encoding {
+        Encoding::BinaryBigEndian => read::<Big, R>(header, plans, &mut input, layout, path),
+        _ => read::<Little, R>(header, plans, &mut input, layout, path),
+    }
+}
+
+/// A read buffer that hands out contiguous byte ranges of the input.
+struct Chunks<'r, R: Read> {
+    input: &'r mut R,
+    buf: Vec<u8>,
+    /// Unread bytes are `buf[pos..end]`.
+    pos: usize,
+    end: usize,
+    /// Bytes of the payload before `buf[0]`.
+    offset: u64,
+}
+
+impl<'r, R: Read> Chunks<'r, R> {
+    const SIZE: usize = 1 << 20;
+
+    fn new(input: &'r mut R) -> Self {
+        Self {
+            input,
+            buf: vec![0; Self::SIZE],
+            pos: 0,
+            end: 0,
+            offset: 0,
+        }
+    }
+
+    /// Unread bytes in the buffer.
+    #[inline]
+    fn available(&self) -> &[u8] {
+        &self.buf[self.pos..self.end]
+    }
+
+    #[inline]
+    fn consume(&mut self, n: usize) {
+        self.pos += n;
+    }
+
+    /// Position in the payload.
+    fn position(&self) -> u64 {
+        self.offset + self.pos as u64
+    }
+
+    /// Makes at least `n` bytes available; `false` when the input ends before. The
+    /// buffer grows beyond its size only as far as the input really has bytes.
+    fn ensure(&mut self, n: usize) -> std::io::Result<bool> {
+        if self.end - self.pos >= n {
+            return Ok(true);
+        }
+        self.buf.copy_within(self.pos..self.end, 0);
+        self.offset += self.pos as u64;
+        self.end -= self.pos;
+        self.pos = 0;
+        while self.end < n {
+            if self.end == self.buf.len() {
+                let grown = (2 * self.buf.len()).min(n.max(Self::SIZE));
+                self.buf.resize(grown, 0);
+            }
+            match self.input.read(&mut self.buf[self.end..]) {
+                Ok(0) => return Ok(false),
+                Ok(k) => self.end += k,
+                Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
+                Err(e) => return Err(e),
+            }
+        }
+        Ok(true)
+    }
+}
+
+fn read<O: ByteOrder, R: Read>(
+    header: &Header,
+    plans: &[Plan<'_>],
+    input: &mut Chunks<'_, R>,
+    layout: &Layout,
+    path: &Path,
+) -> Result<PolygonSoup> {
+    let format = |message: String| Error::Format {
+        path: path.to_owned(),
+        message,
     };
-    let mut soup = PolygonSoup::default();
-    let mut pos = 0usize;
-    let truncated = |element: &ElementDef, number: usize, pos: usize| {
+    let format = &format;
+    let io = |source: std::io::Error| Error::Io {
+        path: path.to_owned(),
+        source,
+    };
+    let truncated = |element: &ElementDef, number: usize, position: u64| {
         format(format!(
-            "truncated file: the payload ends in {} {number} of {} (at byte {pos} of the payload)",
+            "truncated file: the payload ends in {} {number} of {} (at byte {position} of the payload)",
             element.name, element.count
         ))
     };
+    let mut soup = PolygonSoup::default();
     for (element, plan) in header.elements.values().zip(plans) {
-        match plan {
+        match *plan {
             Plan::Vertices { stride, axes } => {
-                let bytes = element
-                    .count
-                    .checked_mul(stride)
-                    .filter(|&n| n <= payload.len() - pos)
-                    .ok_or_else(|| {
-                        truncated(element, (payload.len() - pos) / stride.max(1), pos)
-                    })?;
-                let records = &payload[pos..pos + bytes];
-                pos += bytes;
-                if stride == 0 {
-                    // Only possible with no properties at all, which the header check rejects.
-                    return Ok(None);
+                soup.positions.reserve(element.count.min(1 << 20));
+                let mut number = 0;
+                while number < element.count {
+                    if !input.ensure(stride).map_err(io)? {
+                        return Err(truncated(element, number, input.position()));
+                    }
+                    let records = (input.available().len() / stride).min(element.count - number);
+                    let bytes = &input.available()[..records * stride];
+                    soup.positions.extend(bytes.chunks_exact(stride).map(|r| {
+                        glam::DVec3::new(
+                            decode_f64::<O>(axes[0].1, &r[axes[0].0..]),
+                            decode_f64::<O>(axes[1].1, &r[axes[1].0..]),
+                            decode_f64::<O>(axes[2].1, &r[axes[2].0..]),
+                        )
+                    }));
+                    input.consume(records * stride);
+                    number += records;
                 }
-                soup.positions.reserve(element.count);
-                soup.positions.extend(records.chunks_exact(stride).map(|r| {
-                    glam::DVec3::new(
-                        decode_f64::<O>(axes[0].1, &r[axes[0].0..]),
-                        decode_f64::<O>(axes[1].1, &r[axes[1].0..]),
-                        decode_f64::<O>(axes[2].1, &r[axes[2].0..]),
-                    )
-                }));
             }
             Plan::Skip { stride } => {
-                let bytes = element
-                    .count
-                    .checked_mul(stride)
-                    .filter(|&n| n <= payload.len() - pos)
-                    .ok_or_else(|| {
-                        truncated(element, (payload.len() - pos) / stride.max(1), pos)
-                    })?;
-                pos += bytes;
+                let mut number = 0;
+                while stride > 0 && number < element.count {
+                    if !input.ensure(stride).map_err(io)? {
+                        return Err(truncated(element, number, input.position()));
+                    }
+                    let records = (input.available().len() / stride).min(element.count - number);
+                    input.consume(records * stride);
+                    number += records;
+                }
             }
             Plan::Lists { kind, count, index } => {
                 let (count_size, index_size) = (size_of(count), size_of(index));
                 if kind == FaceKind::Polygons {
-                    // Room for triangles, never more than the payload can hold.
-                    let faces = element
-                        .count
-                        .min((payload.len() - pos) / (count_size + 3 * index_size));
-                    soup.indices.reserve(3 * faces);
-                    soup.offsets.reserve(faces + 1);
+                    soup.indices.reserve(3 * element.count.min(1 << 22));
                 }
                 let mut list: Vec<i64> = Vec::new();
                 for number in 0..element.count {
-                    let start = pos;
-                    if payload.len() - pos < count_size {
+                    let start = input.position();
+                    if !input.ensure(count_size).map_err(io)? {
                         return Err(truncated(element, number, start));
                     }
-                    let n = decode_i64::<O>(count, &payload[pos..]);
-                    pos += count_size;
+                    let n = decode_i64::<O>(count, input.available());
+                    input.consume(count_size);
                     let n = usize::try_from(n).map_err(|_| {
                         format(format!(
                             "{} {number} has a negative list length ({n})",
@@ -261,15 +334,17 @@ fn read<O: ByteOrder>(
                     })?;
                     let bytes = n
                         .checked_mul(index_size)
-                        .filter(|&b| b <= payload.len() - pos)
                         .ok_or_else(|| truncated(element, number, start))?;
+                    if !input.ensure(bytes).map_err(io)? {
+                        return Err(truncated(element, number, start));
+                    }
                     list.clear();
                     list.extend(
-                        payload[pos..pos + bytes]
+                        input.available()[..bytes]
                             .chunks_exact(index_size)
                             .map(|b| decode_i64::<O>(index, b)),
                     );
-                    pos += bytes;
+                    input.consume(bytes);
                     match kind {
                         FaceKind::Polygons => push_face(
                             &mut soup,
@@ -290,5 +365,5 @@ fn read<O: ByteOrder>(
             }
         }
     }
-    Ok(Some(soup))
+    Ok(soup)
 }
