@@ -395,11 +395,11 @@ fn solve_interior(
     let mut next = col_ptr.clone();
     let mut row_idx = vec![0usize; nnz];
     let mut values = vec![0.0; nnz];
-    for i in 0..n_int {
+    for (i, &d) in diagonal.iter().enumerate() {
         let off_diagonal = (rows.ptr[i]..rows.ptr[i + 1])
             .map(|k| (rows.col[k] as usize, -rows.val[k]))
             .filter(|&(j, _)| j < n_int);
-        for (col, val) in off_diagonal.chain(std::iter::once((i, diagonal[i]))) {
+        for (col, val) in off_diagonal.chain(std::iter::once((i, d))) {
             let k = next[col];
             row_idx[k] = i;
             values[k] = val;

@@ -7,7 +7,9 @@
 //! the edit began ([`EditingSession::commit`], called by
 //! [`EditingSession::set_primitive`]): dragging again replaces the previous drag of the
 //! same edit instead of accumulating on it, and changing the scale or the frames
-//! re-shapes the current edit ([`EditingSession::apply`]).
+//! re-shapes the current edit ([`EditingSession::apply`]). If the area's positions are
+//! changed by other means, call [`EditingSession::commit`] before the next edit, or the
+//! next drag overwrites them with `rest + f_s`.
 //!
 //! # Speed
 //!
