@@ -48,6 +48,29 @@ fn wavy_grid(n: usize) -> Mesh {
     mesh
 }
 
+/// CPU time of all threads of this process in ns (Linux `schedstat`; 0 elsewhere).
+fn process_cpu_ns() -> u64 {
+    let Ok(tasks) = std::fs::read_dir("/proc/self/task") else {
+        return 0;
+    };
+    tasks
+        .filter_map(|t| std::fs::read_to_string(t.ok()?.path().join("schedstat")).ok())
+        .filter_map(|s| s.split_whitespace().next()?.parse::<u64>().ok())
+        .sum()
+}
+
+/// Runs `f` `iterations` times and prints wall and CPU time per run: on a loaded machine
+/// the CPU time (divided by the cores in use) is what an idle machine would show.
+fn cpu_report<T>(label: &str, iterations: u32, mut f: impl FnMut() -> T) {
+    let (c0, w0) = (process_cpu_ns(), Instant::now());
+    for _ in 0..iterations {
+        black_box(f());
+    }
+    let wall = w0.elapsed().as_secs_f64() * 1e3 / f64::from(iterations);
+    let cpu = (process_cpu_ns() - c0) as f64 / 1e6 / f64::from(iterations);
+    eprintln!("[cpu] {label}: wall {wall:.2} ms, cpu {cpu:.2} ms per run");
+}
+
 fn timed<T>(label: &str, f: impl FnOnce() -> T) -> T {
     let start = Instant::now();
     let out = f();
@@ -55,11 +78,13 @@ fn timed<T>(label: &str, f: impl FnOnce() -> T) -> T {
     out
 }
 
+type MeshMaker = fn() -> Mesh;
+
 fn fast_marching(c: &mut Criterion) {
     let mut group = c.benchmark_group("fast_marching");
     group.sample_size(10);
     group.measurement_time(Duration::from_secs(12));
-    let inputs: [(&str, fn() -> Mesh); 2] = [
+    let inputs: [(&str, MeshMaker); 2] = [
         ("nefertiti_x2", nefertiti_x2),
         ("grid_1001x1001", || wavy_grid(1000)),
     ];
@@ -81,6 +106,9 @@ fn fast_marching(c: &mut Criterion) {
         }));
         group.bench_function(BenchmarkId::new("precompute", name), |b| {
             let mesh = mesh();
+            cpu_report(&format!("fast marching precompute, {name}"), 3, || {
+                FastMarching::new(mesh)
+            });
             b.iter(|| black_box(FastMarching::new(mesh)))
         });
         group.bench_function(BenchmarkId::new("march_from_a_vertex", name), |b| {
@@ -92,6 +120,9 @@ fn fast_marching(c: &mut Criterion) {
                 m
             });
             let source = Source::point(mesh.vertex_index(mesh.vertices().next().unwrap()));
+            cpu_report(&format!("fast marching from a vertex, {name}"), 3, || {
+                marching.distances(&[source], None)
+            });
             b.iter(|| black_box(marching.distances(&[source], None)))
         });
     }
@@ -155,6 +186,9 @@ fn blend(c: &mut Criterion) {
     group.bench_function("apply_1M_deformable", |b| {
         let mut guard = state().lock().unwrap();
         let (mesh, session) = &mut *guard;
+        cpu_report("blend apply, 1 M deformable", 20, || {
+            session.apply(mesh, a).unwrap()
+        });
         b.iter(|| session.apply(black_box(mesh), black_box(a)).unwrap())
     });
     group.bench_function("set_shape_1M", |b| {
@@ -200,6 +234,10 @@ fn euclidean(c: &mut Criterion) {
     let fixed = BorderGrid::from_segments(cell, fixed_loop.iter().copied()).unwrap();
     let handle = BorderGrid::from_segments(cell, handle_loop.iter().copied()).unwrap();
     group.bench_function("two_fields_10k_edges_1M_points", |b| {
+        cpu_report("Euclidean fields, 10k edges, 1 M points", 5, || {
+            let queries = QueryPoints::new(&points, cell);
+            (fixed.distances_to(&queries), handle.distances_to(&queries))
+        });
         b.iter(|| {
             let queries = QueryPoints::new(black_box(&points), cell);
             black_box((fixed.distances_to(&queries), handle.distances_to(&queries)))
@@ -242,6 +280,13 @@ fn exponential(c: &mut Criterion) {
         .collect();
     group.throughput(Throughput::Elements(1024));
     group.bench_function("1024_points_table", |b| {
+        cpu_report("1024 × α ⊙ A on points, table", 2000, || {
+            let mut sum = DVec3::ZERO;
+            for (&alpha, &p) in alphas.iter().zip(&points) {
+                sum += power.transform_point(black_box(alpha), p);
+            }
+            sum
+        });
         b.iter(|| {
             let mut sum = DVec3::ZERO;
             for (&alpha, &p) in alphas.iter().zip(&points) {
@@ -251,6 +296,13 @@ fn exponential(c: &mut Criterion) {
         })
     });
     group.bench_function("1024_matrices_pade", |b| {
+        cpu_report("1024 × exp(α log A), Padé", 500, || {
+            let mut sum = DMat4::ZERO;
+            for &alpha in &alphas {
+                sum += power.matrix_pade(black_box(alpha));
+            }
+            sum
+        });
         b.iter(|| {
             let mut sum = DMat4::ZERO;
             for &alpha in &alphas {

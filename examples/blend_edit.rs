@@ -9,8 +9,8 @@
 //! draws the handle border and the fixed border as closed loops through vertices
 //! picked around it (radii `--handle-radius` and `--fixed-radius`, as fractions of the
 //! bounding-box diagonal), rotates the handle by `--angle` degrees about an axis through
-//! the fixed border's centre, refines stretched triangles, writes an OBJ and prints the
-//! timings of each step.
+//! the fixed border's centre (then moves it by `--pull`), refines stretched triangles,
+//! writes an OBJ and prints the timings of each step.
 
 use std::io::Write;
 use std::path::PathBuf;
@@ -43,6 +43,9 @@ struct Args {
     /// Rotation of the handle in degrees.
     #[arg(long, default_value_t = 30.0)]
     angle: f64,
+    /// Translation applied after the rotation, "x,y,z".
+    #[arg(long, default_value = "0,0,0", value_parser = parse_vec)]
+    pull: DVec3,
     /// Euclidean instead of geodesic distances.
     #[arg(long)]
     euclidean: bool,
@@ -141,7 +144,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let border = &regions.fixed_border().vertices;
     let pivot = border.iter().map(|&v| mesh.position(v)).sum::<DVec3>() / border.len() as f64;
     let axis = direction.any_orthonormal_vector();
-    let a = DMat4::from_translation(pivot)
+    let a = DMat4::from_translation(pivot + args.pull)
         * DMat4::from_axis_angle(axis, args.angle.to_radians())
         * DMat4::from_translation(-pivot);
 
