@@ -225,8 +225,8 @@ impl ShapeCurve {
                 }
             }
         } else {
-            for k in 1..n - 1 {
-                m[k] = (self.ys[k + 1] - self.ys[k - 1]) / (self.xs[k + 1] - self.xs[k - 1]);
+            for (k, slope) in m.iter_mut().enumerate().take(n - 1).skip(1) {
+                *slope = (self.ys[k + 1] - self.ys[k - 1]) / (self.xs[k + 1] - self.xs[k - 1]);
             }
             if !self.options.flat_ends {
                 m[0] = secants[0];

@@ -144,11 +144,7 @@ fn pull_the_nose_with_a_rotation() {
     let (regions, _) = nose_regions(&mesh);
     // Rotate about a vertical axis through the back of the fixed border loop.
     let border = &regions.fixed_border().vertices;
-    let pivot = border
-        .iter()
-        .map(|&v| mesh.position(v))
-        .sum::<DVec3>()
-        / border.len() as f64
+    let pivot = border.iter().map(|&v| mesh.position(v)).sum::<DVec3>() / border.len() as f64
         + DVec3::new(0.02, 0.0, 0.0);
     let axis = DVec3::Y;
     let theta = 0.6;
@@ -170,7 +166,10 @@ fn pull_the_nose_with_a_rotation() {
     // height along it are kept, the angle turned is αθ.
     for &v in session.regions().deformable() {
         let i = mesh.vertex_index(v);
-        let (p, q) = (session.original_positions()[i] - pivot, mesh.position(v) - pivot);
+        let (p, q) = (
+            session.original_positions()[i] - pivot,
+            mesh.position(v) - pivot,
+        );
         assert!((p.y - q.y).abs() < 1e-12);
         let (rp, rq) = (DVec3::new(p.x, 0.0, p.z), DVec3::new(q.x, 0.0, q.z));
         assert!((rp.length() - rq.length()).abs() < 1e-12);

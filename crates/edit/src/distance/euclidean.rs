@@ -310,7 +310,7 @@ impl BorderGrid {
         let points = &q.sorted_points[range.clone()];
         // Centre and radius: the exact ball of the points for small nodes, the octree
         // cell's ball for large ones (no pass over the points).
-        let (centre, radius) = if points.len() <= 256 || node.level == 0 {
+        let (centre, radius) = if points.len() <= 512 || node.level == 0 {
             let (lo, hi) = points.iter().fold(
                 (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
                 |(lo, hi), &p| (lo.min(p), hi.max(p)),
@@ -322,7 +322,7 @@ impl BorderGrid {
             q.node_ball(node)
         };
         let kept = self.filter(candidates, centre, radius);
-        let leaf = points.len() <= 16 || kept.len() <= 2 || node.level == q.depth;
+        let leaf = points.len() <= 32 || kept.len() <= 2 || node.level == q.depth;
         if leaf {
             for (p, d) in points.iter().zip(out.iter_mut()) {
                 let mut best = f64::INFINITY;
@@ -368,37 +368,49 @@ impl BorderGrid {
     }
 
     /// The candidates that can be nearest to some point of the ball (centre, radius).
+    /// Two passes: the nearest candidate to the centre first (squared distances only),
+    /// then the bound of the module docs, tested without square roots where possible.
     fn filter(&self, candidates: &[u32], centre: DVec3, radius: f64) -> Vec<u32> {
-        let mut near: Vec<(f64, DVec3)> = Vec::with_capacity(candidates.len());
-        let mut best = (f64::INFINITY, DVec3::ZERO);
+        let mut best = (f64::INFINITY, 0u32);
+        for &s in candidates {
+            let d2 = self.segments[s as usize].distance_squared(centre);
+            if d2 < best.0 {
+                best = (d2, s);
+            }
+        }
+        let d_star = best.0.sqrt();
+        let x_star = self.segments[best.1 as usize].closest(centre);
+        let u_star = if d_star > 0.0 {
+            (centre - x_star) / d_star
+        } else {
+            DVec3::ZERO
+        };
+        let slack = 1e-9 * (d_star + radius) + 1e-300;
+        let coarse = 2.0 * radius + slack;
+        let curvature = if d_star > 0.0 {
+            radius * radius / (2.0 * d_star)
+        } else {
+            f64::INFINITY
+        };
+        let mut kept = Vec::with_capacity(candidates.len().min(64));
         for &s in candidates {
             let x = self.segments[s as usize].closest(centre);
             let g = centre.distance(x);
-            let u = if g > 0.0 {
-                (centre - x) / g
-            } else {
-                DVec3::ZERO
-            };
-            if g < best.0 {
-                best = (g, u);
+            let excess = g - d_star;
+            if excess > coarse {
+                continue;
             }
-            near.push((g, u));
-        }
-        let (d_star, u_star) = best;
-        let slack = 1e-9 * (d_star + radius) + 1e-300;
-        candidates
-            .iter()
-            .zip(&near)
-            .filter(|(_, &(g, u))| {
-                let mut bound = 2.0 * radius;
-                if d_star > 0.0 && g > 0.0 {
-                    bound = bound
-                        .min((u - u_star).length() * radius + radius * radius / (2.0 * d_star));
+            // Keep when excess ≤ |u − u*| r + r²/(2D*) + slack.
+            let rest = excess - curvature - slack;
+            if rest > 0.0 && g > 0.0 {
+                let u = (centre - x) / g;
+                if rest * rest > (u - u_star).length_squared() * radius * radius {
+                    continue;
                 }
-                g - d_star <= bound + slack
-            })
-            .map(|(&s, _)| s)
-            .collect()
+            }
+            kept.push(s);
+        }
+        kept
     }
 }
 

@@ -125,14 +125,31 @@ pub struct FastMarching {
     obtuse_kept: usize,
 }
 
-/// Stencils of one vertex and the virtual (non-edge) vertices it depends on.
+/// What one parallel task computes for a run of consecutive vertices: their stencils,
+/// their edge neighbours with lengths, and the (virtual vertex, vertex) pairs of their
+/// unfolded stencils.
 #[derive(Default)]
 struct Chunk {
+    first: usize,
     stencil_counts: Vec<u32>,
     stencils: Vec<Stencil>,
+    neighbour_counts: Vec<u32>,
+    neighbours: Vec<u32>,
+    lengths: Vec<f64>,
     virtual_pairs: Vec<(u32, u32)>,
     unfolded: usize,
     kept: usize,
+}
+
+/// Splits `data` into consecutive mutable pieces of the given lengths.
+fn split_lengths<'a, T>(mut data: &'a mut [T], lengths: &[usize]) -> Vec<&'a mut [T]> {
+    let mut pieces = Vec::with_capacity(lengths.len());
+    for &len in lengths {
+        let (piece, rest) = data.split_at_mut(len);
+        pieces.push(piece);
+        data = rest;
+    }
+    pieces
 }
 
 impl FastMarching {
@@ -149,87 +166,127 @@ impl FastMarching {
     pub fn with_update(mesh: &Mesh, update: FastMarchingUpdate) -> Self {
         let n = mesh.vertex_slots();
         const CHUNK: usize = 4096;
-        let chunks: Vec<Chunk> = (0..n.div_ceil(CHUNK))
+        // One pass over the vertices, in parallel runs.
+        let mut chunks: Vec<Chunk> = (0..n.div_ceil(CHUNK))
             .into_par_iter()
             .map(|c| {
-                let mut chunk = Chunk::default();
+                let mut chunk = Chunk {
+                    first: c * CHUNK,
+                    ..Chunk::default()
+                };
                 for i in c * CHUNK..((c + 1) * CHUNK).min(n) {
-                    let before = chunk.stencils.len();
+                    let (s0, n0) = (chunk.stencils.len(), chunk.neighbours.len());
                     if let Some(v) = mesh.vertex_at(i) {
                         vertex_stencils(mesh, v, &mut chunk);
                     }
                     chunk
                         .stencil_counts
-                        .push((chunk.stencils.len() - before) as u32);
+                        .push((chunk.stencils.len() - s0) as u32);
+                    chunk
+                        .neighbour_counts
+                        .push((chunk.neighbours.len() - n0) as u32);
                 }
                 chunk
             })
             .collect();
-        let mut stencil_start = Vec::with_capacity(n + 1);
-        stencil_start.push(0u32);
-        let total: usize = chunks.iter().map(|c| c.stencils.len()).sum();
-        let mut stencils = Vec::with_capacity(total);
-        let mut virtual_pairs = Vec::new();
-        let (mut obtuse_unfolded, mut obtuse_kept) = (0, 0);
-        for chunk in chunks {
-            for count in chunk.stencil_counts {
-                let last = *stencil_start.last().expect("starts with 0");
-                stencil_start.push(last + count);
-            }
-            stencils.extend_from_slice(&chunk.stencils);
-            virtual_pairs.extend_from_slice(&chunk.virtual_pairs);
-            obtuse_unfolded += chunk.unfolded;
-            obtuse_kept += chunk.kept;
-        }
-        // Dependents of x: its edge neighbours (with the edge length) and the vertices
-        // whose unfolded stencils use x (length ∞: no edge update).
+        let (obtuse_unfolded, obtuse_kept) = chunks
+            .iter()
+            .fold((0, 0), |(u, k), c| (u + c.unfolded, k + c.kept));
+        // Virtual dependents: (d, y) when y's unfolded stencil uses d; grouped by d.
+        let mut virtual_pairs: Vec<(u32, u32)> = chunks
+            .iter_mut()
+            .flat_map(|c| std::mem::take(&mut c.virtual_pairs))
+            .collect();
         virtual_pairs.par_sort_unstable();
         virtual_pairs.dedup();
         let mut virtual_count = vec![0u32; n];
         for &(d, _) in &virtual_pairs {
             virtual_count[d as usize] += 1;
         }
-        let neighbour_count: Vec<u32> = (0..n)
-            .into_par_iter()
-            .map(|i| mesh.vertex_at(i).map_or(0, |v| mesh.valence(v) as u32))
-            .collect();
+        // Offsets.
+        let mut stencil_start = Vec::with_capacity(n + 1);
         let mut dependent_start = Vec::with_capacity(n + 1);
+        stencil_start.push(0u32);
         dependent_start.push(0u32);
-        for i in 0..n {
-            let last = *dependent_start.last().expect("starts with 0");
-            dependent_start.push(last + neighbour_count[i] + virtual_count[i]);
-        }
-        let m = *dependent_start.last().expect("n + 1 entries") as usize;
-        let mut dependents = vec![NO_VERTEX; m];
-        let mut dependent_lengths = vec![f64::INFINITY; m];
-        // Neighbours, in parallel over disjoint ranges.
-        {
-            let mut slices: Vec<(usize, &mut [u32], &mut [f64])> = Vec::with_capacity(n);
-            let (mut dv, mut dl) = (dependents.as_mut_slice(), dependent_lengths.as_mut_slice());
-            for i in 0..n {
-                let len = (dependent_start[i + 1] - dependent_start[i]) as usize;
-                let (a, rest_v) = dv.split_at_mut(len);
-                let (b, rest_l) = dl.split_at_mut(len);
-                slices.push((i, a, b));
-                dv = rest_v;
-                dl = rest_l;
+        for chunk in &chunks {
+            for (k, (&sc, &nc)) in chunk
+                .stencil_counts
+                .iter()
+                .zip(&chunk.neighbour_counts)
+                .enumerate()
+            {
+                let i = chunk.first + k;
+                stencil_start.push(stencil_start[i] + sc);
+                dependent_start.push(dependent_start[i] + nc + virtual_count[i]);
             }
-            slices.into_par_iter().for_each(|(i, vs, ls)| {
-                if let Some(v) = mesh.vertex_at(i) {
-                    for (k, h) in mesh.outgoing_halfedges(v).enumerate() {
-                        vs[k] = mesh.vertex_index(mesh.to_vertex(h)) as u32;
-                        ls[k] = mesh.edge_length(h);
+        }
+        // Fill in parallel, each run into its own contiguous range.
+        let total_stencils = stencil_start[n] as usize;
+        let total_dependents = dependent_start[n] as usize;
+        let mut stencils = vec![
+            Stencil {
+                a: NO_VERTEX,
+                b: NO_VERTEX,
+                la: 0.0,
+                lb: 0.0,
+                dab: 0.0
+            };
+            total_stencils
+        ];
+        let mut dependents = vec![NO_VERTEX; total_dependents];
+        let mut dependent_lengths = vec![f64::INFINITY; total_dependents];
+        let range_of = |start: &[u32], c: &Chunk| {
+            let end = c.first + c.stencil_counts.len();
+            (start[c.first] as usize, start[end] as usize)
+        };
+        let stencil_lengths: Vec<usize> = chunks
+            .iter()
+            .map(|c| {
+                let (lo, hi) = range_of(&stencil_start, c);
+                hi - lo
+            })
+            .collect();
+        let dependent_lengths_per_chunk: Vec<usize> = chunks
+            .iter()
+            .map(|c| {
+                let (lo, hi) = range_of(&dependent_start, c);
+                hi - lo
+            })
+            .collect();
+        let stencil_pieces = split_lengths(&mut stencils, &stencil_lengths);
+        let vertex_pieces = split_lengths(&mut dependents, &dependent_lengths_per_chunk);
+        let length_pieces = split_lengths(&mut dependent_lengths, &dependent_lengths_per_chunk);
+        chunks
+            .par_iter()
+            .zip(stencil_pieces)
+            .zip(vertex_pieces.into_par_iter().zip(length_pieces))
+            .for_each(|((chunk, st), (dv, dl))| {
+                st.copy_from_slice(&chunk.stencils);
+                let base = dependent_start[chunk.first] as usize;
+                let end_vertex = chunk.first + chunk.stencil_counts.len();
+                // Virtual pairs of this run's vertices: a contiguous range (sorted by d).
+                let lo = virtual_pairs.partition_point(|&(d, _)| (d as usize) < chunk.first);
+                let hi = virtual_pairs.partition_point(|&(d, _)| (d as usize) < end_vertex);
+                let mut virtuals = virtual_pairs[lo..hi].iter().peekable();
+                let mut read = 0;
+                for (k, &count) in chunk.neighbour_counts.iter().enumerate() {
+                    let i = chunk.first + k;
+                    let mut write = dependent_start[i] as usize - base;
+                    let count = count as usize;
+                    dv[write..write + count].copy_from_slice(&chunk.neighbours[read..read + count]);
+                    dl[write..write + count].copy_from_slice(&chunk.lengths[read..read + count]);
+                    read += count;
+                    write += count;
+                    while let Some(&&(d, y)) = virtuals.peek() {
+                        if d as usize != i {
+                            break;
+                        }
+                        dv[write] = y;
+                        write += 1;
+                        virtuals.next();
                     }
                 }
             });
-        }
-        let mut fill = neighbour_count;
-        for &(d, y) in &virtual_pairs {
-            let d = d as usize;
-            let k = dependent_start[d] as usize + fill[d] as usize;
-            dependents[k] = y;
-            fill[d] += 1;
-        }
         Self {
             update,
             stencil_start,
@@ -473,6 +530,9 @@ fn vertex_stencils(mesh: &Mesh, y: VertexId, chunk: &mut Chunk) {
     let yi = mesh.vertex_index(y) as u32;
     let py = mesh.position(y);
     for h in mesh.outgoing_halfedges(y) {
+        let to = mesh.to_vertex(h);
+        chunk.neighbours.push(mesh.vertex_index(to) as u32);
+        chunk.lengths.push(py.distance(mesh.position(to)));
         if mesh.is_boundary_halfedge(h) {
             continue;
         }
