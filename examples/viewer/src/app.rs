@@ -23,7 +23,9 @@ use crate::document::{Document, Revision};
 use crate::pick::Bvh;
 use crate::render::{RenderSettings, SceneRenderer};
 use crate::script::{Action, DragTarget, Shading, Step};
-use crate::tools::{default_tools, Drag, DragPhase, Overlay, Pick, Status, Tool, ToolContext, ViewInfo};
+use crate::tools::{
+    default_tools, Drag, DragPhase, Overlay, Pick, Status, Tool, ToolContext, ViewInfo,
+};
 
 /// Frames rendered before a script starts (egui lays out its panels on the first ones).
 const WARMUP_FRAMES: u64 = 3;
@@ -162,7 +164,9 @@ impl App {
             .doc
             .source()
             .and_then(|p| p.file_name())
-            .map_or("generated icosphere".into(), |n| n.to_string_lossy().into_owned());
+            .map_or("generated icosphere".into(), |n| {
+                n.to_string_lossy().into_owned()
+            });
         format!(
             "{name}: {} vertices, {} faces",
             group(mesh.n_vertices()),
@@ -188,8 +192,12 @@ impl App {
             .map_or(String::new(), |p| p.display().to_string());
         self.save_path = match source {
             Some(p) => {
-                let stem = p.file_stem().map_or("mesh".into(), |s| s.to_string_lossy().into_owned());
-                p.with_file_name(format!("{stem}-edited.obj")).display().to_string()
+                let stem = p
+                    .file_stem()
+                    .map_or("mesh".into(), |s| s.to_string_lossy().into_owned());
+                p.with_file_name(format!("{stem}-edited.obj"))
+                    .display()
+                    .to_string()
             }
             None => "edited.obj".into(),
         };
@@ -322,7 +330,10 @@ impl App {
         for tool in &mut self.tools {
             tool.on_mesh_replaced(self.doc.mesh());
         }
-        if self.pick.is_some_and(|p| !self.doc.mesh().is_valid_vertex(p.vertex)) {
+        if self
+            .pick
+            .is_some_and(|p| !self.doc.mesh().is_valid_vertex(p.vertex))
+        {
             self.pick = None;
         }
     }
@@ -487,10 +498,7 @@ impl App {
                             }
                         }
                         Gesture::Orbit => self.camera.orbit(-dx * 0.008, dy * 0.008),
-                        Gesture::Pan => {
-                            self.camera
-                                .pan(dx * dpr, -dy * dpr, self.viewport.height)
-                        }
+                        Gesture::Pan => self.camera.pan(dx * dpr, -dy * dpr, self.viewport.height),
                         Gesture::ToolDrag { .. } => {
                             if let Some(p) = self.drag_point_at(px, py) {
                                 self.tool_drag_to(p, DragPhase::Move);
@@ -527,6 +535,13 @@ impl App {
                     }
                     self.camera.zoom((-delta.1 as f64 * 0.004).exp());
                     *handled = true;
+                }
+                Event::MouseLeave => {
+                    // The release may never come: finish what the mouse was doing.
+                    if let Gesture::ToolDrag { current, .. } = self.gesture {
+                        self.tool_drag_to(current, DragPhase::End);
+                    }
+                    self.gesture = Gesture::Idle;
                 }
                 Event::KeyPress {
                     kind,
@@ -909,9 +924,12 @@ impl App {
             }
             Action::PickVertex { index } => {
                 let mesh = self.doc.mesh();
-                let v = mesh
-                    .vertex_at(index)
-                    .ok_or_else(|| format!("pick_vertex: no vertex {index} (the mesh has {} slots)", mesh.vertex_slots()))?;
+                let v = mesh.vertex_at(index).ok_or_else(|| {
+                    format!(
+                        "pick_vertex: no vertex {index} (the mesh has {} slots)",
+                        mesh.vertex_slots()
+                    )
+                })?;
                 let pick = Pick {
                     vertex: v,
                     face: mesh.adjacent_faces(v).next(),
@@ -922,9 +940,12 @@ impl App {
             }
             Action::PickFace { index } => {
                 let mesh = self.doc.mesh();
-                let f = mesh
-                    .face_at(index)
-                    .ok_or_else(|| format!("pick_face: no face {index} (the mesh has {} slots)", mesh.face_slots()))?;
+                let f = mesh.face_at(index).ok_or_else(|| {
+                    format!(
+                        "pick_face: no face {index} (the mesh has {} slots)",
+                        mesh.face_slots()
+                    )
+                })?;
                 let pick = Pick {
                     vertex: mesh.triangle(f)[0],
                     face: Some(f),
@@ -949,8 +970,14 @@ impl App {
                 self.doc.end_edit();
                 result.map_err(|e| e.to_string())
             }
-            Action::Undo => self.undo().map(|_| ()).ok_or_else(|| "undo: nothing to undo".into()),
-            Action::Redo => self.redo().map(|_| ()).ok_or_else(|| "redo: nothing to redo".into()),
+            Action::Undo => self
+                .undo()
+                .map(|_| ())
+                .ok_or_else(|| "undo: nothing to undo".into()),
+            Action::Redo => self
+                .redo()
+                .map(|_| ())
+                .ok_or_else(|| "redo: nothing to redo".into()),
             Action::ClearColors => {
                 self.display.set(ColorLayer::None);
                 Ok(())
@@ -961,9 +988,13 @@ impl App {
                 }
                 Ok(())
             }
-            Action::Drag { .. } | Action::DragScreen { .. } | Action::Wait { .. } | Action::Measure { .. } => {
-                unreachable!("expanded into steps")
-            }
+            Action::Drag { .. }
+            | Action::DragScreen { .. }
+            | Action::Wait { .. }
+            | Action::Measure { .. } => Err(format!(
+                "{}: internal error, this action should have been expanded into steps",
+                action.name()
+            )),
         }
     }
 
@@ -1025,7 +1056,10 @@ impl App {
             let ms = input.elapsed_time;
             self.frame_ms = Some(self.frame_ms.map_or(ms, |f| 0.8 * f + 0.2 * ms));
         }
-        if self.script.is_none() && self.final_screenshot.is_some() && self.frame_index > WARMUP_FRAMES {
+        if self.script.is_none()
+            && self.final_screenshot.is_some()
+            && self.frame_index > WARMUP_FRAMES
+        {
             self.finish_script();
         }
         self.script_tick(&input);
@@ -1067,7 +1101,9 @@ impl App {
         let glyph = 0.006 * self.camera.distance * (0.5 * self.camera.fov_y).tan() / 0.315;
         self.renderer.set_overlay(&overlay, glyph);
 
-        let camera = self.camera.to_three_d(&self.viewport, self.renderer.origin());
+        let camera = self
+            .camera
+            .to_three_d(&self.viewport, self.renderer.origin());
         let screen = input.screen();
         screen.clear(ClearState::color_and_depth(0.09, 0.10, 0.12, 1.0, 1.0));
         self.renderer.render(&screen, &camera, self.settings);
@@ -1223,7 +1259,12 @@ mod tests {
         let dir = std::env::temp_dir().join(format!("viewer-png-{}", std::process::id()));
         let path = dir.join("x.png");
         // 2×2: top row blue, bottom row red.
-        let pixels = [[0, 0, 255, 0], [0, 0, 255, 0], [255, 0, 0, 0], [255, 0, 0, 0]];
+        let pixels = [
+            [0, 0, 255, 0],
+            [0, 0, 255, 0],
+            [255, 0, 0, 0],
+            [255, 0, 0, 0],
+        ];
         save_png(&path, &pixels, 2, 2).unwrap();
         let img = image::open(&path).unwrap().to_rgba8();
         assert_eq!(img.get_pixel(0, 0).0, [0, 0, 255, 255]);

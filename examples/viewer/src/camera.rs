@@ -287,7 +287,11 @@ mod tests {
         let cam = OrbitCamera::framing(DVec3::splat(-1.0), DVec3::splat(1.0), UpAxis::Y);
         assert!((cam.target - DVec3::ZERO).length() < 1e-12);
         let vp = viewport();
-        for corner in [DVec3::splat(-1.0), DVec3::splat(1.0), DVec3::new(1.0, -1.0, 1.0)] {
+        for corner in [
+            DVec3::splat(-1.0),
+            DVec3::splat(1.0),
+            DVec3::new(1.0, -1.0, 1.0),
+        ] {
             let (px, py, _) = cam.project(corner, &vp).unwrap();
             assert!(vp.contains(px, py), "{corner} projects outside: {px} {py}");
         }
@@ -339,9 +343,13 @@ mod tests {
             origin: DVec3::new(0.0, 0.0, 5.0),
             direction: DVec3::NEG_Z,
         };
-        let p = ray.intersect_plane(DVec3::new(0.0, 0.0, 1.0), DVec3::Z).unwrap();
+        let p = ray
+            .intersect_plane(DVec3::new(0.0, 0.0, 1.0), DVec3::Z)
+            .unwrap();
         assert!((p - DVec3::new(0.0, 0.0, 1.0)).length() < 1e-12);
-        assert!(ray.intersect_plane(DVec3::new(0.0, 0.0, 9.0), DVec3::Z).is_none());
+        assert!(ray
+            .intersect_plane(DVec3::new(0.0, 0.0, 9.0), DVec3::Z)
+            .is_none());
         assert!(ray.intersect_plane(DVec3::ZERO, DVec3::X).is_none());
     }
 }

@@ -220,19 +220,13 @@ impl ColorLayer {
         };
         match self {
             ColorLayer::None => vec![BASE_COLOR; 3 * triangles.len()],
-            ColorLayer::Scalar(field) => per_vertex(&|v| {
-                field
-                    .values
-                    .get(v)
-                    .map_or(BASE_COLOR, |&x| field.color(x))
-            }),
+            ColorLayer::Scalar(field) => {
+                per_vertex(&|v| field.values.get(v).map_or(BASE_COLOR, |&x| field.color(x)))
+            }
             ColorLayer::Labels(field) => match field.target {
-                LabelTarget::Vertices => per_vertex(&|v| {
-                    field
-                        .labels
-                        .get(v)
-                        .map_or(BASE_COLOR, |&l| label_color(l))
-                }),
+                LabelTarget::Vertices => {
+                    per_vertex(&|v| field.labels.get(v).map_or(BASE_COLOR, |&l| label_color(l)))
+                }
                 LabelTarget::Faces => faces
                     .iter()
                     .flat_map(|&f| {
@@ -367,7 +361,9 @@ pub fn legend_ui(ui: &mut three_d::egui::Ui, layer: &ColorLayer) {
                     .collect();
                 used.sort_unstable();
                 used.dedup();
-                used.into_iter().map(|l| (l, format!("label {l}"))).collect()
+                used.into_iter()
+                    .map(|l| (l, format!("label {l}")))
+                    .collect()
             } else {
                 field.legend.clone()
             };
@@ -420,7 +416,11 @@ mod tests {
 
     #[test]
     fn scalar_range_ignores_non_finite_values() {
-        let f = ScalarField::new("d", vec![f64::NAN, 2.0, -1.0, f64::INFINITY], Colormap::Viridis);
+        let f = ScalarField::new(
+            "d",
+            vec![f64::NAN, 2.0, -1.0, f64::INFINITY],
+            Colormap::Viridis,
+        );
         assert_eq!(f.range, (-1.0, 2.0));
         assert_eq!(f.color(f64::NAN), BASE_COLOR);
         assert_eq!(f.color(-1.0), Colormap::Viridis.sample(0.0));

@@ -179,7 +179,10 @@ impl Document {
             return;
         }
         *topology = true;
-        let entry = self.undo.last_mut().expect("an open edit has an undo entry");
+        let entry = self
+            .undo
+            .last_mut()
+            .expect("an open edit has an undo entry");
         if let Snapshot::Positions(p) = &entry.snapshot {
             let mut before = self.mesh.clone();
             before.positions_mut().copy_from_slice(p);

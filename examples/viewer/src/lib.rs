@@ -59,6 +59,9 @@ pub struct Args {
     /// Stay open after the script (and after a failed action).
     #[arg(long)]
     pub keep_open: bool,
+    /// Subdivide the mesh this many times (1-to-4) after reading it: large test meshes.
+    #[arg(long, default_value_t = 0, value_name = "N")]
+    pub subdivide: u32,
 }
 
 fn parse_size(s: &str) -> Result<(u32, u32), String> {
@@ -106,6 +109,7 @@ pub fn run(args: Args) -> ! {
             (mesh, source, None)
         }
     };
+    let mesh = (0..args.subdivide).fold(mesh, |m, _| halfedge::generators::subdivide(&m));
     let title = match &source {
         Some(p) => format!(
             "multires viewer — {}",

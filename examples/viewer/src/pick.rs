@@ -332,20 +332,19 @@ mod tests {
             .min_by(|x, y| x.1.total_cmp(&y.1))
     }
 
-    fn random_ray(rng: &mut impl Rng, radius: f64) -> Ray {
-        let origin = DVec3::new(
-            rng.random_range(-1.0..1.0),
-            rng.random_range(-1.0..1.0),
-            rng.random_range(-1.0..1.0),
-        )
-        .normalize()
-            * 3.0
-            * radius;
-        let aim = DVec3::new(
-            rng.random_range(-1.0..1.0),
-            rng.random_range(-1.0..1.0),
-            rng.random_range(-1.0..1.0),
-        ) * radius;
+    /// A ray from a sphere around the box `(lo, hi)` towards a random point inside it.
+    fn random_ray(rng: &mut impl Rng, lo: DVec3, hi: DVec3) -> Ray {
+        let mut unit = || {
+            DVec3::new(
+                rng.random_range(-1.0..1.0),
+                rng.random_range(-1.0..1.0),
+                rng.random_range(-1.0..1.0),
+            )
+        };
+        let centre = 0.5 * (lo + hi);
+        let radius = 0.5 * (hi - lo).length();
+        let origin = centre + 3.0 * radius * unit().normalize();
+        let aim = centre + 0.5 * (hi - lo) * unit();
         Ray {
             origin,
             direction: (aim - origin).normalize(),
@@ -356,11 +355,9 @@ mod tests {
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
         let (lo, hi) = mesh.bounding_box().unwrap();
         let radius = 0.5 * (hi - lo).length();
-        let centre = 0.5 * (lo + hi);
         let mut hits = 0;
         for _ in 0..rays {
-            let mut ray = random_ray(&mut rng, radius);
-            ray.origin += centre;
+            let ray = random_ray(&mut rng, lo, hi);
             let expected = brute_force(mesh, &ray);
             let got = bvh.intersect(mesh, &ray);
             match (expected, got) {

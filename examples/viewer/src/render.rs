@@ -307,7 +307,12 @@ impl SceneRenderer {
         };
         let old = self.revision;
         if old.map(|r| r.topology) != Some(revision.topology) || self.mode != Some(mode) {
-            self.rebuild(mesh, layer, mode, old.map(|r| r.topology) != Some(revision.topology));
+            self.rebuild(
+                mesh,
+                layer,
+                mode,
+                old.map(|r| r.topology) != Some(revision.topology),
+            );
             self.layer_revision = Some(layer_revision);
         } else if old.map(|r| r.geometry) != Some(revision.geometry) {
             if let Some(surface) = &mut self.surface {
@@ -454,11 +459,8 @@ impl SceneRenderer {
                     .map(|s| {
                         let d = s.b - s.a;
                         let len = d.length().max(1e-30);
-                        let rotation = Mat4::from(Quat::from_arc(
-                            vec3(1.0, 0.0, 0.0),
-                            to_cg(d / len),
-                            None,
-                        ));
+                        let rotation =
+                            Mat4::from(Quat::from_arc(vec3(1.0, 0.0, 0.0), to_cg(d / len), None));
                         Mat4::from_translation(to_cg(s.a - o))
                             * rotation
                             * Mat4::from_nonuniform_scale(len as f32, radius, radius)
@@ -535,4 +537,3 @@ fn soup_geometry(mesh: &Mesh, triangles: &[[u32; 3]], origin: DVec3) -> (Vec<Vec
         })
         .unzip()
 }
-

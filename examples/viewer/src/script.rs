@@ -349,7 +349,11 @@ pub fn expand(actions: Vec<Action>) -> VecDeque<Step> {
                 let n = frames.max(1);
                 // Two frames to settle after whatever came before, then the measured ones.
                 steps.extend([Step::Idle, Step::Idle]);
-                steps.extend((0..n).rev().map(|remaining| Step::MeasureFrame { remaining }));
+                steps.extend(
+                    (0..n)
+                        .rev()
+                        .map(|remaining| Step::MeasureFrame { remaining }),
+                );
             }
             action => steps.push_back(Step::Action { index, action }),
         }
@@ -417,7 +421,10 @@ mod tests {
 
     #[test]
     fn a_plain_array_is_a_script() {
-        assert_eq!(parse(r#"[{"action": "frame"}]"#).unwrap(), vec![Action::Frame]);
+        assert_eq!(
+            parse(r#"[{"action": "frame"}]"#).unwrap(),
+            vec![Action::Frame]
+        );
     }
 
     #[test]

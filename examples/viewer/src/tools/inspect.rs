@@ -37,7 +37,11 @@ impl InspectColoring {
     ];
 
     fn name(self) -> &'static str {
-        Self::ALL.iter().find(|(c, _)| *c == self).expect("listed").1
+        Self::ALL
+            .iter()
+            .find(|(c, _)| *c == self)
+            .expect("listed")
+            .1
     }
 }
 
@@ -196,7 +200,11 @@ impl Tool for Inspect {
                 ui.label(mesh.valence(v).to_string());
                 ui.end_row();
                 ui.label("boundary");
-                ui.label(if mesh.is_boundary_vertex(v) { "yes" } else { "no" });
+                ui.label(if mesh.is_boundary_vertex(v) {
+                    "yes"
+                } else {
+                    "no"
+                });
                 ui.end_row();
                 let ring: Vec<String> = mesh
                     .adjacent_vertices(v)

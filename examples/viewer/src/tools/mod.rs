@@ -39,7 +39,10 @@ use crate::document::Document;
 
 /// The tools of the viewer, in selector order. Add new methods here.
 pub fn default_tools() -> Vec<Box<dyn Tool>> {
-    vec![Box::new(Inspect::default()), Box::new(SmoothPull::default())]
+    vec![
+        Box::new(Inspect::default()),
+        Box::new(SmoothPull::default()),
+    ]
 }
 
 /// A picked point on the mesh.

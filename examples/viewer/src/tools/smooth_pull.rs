@@ -10,7 +10,9 @@ use halfedge::Mesh;
 use rayon::prelude::*;
 use three_d::egui;
 
-use super::{bool_param, number_param, Drag, DragPhase, Overlay, Pick, Tool, ToolContext, ToolError};
+use super::{
+    bool_param, number_param, Drag, DragPhase, Overlay, Pick, Tool, ToolContext, ToolError,
+};
 use crate::colors::Colormap;
 
 /// Cut-off of the falloff, in radii.
@@ -49,7 +51,13 @@ impl SmoothPull {
         mesh.positions()
             .par_iter()
             .zip(live.par_iter())
-            .map(|(p, &alive)| if alive { falloff(p.distance(centre), r) } else { 0.0 })
+            .map(|(p, &alive)| {
+                if alive {
+                    falloff(p.distance(centre), r)
+                } else {
+                    0.0
+                }
+            })
             .collect()
     }
 
