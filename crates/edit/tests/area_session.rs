@@ -332,7 +332,8 @@ fn bad_input_is_refused_and_leaves_the_mesh_unchanged() {
         Err(EditError::PrimitiveOnAreaBoundary { .. })
     ));
     assert!(session.primitive().is_empty());
-    session.set_primitive(&mesh, &[nose]).unwrap();
+    session.set_primitive(&mesh, &[nose, nose]).unwrap();
+    assert_eq!(session.primitive(), vec![nose]);
     for bad in [
         DVec3::new(f64::NAN, 0.0, 0.0),
         DVec3::new(0.0, f64::INFINITY, 0.0),

@@ -274,10 +274,11 @@ impl EditingSession {
             if i >= self.area.n_interior() {
                 return Err(EditError::PrimitiveOnAreaBoundary { vertex: v });
             }
-            if !primitive.contains(&(i as u32)) {
-                primitive.push(i as u32);
-            }
+            primitive.push(i as u32);
         }
+        // duplicates out, first occurrence kept
+        let mut seen = vec![false; self.area.n_interior()];
+        primitive.retain(|&i| !std::mem::replace(&mut seen[i as usize], true));
         self.commit(mesh)?;
         for &i in &self.primitive {
             self.data_of_local[i as usize] = NONE;
