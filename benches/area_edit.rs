@@ -74,27 +74,46 @@ fn bench_area(
     group.bench_function(format!("embed_mean_value_{n}"), |b| {
         b.iter(|| Embedding::new(&mesh, black_box(&area), &mean_value).unwrap())
     });
-    let mut session = EditingSession::new(&mesh, area, &SessionOptions::default()).unwrap();
-    eprintln!("{label}: {} levels", session.levels());
+    let parallel = SessionOptions {
+        parallel_threshold: 1,
+        ..SessionOptions::default()
+    };
+    let mut sessions = vec![
+        (
+            "",
+            EditingSession::new(&mesh, area.clone(), &SessionOptions::default()).unwrap(),
+        ),
+        (
+            "parallel_",
+            EditingSession::new(&mesh, area, &parallel).unwrap(),
+        ),
+    ];
+    eprintln!("{label}: {} levels", sessions[0].1.levels());
     let normal = mesh.vertex_normal(seed);
     // the primitive: the seed and its one-ring (a closed chain with its centre)
     let primitive: Vec<VertexId> = std::iter::once(seed)
         .chain(mesh.adjacent_vertices(seed))
         .collect();
-    session.set_primitive(&mesh, &primitive).unwrap();
     group
         .sample_size(50)
         .measurement_time(Duration::from_secs(3));
-    for s in [0.25, 0.5, 1.0] {
-        session.set_scale(s).unwrap();
-        let mut k = 0u32;
-        group.bench_function(format!("drag_s{s}_{n}"), |b| {
-            b.iter(|| {
-                k = k.wrapping_add(1);
-                let d = normal * (0.001 * f64::from(k % 100));
-                session.drag(&mut mesh, black_box(d)).unwrap();
-            })
-        });
+    for (name, session) in &mut sessions {
+        session.set_primitive(&mesh, &primitive).unwrap();
+        for s in [0.25, 0.5, 1.0] {
+            if !name.is_empty() && s != 0.5 {
+                continue;
+            }
+            session.set_scale(s).unwrap();
+            let mut k = 0u32;
+            group.bench_function(format!("drag_{name}s{s}_{n}"), |b| {
+                b.iter(|| {
+                    k = k.wrapping_add(1);
+                    let d = normal * (0.001 * f64::from(k % 100));
+                    session.drag(&mut mesh, black_box(d)).unwrap();
+                })
+            });
+        }
+        session.cancel(&mut mesh).unwrap();
     }
     group.finish();
 }

@@ -332,7 +332,8 @@ fn bad_input_is_refused_and_leaves_the_mesh_unchanged() {
         Err(EditError::PrimitiveOnAreaBoundary { .. })
     ));
     assert!(session.primitive().is_empty());
-    session.set_primitive(&mesh, &[nose]).unwrap();
+    session.set_primitive(&mesh, &[nose, nose]).unwrap();
+    assert_eq!(session.primitive(), vec![nose]);
     for bad in [
         DVec3::new(f64::NAN, 0.0, 0.0),
         DVec3::new(0.0, f64::INFINITY, 0.0),
@@ -378,4 +379,27 @@ fn bad_input_is_refused_and_leaves_the_mesh_unchanged() {
     // and the session still works afterwards
     session.drag(&mut mesh, PULL).unwrap();
     assert_ne!(mesh.positions(), rest.as_slice());
+}
+
+#[test]
+fn parallel_evaluation_matches_the_sequential_one() {
+    let (mut sequential, mut a) = spot_session(&SessionOptions::default());
+    let parallel_options = SessionOptions {
+        parallel_threshold: 1,
+        ..SessionOptions::default()
+    };
+    let (mut parallel, mut b) = spot_session(&parallel_options);
+    let nose = vertex(&sequential, SPOT_NOSE);
+    a.set_primitive(&sequential, &nose_and_ring(&sequential))
+        .unwrap();
+    b.set_primitive(&parallel, &nose_and_ring(&parallel))
+        .unwrap();
+    for s in [0.0, 0.3, 1.0] {
+        a.set_scale(s).unwrap();
+        b.set_scale(s).unwrap();
+        a.drag(&mut sequential, PULL).unwrap();
+        b.drag(&mut parallel, PULL).unwrap();
+        assert_eq!(sequential.positions(), parallel.positions());
+    }
+    assert_ne!(sequential.position(nose), load("spot.obj").position(nose));
 }
