@@ -12,7 +12,7 @@
 //! - every other element and property is skipped.
 //!
 //! The payload is then read on one of two routes:
-//! - the **fast route** ([`super::ply_fast`]) for binary files whose `vertex` element has
+//! - the **fast route** (module `ply_fast`) for binary files whose `vertex` element has
 //!   only scalar properties and whose `face` / `tristrips` elements have the index list
 //!   as their only property, which is how almost every binary PLY is laid out. It
 //!   decodes the bytes straight from a read buffer. `ply-rs-bw` builds one `Vec` per
