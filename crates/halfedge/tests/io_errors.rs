@@ -453,3 +453,28 @@ fn malformed_obj() {
     let e = read_error(&dir, "zero.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n");
     assert_format(&e, "zero.obj", &["line 4", "index 0"]);
 }
+
+#[test]
+fn truncated_large_binary_ply_across_read_chunks() {
+    // Files are streamed in chunks of 1 MiB: cut a 2.4 MB binary PLY around chunk borders.
+    let (horse, _) = io::read(common::shared_meshes().join("horse.ply")).unwrap();
+    let mut bytes = Vec::new();
+    io::write_ply_to(&mut bytes, &horse, io::PlyFormat::BinaryLittleEndian).unwrap();
+    assert!(bytes.len() > 2 << 20);
+    let dir = temp_dir("truncated-large");
+    let whole = dir.join("whole.ply");
+    std::fs::write(&whole, &bytes).unwrap();
+    let (back, _) = io::read(&whole).unwrap();
+    assert_eq!(back.positions(), horse.positions());
+    for len in [
+        (1 << 20) - 1,
+        1 << 20,
+        (1 << 20) + 1,
+        (2 << 20) + 7,
+        bytes.len() - 1,
+    ] {
+        let name = format!("cut{len}.ply");
+        let e = read_error(&dir, &name, &bytes[..len]);
+        assert_format(&e, &name, &["truncated"]);
+    }
+}

@@ -14,11 +14,11 @@
 //! vertex numbers. Faces are written as triangles in [`Mesh::faces`] order, each starting
 //! at its [`Mesh::triangle`] corner, so a written mesh reads back with the same faces.
 
-mod obj;
-mod obj_write;
-mod ply;
+pub mod obj;
+pub mod obj_write;
+pub mod ply;
 mod ply_fast;
-mod ply_write;
+pub mod ply_write;
 
 use std::io::{BufWriter, Write};
 use std::path::Path;

@@ -12,12 +12,12 @@
 //! - every other element and property is skipped.
 //!
 //! The payload is then read on one of two routes:
-//! - the **fast route** ([`super::ply_fast`]) for binary files whose `vertex` element has
+//! - the **fast route** (module `ply_fast`) for binary files whose `vertex` element has
 //!   only scalar properties and whose `face` / `tristrips` elements have the index list
-//!   as their only property, which is how almost every binary PLY is laid out. It reads
-//!   the bytes in place. `ply-rs-bw` builds one `Vec` per face and dispatches every value
-//!   through a property-name lookup, which made loading a 1.6-million-face binary PLY
-//!   several times slower than OpenMesh's reader (see the module docs of `ply_fast`);
+//!   as their only property, which is how almost every binary PLY is laid out. It
+//!   decodes the bytes straight from a read buffer. `ply-rs-bw` builds one `Vec` per
+//!   face and dispatches every value through a property-name lookup, which made loading
+//!   a 1.6-million-face binary PLY slower than OpenMesh's reader (see `ply_fast`);
 //! - the **general route** through `ply-rs-bw`'s typed [`PropertyAccess`] (own element
 //!   structs, no `HashMap` per element) for ASCII files and every other layout.
 //!
