@@ -153,7 +153,7 @@ impl OrbitCamera {
     }
 
     /// Unit vector from the target to the eye.
-    fn to_eye(&self) -> DVec3 {
+    fn eye_direction(&self) -> DVec3 {
         let (side, front, up) = self.up_axis.frame();
         let (sy, cy) = self.yaw.sin_cos();
         let (sp, cp) = self.pitch.sin_cos();
@@ -162,12 +162,12 @@ impl OrbitCamera {
 
     /// Eye position.
     pub fn eye(&self) -> DVec3 {
-        self.target + self.distance * self.to_eye()
+        self.target + self.distance * self.eye_direction()
     }
 
     /// Unit viewing direction (from the eye towards the target).
     pub fn forward(&self) -> DVec3 {
-        -self.to_eye()
+        -self.eye_direction()
     }
 
     /// `(right, up, forward)`: the camera's orthonormal frame.

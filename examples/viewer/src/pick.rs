@@ -385,6 +385,25 @@ mod tests {
     }
 
     #[test]
+    fn bvh_matches_brute_force_on_the_bunny() {
+        // A real scan with holes and 1,113 isolated vertices (shared/meshes).
+        let dir = std::env::var("MULTIRES_MESHES").map_or_else(
+            |_| {
+                std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+                    .ancestors()
+                    .map(|a| a.join("shared/meshes"))
+                    .find(|p| p.is_dir())
+                    .expect("shared/meshes not found above the crate; set MULTIRES_MESHES")
+            },
+            std::path::PathBuf::from,
+        );
+        let (mesh, _) = halfedge::io::read(dir.join("stanford-bunny.obj")).unwrap();
+        let bvh = Bvh::build(&mesh);
+        assert_eq!(bvh.len(), 69_451);
+        agrees_with_brute_force(&mesh, &bvh, 100, 4);
+    }
+
+    #[test]
     fn parallel_build_matches_brute_force() {
         // 20·4^5 = 20,480 faces: above the parallel threshold.
         let mesh = generators::icosphere(5);

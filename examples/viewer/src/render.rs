@@ -25,21 +25,12 @@ use crate::document::Revision;
 use crate::tools::Overlay;
 
 /// How the surface is drawn.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct RenderSettings {
     /// Face normals (true) or interpolated vertex normals (false).
     pub flat: bool,
     /// Draw the edges over the surface.
     pub wireframe: bool,
-}
-
-impl Default for RenderSettings {
-    fn default() -> Self {
-        Self {
-            flat: false,
-            wireframe: false,
-        }
-    }
 }
 
 /// The shading of the mesh and of the overlay glyphs (see the module docs).

@@ -63,12 +63,10 @@ pub fn write_obj_to(mesh: &Mesh, out: &mut impl Write) -> std::io::Result<()> {
         mesh.n_faces()
     )?;
     let mut number = vec![0u32; mesh.vertex_slots()];
-    let mut next = 1u32;
-    for v in mesh.vertices() {
+    for (k, v) in (1u32..).zip(mesh.vertices()) {
         let p = mesh.position(v);
         writeln!(out, "v {} {} {}", p.x, p.y, p.z)?;
-        number[mesh.vertex_index(v)] = next;
-        next += 1;
+        number[mesh.vertex_index(v)] = k;
     }
     for f in mesh.faces() {
         let [a, b, c] = mesh.triangle(f).map(|v| number[mesh.vertex_index(v)]);
