@@ -9,7 +9,7 @@
 //! number of vertices; isolated vertices have valence 0 and count as boundary
 //! vertices, as in OpenMesh and pmp), `duplicated_vertices` and `dropped_faces` (from
 //! the build report: what the OpenMesh-policy builder had to do), then
-//! `non_manifold_vertices`. The same counts come from OpenMesh with
+//! `non_manifold_vertices`; with `--collapse-ok`, `collapse_ok_halfedges`. The same counts come from OpenMesh with
 //! `python3 tests/openmesh/report.py FILE`.
 
 use std::path::PathBuf;
@@ -23,6 +23,10 @@ use clap::Parser;
 struct Args {
     /// The mesh file (.obj or .ply).
     file: PathBuf,
+    /// Also report `collapse_ok_halfedges`: how many halfedges `is_collapse_ok` accepts
+    /// (OpenMesh's semantics).
+    #[arg(long)]
+    collapse_ok: bool,
 }
 
 fn main() -> ExitCode {
@@ -35,6 +39,15 @@ fn main() -> ExitCode {
         }
     };
     let report = mesh.topology_report();
-    println!("{}", report.to_json(Some(&build)));
+    let mut json = report.to_json(Some(&build));
+    if args.collapse_ok {
+        let accepted = mesh
+            .halfedges()
+            .filter(|&h| mesh.is_collapse_ok(h).is_ok())
+            .count();
+        json.pop(); // the closing brace
+        json.push_str(&format!(", \"collapse_ok_halfedges\": {accepted}}}"));
+    }
+    println!("{json}");
     ExitCode::SUCCESS
 }
