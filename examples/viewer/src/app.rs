@@ -6,7 +6,8 @@
 //! [wants a drag](crate::tools::Tool::wants_drag), otherwise a left drag orbits and a
 //! left click picks; right or middle drag (or shift + left) pans; the wheel zooms;
 //! ctrl/alt + left always orbits. Keys: `F` frame, `R` reset the view, `W` wireframe,
-//! `L` flat / smooth, ctrl+Z undo, ctrl+Y or ctrl+shift+Z redo.
+//! `L` flat / smooth, `P` or F12 screenshot (`viewer-screenshot-N.png` in the current
+//! directory), ctrl+Z undo, ctrl+Y or ctrl+shift+Z redo.
 
 use std::collections::VecDeque;
 use std::path::{Path, PathBuf};
@@ -112,6 +113,7 @@ pub struct App {
     keep_open: bool,
     final_screenshot: Option<PathBuf>,
     screenshot: Option<PendingScreenshot>,
+    screenshots_taken: u32,
     measurement: Option<Measurement>,
 }
 
@@ -146,6 +148,7 @@ impl App {
             keep_open: options.keep_open,
             final_screenshot: options.screenshot,
             screenshot: None,
+            screenshots_taken: 0,
             measurement: None,
             doc,
         };
@@ -566,6 +569,22 @@ impl App {
                         Key::R if !command => self.frame_mesh(true),
                         Key::W if !command => self.settings.wireframe = !self.settings.wireframe,
                         Key::L if !command => self.settings.flat = !self.settings.flat,
+                        Key::P | Key::F12 if !command => {
+                            self.screenshots_taken += 1;
+                            let path = PathBuf::from(format!(
+                                "viewer-screenshot-{}.png",
+                                self.screenshots_taken
+                            ));
+                            self.status = Status {
+                                message: format!("Screenshot {}", path.display()),
+                                is_error: false,
+                            };
+                            self.screenshot = Some(PendingScreenshot {
+                                path,
+                                frames_left: 1,
+                                then_exit: false,
+                            });
+                        }
                         _ => continue,
                     }
                     *handled = true;
@@ -793,6 +812,7 @@ impl App {
                     "Right / middle drag, shift + left: pan",
                     "Wheel: zoom",
                     "F: frame · R: reset view · W: wireframe · L: flat / smooth",
+                    "P or F12: screenshot (viewer-screenshot-N.png)",
                     "Ctrl+Z: undo · Ctrl+Y, Ctrl+Shift+Z: redo",
                 ] {
                     ui.label(egui::RichText::new(line).small());
@@ -1118,6 +1138,12 @@ impl App {
                 let result = save_png(&shot.path, &pixels, screen.width(), screen.height());
                 match result {
                     Ok(()) => println!("screenshot: {}", shot.path.display()),
+                    Err(e) if !shot.then_exit && self.script.is_none() => {
+                        self.status = Status {
+                            message: e,
+                            is_error: true,
+                        };
+                    }
                     Err(e) => {
                         eprintln!("viewer: {e}");
                         if self.script.is_some() || shot.then_exit {
