@@ -18,7 +18,7 @@
 //! the faces, as the paper reports. Face normals are cached by face index and refreshed
 //! around each survivor.
 
-use glam::DVec3;
+use glam::{DVec3, Vec3};
 
 use super::legality::{self, Collapse, NewNormals, Placement};
 use super::{BuildProgress, Hierarchy, HierarchyOptions};
@@ -27,7 +27,7 @@ use crate::{HalfedgeId, Mesh, Result};
 /// Minimum over the star of `v0v1` of the cosine between a face normal and the star's
 /// average normal (1 for a planar star). `fl` and `fr` are counted once.
 #[inline]
-pub(crate) fn star_planarity(mesh: &Mesh, c: &Collapse, normals: &[DVec3]) -> f64 {
+pub(crate) fn star_planarity(mesh: &Mesh, c: &Collapse, normals: &[Vec3]) -> f64 {
     const CAP: usize = 64;
     let mut star = [DVec3::ZERO; CAP];
     let mut n = 0;
@@ -37,7 +37,7 @@ pub(crate) fn star_planarity(mesh: &Mesh, c: &Collapse, normals: &[DVec3]) -> f6
             if i == 1 && (Some(f) == c.fl || Some(f) == c.fr) {
                 continue;
             }
-            let normal = normals[mesh.face_index(f)];
+            let normal = normals[mesh.face_index(f)].as_dvec3();
             sum += normal;
             if n < CAP {
                 star[n] = normal;
@@ -53,7 +53,7 @@ pub(crate) fn star_planarity(mesh: &Mesh, c: &Collapse, normals: &[DVec3]) -> f6
         let mut min = 1.0f64;
         for v in [c.v0, c.v1] {
             for f in mesh.adjacent_faces(v) {
-                min = min.min(normals[mesh.face_index(f)].dot(avg));
+                min = min.min(normals[mesh.face_index(f)].as_dvec3().dot(avg));
             }
         }
         return min;
@@ -63,12 +63,12 @@ pub(crate) fn star_planarity(mesh: &Mesh, c: &Collapse, normals: &[DVec3]) -> f6
 
 /// Largest distance from `p` to the plane of a face around `v0` or `v1`.
 #[inline]
-pub(crate) fn star_plane_distance(mesh: &Mesh, c: &Collapse, p: DVec3, normals: &[DVec3]) -> f64 {
+pub(crate) fn star_plane_distance(mesh: &Mesh, c: &Collapse, p: DVec3, normals: &[Vec3]) -> f64 {
     let mut max = 0.0f64;
     for v in [c.v0, c.v1] {
         let q = p - mesh.position(v);
         for f in mesh.adjacent_faces(v) {
-            max = max.max(normals[mesh.face_index(f)].dot(q).abs());
+            max = max.max(normals[mesh.face_index(f)].as_dvec3().dot(q).abs());
         }
     }
     max
@@ -83,7 +83,7 @@ pub(crate) fn build(
     let input_faces = h.mesh.n_faces();
     let cos_planar = options.max_normal_deviation.cos();
     let cos_flip = options.max_flip_angle.cos();
-    let mut normals = h.mesh.face_normals();
+    let mut normals = legality::cached_normals(&h.mesh);
     let mut lock = vec![0u32; h.mesh.vertex_slots()];
     let slots = h.mesh.halfedge_slots();
     let mut round = 0u32;
