@@ -10,7 +10,7 @@
 //! - `v0` needs at least two incident faces (valence above 2).
 //!
 //! Boundaries are kept: an interior edge from an interior `v0` to a boundary `v1` places
-//! the survivor at `v1`'s position ([`Placement::AtV1`]) instead of the method's choice,
+//! the survivor at `v1`'s position (placement `AtV1`) instead of the method's choice,
 //! so a boundary vertex never moves inwards; boundary edges collapse along the boundary.
 //!
 //! Geometric rules, tested at the survivor's new position `p` for every face around `v0`
