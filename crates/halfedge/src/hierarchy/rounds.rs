@@ -93,7 +93,6 @@ pub(crate) fn build(
     {
         round += 1;
         let faces_before = h.mesh.n_faces();
-        let mut stats = [0usize; 6];
         for i in 0..slots {
             let (g, p, t) = {
                 let mesh = &h.mesh;
@@ -106,15 +105,12 @@ pub(crate) fn build(
                 }
                 let (a, b) = (mesh.from_vertex(e), mesh.to_vertex(e));
                 if lock[mesh.vertex_index(a)] == round || lock[mesh.vertex_index(b)] == round {
-                    stats[0] += 1;
                     continue;
                 }
                 if star_planarity(mesh, &Collapse::new(mesh, e), &normals) < cos_planar {
-                    stats[1] += 1;
                     continue;
                 }
                 let Some((g, placement)) = choose_direction(mesh, e, o) else {
-                    stats[2] += 1;
                     continue;
                 };
                 let c = Collapse::new(mesh, g);
@@ -129,10 +125,8 @@ pub(crate) fn build(
                     continue;
                 }
                 if !legality::geometry(mesh, &c, p, &normals, cos_flip, &mut new_normals) {
-                    stats[3] += 1;
                     continue;
                 }
-                stats[4] += 1;
                 (g, p, t)
             };
             let v1 = h.mesh.to_vertex(g);
@@ -154,12 +148,6 @@ pub(crate) fn build(
             }
         }
         let removed = faces_before - h.mesh.n_faces();
-        if std::env::var("HIER_STATS").is_ok() {
-            eprintln!(
-                "round {round}: locked {} planarity {} topology {} geometry {} collapsed {}",
-                stats[0], stats[1], stats[2], stats[3], stats[4]
-            );
-        }
         h.close_level();
         progress(BuildProgress {
             levels: h.built_levels(),
