@@ -1,7 +1,7 @@
 //! The seed paper's simplification in rounds ("Interactive Editing of Multiresolution
 //! Meshes", section 3; DESIGN.md §2).
 //!
-//! A round visits every edge once, in index order. An edge `v0v1` collapses when
+//! A round visits every live edge once, in index order. An edge `v0v1` collapses when
 //! - it is not locked: neither endpoint is the survivor of a collapse made earlier in
 //!   this round (after a collapse every edge incident to the survivor is locked until the
 //!   round ends);
@@ -85,7 +85,18 @@ pub(crate) fn build(
     let cos_flip = options.max_flip_angle.cos();
     let mut normals = legality::cached_normals(&h.mesh);
     let mut lock = vec![0u32; h.mesh.vertex_slots()];
-    let slots = h.mesh.halfedge_slots();
+    // The live edges (smaller halfedge index of each pair), in index order; rounds walk
+    // this list, which shrinks after every round, rather than every halfedge slot.
+    let mut edges: Vec<u32> = {
+        let mesh = &h.mesh;
+        (0..mesh.halfedge_slots())
+            .filter(|&i| {
+                mesh.halfedge_at(i)
+                    .is_some_and(|e| mesh.halfedge_index(mesh.opposite(e)) > i)
+            })
+            .map(|i| i as u32)
+            .collect()
+    };
     let mut round = 0u32;
     let mut since_report = 0usize;
     let mut new_normals = NewNormals::new();
@@ -93,16 +104,13 @@ pub(crate) fn build(
     {
         round += 1;
         let faces_before = h.mesh.n_faces();
-        for i in 0..slots {
+        for &i in &edges {
             let (g, p, t) = {
                 let mesh = &h.mesh;
-                let Some(e) = mesh.halfedge_at(i) else {
+                let Some(e) = mesh.halfedge_at(i as usize) else {
                     continue;
                 };
                 let o = mesh.opposite(e);
-                if mesh.halfedge_index(o) < i {
-                    continue;
-                }
                 let (a, b) = (mesh.from_vertex(e), mesh.to_vertex(e));
                 if lock[mesh.vertex_index(a)] == round || lock[mesh.vertex_index(b)] == round {
                     continue;
@@ -147,6 +155,8 @@ pub(crate) fn build(
                 break 'rounds;
             }
         }
+        let mesh = &h.mesh;
+        edges.retain(|&i| mesh.halfedge_at(i as usize).is_some());
         let removed = faces_before - h.mesh.n_faces();
         h.close_level();
         progress(BuildProgress {
