@@ -99,8 +99,15 @@ fn snapshot(mesh: &Mesh) -> Snapshot {
     }
 }
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
+fn main() {
     let args = Args::parse();
+    if let Err(e) = run(&args) {
+        eprintln!("error: {e}");
+        std::process::exit(1);
+    }
+}
+
+fn run(args: &Args) -> Result<(), halfedge::Error> {
     let (mut mesh, _) = halfedge::io::read(&args.file)?;
     for _ in 0..args.subdivide {
         mesh = generators::subdivide(&mesh);

@@ -11,7 +11,7 @@
 //! - [`generators`]: grid, icosphere, 1-to-4 subdivision.
 //! - [Collapse and vertex split](collapse), the progressive [`Hierarchy`] with centroid
 //!   detail coefficients (rounds or QEM, module [`hierarchy`]) and sub-mesh
-//!   [labels](labels) that hold across its levels.
+//!   [`labels`] that hold across its levels.
 //!
 //! ```
 //! use halfedge::generators;

@@ -430,3 +430,26 @@ fn scaling_a_coarse_submesh_carries_the_fine_detail_along() {
         }
     }
 }
+
+#[test]
+fn tiny_and_empty_meshes_build_trivial_hierarchies() {
+    for method in [Method::Rounds, Method::Qem] {
+        let h = Hierarchy::build(Mesh::new(), &options(method)).unwrap();
+        assert_eq!(h.n_levels(), 1);
+        assert_eq!(h.level_face_counts(), &[0]);
+        let p = [DVec3::ZERO, DVec3::X, DVec3::Y];
+        let triangle = Mesh::from_triangles(&p, &[[0, 1, 2]]).unwrap().0;
+        let mut h = Hierarchy::build(triangle, &options(method)).unwrap();
+        assert_eq!(h.mesh().n_faces(), 1);
+        h.refine_to(0).unwrap();
+        let mut tetra = generators::icosphere(0);
+        let before = snapshot(&tetra);
+        tetra.check().unwrap();
+        let mut h = Hierarchy::build(tetra, &options(method)).unwrap();
+        h.mesh().check().unwrap();
+        h.refine_to(0).unwrap();
+        assert!(snapshot(h.mesh()) == before);
+        tetra = h.into_mesh();
+        assert_eq!(tetra.n_faces(), 20);
+    }
+}

@@ -10,7 +10,7 @@
 //! - `v0` needs at least two incident faces (valence above 2).
 //!
 //! Boundaries are kept: an interior edge from an interior `v0` to a boundary `v1` places
-//! the survivor at `v1`'s position ([`Placement::AtV1`]) instead of the method's choice,
+//! the survivor at `v1`'s position (placement `AtV1`) instead of the method's choice,
 //! so a boundary vertex never moves inwards; boundary edges collapse along the boundary.
 //!
 //! Geometric rules, tested at the survivor's new position `p` for every face around `v0`
@@ -18,7 +18,7 @@
 //! bound (45° by default; OpenMesh's `ModNormalFlipping` uses 90°) and it must not become
 //! degenerate (twice its area at most `1e-10` times the sum of its squared edge lengths).
 
-use glam::DVec3;
+use glam::{DVec3, Vec3};
 
 use crate::{FaceId, HalfedgeId, Mesh, VertexId};
 
@@ -109,12 +109,12 @@ impl NewNormals {
     /// Writes the gathered normals into the cache; recomputes the normals around `v1` if
     /// there were too many to gather.
     #[inline]
-    pub(crate) fn apply(&self, mesh: &Mesh, v1: VertexId, normals: &mut [DVec3]) {
+    pub(crate) fn apply(&self, mesh: &Mesh, v1: VertexId, normals: &mut [Vec3]) {
         if self.len > NEW_NORMALS {
             update_normals_around(mesh, v1, normals);
         } else {
             for &(i, n) in &self.items[..self.len] {
-                normals[i as usize] = n;
+                normals[i as usize] = n.as_vec3();
             }
         }
     }
@@ -128,7 +128,7 @@ pub(crate) fn geometry(
     mesh: &Mesh,
     c: &Collapse,
     p: DVec3,
-    normals: &[DVec3],
+    normals: &[Vec3],
     cos_flip: f64,
     out: &mut NewNormals,
 ) -> bool {
@@ -151,7 +151,7 @@ pub(crate) fn geometry(
             }
             let fi = mesh.face_index(f);
             let len = len2.sqrt();
-            if n.dot(normals[fi]) < cos_flip * len {
+            if n.dot(normals[fi].as_dvec3()) < cos_flip * len {
                 return false;
             }
             if out.len < NEW_NORMALS {
@@ -165,8 +165,21 @@ pub(crate) fn geometry(
 
 /// Recomputes the cached unit normals of the faces around `v`.
 #[inline]
-pub(crate) fn update_normals_around(mesh: &Mesh, v: VertexId, normals: &mut [DVec3]) {
+pub(crate) fn update_normals_around(mesh: &Mesh, v: VertexId, normals: &mut [Vec3]) {
     for f in mesh.adjacent_faces(v) {
-        normals[mesh.face_index(f)] = mesh.face_normal(f);
+        normals[mesh.face_index(f)] = mesh.face_normal(f).as_vec3();
     }
+}
+
+/// Unit face normals by face index, in single precision (half the memory traffic; the
+/// tests they serve compare angles), computed in parallel.
+pub(crate) fn cached_normals(mesh: &Mesh) -> Vec<Vec3> {
+    use rayon::prelude::*;
+    let mut normals = vec![Vec3::ZERO; mesh.face_slots()];
+    normals.par_iter_mut().enumerate().for_each(|(i, n)| {
+        if let Some(f) = mesh.face_at(i) {
+            *n = mesh.face_normal(f).as_vec3();
+        }
+    });
+    normals
 }

@@ -34,9 +34,9 @@
 //! assert_eq!(h.mesh().n_faces(), faces);
 //! ```
 
-pub(crate) mod detail;
-pub(crate) mod heap;
-pub(crate) mod legality;
+pub mod detail;
+pub mod heap;
+pub mod legality;
 pub mod qem;
 pub mod rounds;
 
@@ -221,7 +221,7 @@ struct LabelBinding {
 /// attributes with [`mesh_mut`](Self::mesh_mut) at any level. Topology must only change
 /// through the hierarchy (a topological edit would make the following split or collapse
 /// fail with an error, never silently).
-#[derive(Clone, Debug)]
+#[derive(Clone)]
 pub struct Hierarchy {
     mesh: Mesh,
     records: Vec<CollapseRecord>,
@@ -237,6 +237,18 @@ pub struct Hierarchy {
     applied: usize,
     method: Method,
     labels: Option<LabelBinding>,
+}
+
+impl std::fmt::Debug for Hierarchy {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Hierarchy")
+            .field("method", &self.method)
+            .field("levels", &self.level_faces)
+            .field("records", &self.records.len())
+            .field("applied", &self.applied)
+            .field("mesh", &self.mesh)
+            .finish()
+    }
 }
 
 /// # Building

@@ -251,7 +251,7 @@ pub(crate) fn build(
     let cos_flip = options.max_flip_angle.cos();
     let planes = face_planes(&h.mesh);
     let mut quadrics = vertex_quadrics(&h.mesh, &planes, options.boundary_weight);
-    let mut normals: Vec<DVec3> = planes.into_iter().map(|(n, _)| n).collect();
+    let mut normals: Vec<glam::Vec3> = planes.into_iter().map(|(n, _)| n.as_vec3()).collect();
     let slots = h.mesh.halfedge_slots();
     // Every edge (by its smaller halfedge index) has at most one heap entry; its state
     // says whether that entry's cost is current, stale, or the edge is parked (illegal,

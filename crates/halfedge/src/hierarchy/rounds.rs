@@ -1,7 +1,7 @@
 //! The seed paper's simplification in rounds ("Interactive Editing of Multiresolution
 //! Meshes", section 3; DESIGN.md §2).
 //!
-//! A round visits every edge once, in index order. An edge `v0v1` collapses when
+//! A round visits every live edge once, in index order. An edge `v0v1` collapses when
 //! - it is not locked: neither endpoint is the survivor of a collapse made earlier in
 //!   this round (after a collapse every edge incident to the survivor is locked until the
 //!   round ends);
@@ -18,7 +18,7 @@
 //! the faces, as the paper reports. Face normals are cached by face index and refreshed
 //! around each survivor.
 
-use glam::DVec3;
+use glam::{DVec3, Vec3};
 
 use super::legality::{self, Collapse, NewNormals, Placement};
 use super::{BuildProgress, Hierarchy, HierarchyOptions};
@@ -27,7 +27,7 @@ use crate::{HalfedgeId, Mesh, Result};
 /// Minimum over the star of `v0v1` of the cosine between a face normal and the star's
 /// average normal (1 for a planar star). `fl` and `fr` are counted once.
 #[inline]
-pub(crate) fn star_planarity(mesh: &Mesh, c: &Collapse, normals: &[DVec3]) -> f64 {
+pub(crate) fn star_planarity(mesh: &Mesh, c: &Collapse, normals: &[Vec3]) -> f64 {
     const CAP: usize = 64;
     let mut star = [DVec3::ZERO; CAP];
     let mut n = 0;
@@ -37,7 +37,7 @@ pub(crate) fn star_planarity(mesh: &Mesh, c: &Collapse, normals: &[DVec3]) -> f6
             if i == 1 && (Some(f) == c.fl || Some(f) == c.fr) {
                 continue;
             }
-            let normal = normals[mesh.face_index(f)];
+            let normal = normals[mesh.face_index(f)].as_dvec3();
             sum += normal;
             if n < CAP {
                 star[n] = normal;
@@ -53,7 +53,7 @@ pub(crate) fn star_planarity(mesh: &Mesh, c: &Collapse, normals: &[DVec3]) -> f6
         let mut min = 1.0f64;
         for v in [c.v0, c.v1] {
             for f in mesh.adjacent_faces(v) {
-                min = min.min(normals[mesh.face_index(f)].dot(avg));
+                min = min.min(normals[mesh.face_index(f)].as_dvec3().dot(avg));
             }
         }
         return min;
@@ -63,12 +63,12 @@ pub(crate) fn star_planarity(mesh: &Mesh, c: &Collapse, normals: &[DVec3]) -> f6
 
 /// Largest distance from `p` to the plane of a face around `v0` or `v1`.
 #[inline]
-pub(crate) fn star_plane_distance(mesh: &Mesh, c: &Collapse, p: DVec3, normals: &[DVec3]) -> f64 {
+pub(crate) fn star_plane_distance(mesh: &Mesh, c: &Collapse, p: DVec3, normals: &[Vec3]) -> f64 {
     let mut max = 0.0f64;
     for v in [c.v0, c.v1] {
         let q = p - mesh.position(v);
         for f in mesh.adjacent_faces(v) {
-            max = max.max(normals[mesh.face_index(f)].dot(q).abs());
+            max = max.max(normals[mesh.face_index(f)].as_dvec3().dot(q).abs());
         }
     }
     max
@@ -83,9 +83,20 @@ pub(crate) fn build(
     let input_faces = h.mesh.n_faces();
     let cos_planar = options.max_normal_deviation.cos();
     let cos_flip = options.max_flip_angle.cos();
-    let mut normals = h.mesh.face_normals();
+    let mut normals = legality::cached_normals(&h.mesh);
     let mut lock = vec![0u32; h.mesh.vertex_slots()];
-    let slots = h.mesh.halfedge_slots();
+    // The live edges (smaller halfedge index of each pair), in index order; rounds walk
+    // this list, which shrinks after every round, rather than every halfedge slot.
+    let mut edges: Vec<u32> = {
+        let mesh = &h.mesh;
+        (0..mesh.halfedge_slots())
+            .filter(|&i| {
+                mesh.halfedge_at(i)
+                    .is_some_and(|e| mesh.halfedge_index(mesh.opposite(e)) > i)
+            })
+            .map(|i| i as u32)
+            .collect()
+    };
     let mut round = 0u32;
     let mut since_report = 0usize;
     let mut new_normals = NewNormals::new();
@@ -93,28 +104,21 @@ pub(crate) fn build(
     {
         round += 1;
         let faces_before = h.mesh.n_faces();
-        let mut stats = [0usize; 6];
-        for i in 0..slots {
+        for &i in &edges {
             let (g, p, t) = {
                 let mesh = &h.mesh;
-                let Some(e) = mesh.halfedge_at(i) else {
+                let Some(e) = mesh.halfedge_at(i as usize) else {
                     continue;
                 };
                 let o = mesh.opposite(e);
-                if mesh.halfedge_index(o) < i {
-                    continue;
-                }
                 let (a, b) = (mesh.from_vertex(e), mesh.to_vertex(e));
                 if lock[mesh.vertex_index(a)] == round || lock[mesh.vertex_index(b)] == round {
-                    stats[0] += 1;
                     continue;
                 }
                 if star_planarity(mesh, &Collapse::new(mesh, e), &normals) < cos_planar {
-                    stats[1] += 1;
                     continue;
                 }
                 let Some((g, placement)) = choose_direction(mesh, e, o) else {
-                    stats[2] += 1;
                     continue;
                 };
                 let c = Collapse::new(mesh, g);
@@ -129,10 +133,8 @@ pub(crate) fn build(
                     continue;
                 }
                 if !legality::geometry(mesh, &c, p, &normals, cos_flip, &mut new_normals) {
-                    stats[3] += 1;
                     continue;
                 }
-                stats[4] += 1;
                 (g, p, t)
             };
             let v1 = h.mesh.to_vertex(g);
@@ -153,13 +155,9 @@ pub(crate) fn build(
                 break 'rounds;
             }
         }
+        let mesh = &h.mesh;
+        edges.retain(|&i| mesh.halfedge_at(i as usize).is_some());
         let removed = faces_before - h.mesh.n_faces();
-        if std::env::var("HIER_STATS").is_ok() {
-            eprintln!(
-                "round {round}: locked {} planarity {} topology {} geometry {} collapsed {}",
-                stats[0], stats[1], stats[2], stats[3], stats[4]
-            );
-        }
         h.close_level();
         progress(BuildProgress {
             levels: h.built_levels(),
