@@ -8,13 +8,12 @@
 //!
 //! Without a path, the first `.obj` in the workspace's `data/` folder is used.
 
-use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use clap::Parser;
 use edit::area::{EditingArea, EditingSession, FrameKind, SessionOptions};
-use halfedge::{Mesh, VertexId};
+use halfedge::VertexId;
 
 #[derive(Parser, Debug)]
 #[command(about = "Drag a vertex with Lee 1999 area editing and write the result as OBJ")]
@@ -59,22 +58,6 @@ fn default_mesh() -> Result<PathBuf, String> {
             data.display()
         )
     })
-}
-
-/// A minimal OBJ writer (positions and triangles; vertices renumbered in slot order).
-fn write_obj(mesh: &Mesh, path: &Path) -> std::io::Result<()> {
-    let mut out = std::io::BufWriter::new(std::fs::File::create(path)?);
-    let mut number = vec![0usize; mesh.vertex_slots()];
-    for (k, v) in mesh.vertices().enumerate() {
-        number[mesh.vertex_index(v)] = k + 1;
-        let p = mesh.position(v);
-        writeln!(out, "v {} {} {}", p.x, p.y, p.z)?;
-    }
-    for f in mesh.faces() {
-        let [a, b, c] = mesh.triangle(f).map(|v| number[mesh.vertex_index(v)]);
-        writeln!(out, "f {a} {b} {c}")?;
-    }
-    out.flush()
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -159,7 +142,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .output
         .unwrap_or_else(|| std::env::temp_dir().join("area_edit.obj"));
     let t = Instant::now();
-    write_obj(&mesh, &output)?;
+    halfedge::io::write_obj(&output, &mesh)?;
     println!("wrote {} in {:.1?}", output.display(), t.elapsed());
     Ok(())
 }

@@ -12,7 +12,6 @@
 //! the fixed border's centre (then moves it by `--pull`), refines stretched triangles,
 //! writes an OBJ and prints the timings of each step.
 
-use std::io::Write;
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -85,22 +84,6 @@ fn picks_around(mesh: &Mesh, centre: DVec3, axis: DVec3, radius: f64, n: usize) 
             })
         })
         .collect()
-}
-
-/// A minimal OBJ writer: live vertices in index order, triangles.
-fn write_obj(mesh: &Mesh, path: &PathBuf) -> std::io::Result<()> {
-    let mut out = std::io::BufWriter::new(std::fs::File::create(path)?);
-    let mut number = vec![0usize; mesh.vertex_slots()];
-    for (k, v) in mesh.vertices().enumerate() {
-        number[mesh.vertex_index(v)] = k + 1;
-        let p = mesh.position(v);
-        writeln!(out, "v {} {} {}", p.x, p.y, p.z)?;
-    }
-    for f in mesh.faces() {
-        let [a, b, c] = mesh.triangle(f).map(|v| number[mesh.vertex_index(v)]);
-        writeln!(out, "f {a} {b} {c}")?;
-    }
-    out.flush()
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -188,7 +171,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
 
     let clock = Instant::now();
-    write_obj(&mesh, &args.out)?;
+    halfedge::io::write_obj(&args.out, &mesh)?;
     println!(
         "wrote {} in {:.3} s",
         args.out.display(),

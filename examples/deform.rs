@@ -6,8 +6,7 @@
 //! cargo run --release --example deform -- ../shared/meshes/spot.obj --out spot-deformed.obj
 //! ```
 
-use std::io::{BufWriter, Write};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::Parser;
@@ -16,7 +15,6 @@ use edit::ffd::{AttachOptions, Ffd, Frame};
 use edit::selection::Vertices;
 use edit::smoothing::{taubin, TaubinOptions, Weights};
 use glam::DVec3;
-use halfedge::Mesh;
 
 /// Twist, taper, smooth and bend a mesh.
 #[derive(Parser)]
@@ -38,20 +36,6 @@ struct Args {
     /// FFD bend angle in degrees.
     #[arg(long, default_value_t = 45.0)]
     bend: f64,
-}
-
-/// A minimal OBJ writer: every vertex slot (so that indices match the input file), then
-/// the faces.
-fn write_obj(mesh: &Mesh, path: &Path) -> std::io::Result<()> {
-    let mut out = BufWriter::new(std::fs::File::create(path)?);
-    for p in mesh.positions() {
-        writeln!(out, "v {} {} {}", p.x, p.y, p.z)?;
-    }
-    for f in mesh.faces() {
-        let [a, b, c] = mesh.triangle(f).map(|v| mesh.vertex_index(v) + 1);
-        writeln!(out, "f {a} {b} {c}")?;
-    }
-    out.flush()
 }
 
 fn timed<T>(what: &str, f: impl FnOnce() -> T) -> T {
@@ -116,7 +100,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     timed("FFD deform (bend)", || ffd.deform(&mut mesh))?;
 
     mesh.check()?;
-    timed("write", || write_obj(&mesh, &args.out))?;
+    timed("write", || halfedge::io::write_obj(&args.out, &mesh))?;
     println!("wrote {}", args.out.display());
     Ok(())
 }
