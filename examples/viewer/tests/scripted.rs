@@ -121,7 +121,7 @@ fn scripted_drag_undo_redo_save_and_screenshot() {
     let dir = scratch_dir("drag");
     let input = dir.join("sphere.obj");
     let original = generators::icosphere(3);
-    viewer::save::write_obj(&original, &input).unwrap();
+    halfedge::io::write_obj(&input, &original).unwrap();
     let (a, b, c, shot) = (
         dir.join("a.obj"),
         dir.join("b.obj"),
@@ -207,7 +207,7 @@ fn screenshot_without_a_script() {
     };
     let dir = scratch_dir("shot");
     let input = dir.join("grid.obj");
-    viewer::save::write_obj(&generators::grid(20, 20, 1.0, 1.0), &input).unwrap();
+    halfedge::io::write_obj(&input, &generators::grid(20, 20, 1.0, 1.0)).unwrap();
     let shot = dir.join("grid.png");
     let out = run_viewer(
         prefix,
