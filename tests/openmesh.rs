@@ -11,42 +11,15 @@
 //! Without python3 or the openmesh module these tests fail with instructions; set
 //! `MULTIRES_SKIP_OPENMESH=1` to skip them deliberately.
 
+mod common;
+
+use common::{root, shared_meshes, KEYS};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
 use halfedge::io::{self, PlyFormat};
 use halfedge::{generators, Mesh};
 use serde_json::Value;
-
-/// The report keys OpenMesh and this kernel both compute.
-const KEYS: [&str; 9] = [
-    "vertices",
-    "edges",
-    "faces",
-    "halfedges",
-    "boundary_vertices",
-    "boundary_loops",
-    "components",
-    "euler",
-    "valence_histogram",
-];
-
-fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-}
-
-/// `../shared/meshes` (the first ancestor of the workspace that has `shared/meshes`), or
-/// `$MULTIRES_MESHES`.
-fn shared_meshes() -> PathBuf {
-    if let Some(dir) = std::env::var_os("MULTIRES_MESHES") {
-        return PathBuf::from(dir);
-    }
-    root()
-        .ancestors()
-        .map(|a| a.join("shared/meshes"))
-        .find(|d| d.is_dir())
-        .expect("no shared/meshes directory above the workspace (set MULTIRES_MESHES)")
-}
 
 fn mesh_files(dir: &Path) -> Vec<PathBuf> {
     let mut files: Vec<PathBuf> = std::fs::read_dir(dir)

@@ -17,9 +17,12 @@
 //! Without python3 or the openmesh module these tests fail with instructions; set
 //! `MULTIRES_SKIP_OPENMESH=1` to skip them deliberately.
 
+mod common;
+
+use common::{root, shared_meshes, KEYS};
 use std::collections::HashMap;
 use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::Command;
 
 use halfedge::{CollapseRecord, Error, HalfedgeId, Mesh};
@@ -27,34 +30,6 @@ use rand::seq::IndexedRandom;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde_json::Value;
-
-/// The report keys compared with OpenMesh's.
-const KEYS: [&str; 9] = [
-    "vertices",
-    "edges",
-    "faces",
-    "halfedges",
-    "boundary_vertices",
-    "boundary_loops",
-    "components",
-    "euler",
-    "valence_histogram",
-];
-
-fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn shared_meshes() -> PathBuf {
-    if let Some(dir) = std::env::var_os("MULTIRES_MESHES") {
-        return PathBuf::from(dir);
-    }
-    root()
-        .ancestors()
-        .map(|a| a.join("shared/meshes"))
-        .find(|d| d.is_dir())
-        .expect("no shared/meshes directory above the workspace (set MULTIRES_MESHES)")
-}
 
 /// The shared meshes this kernel reads (every OBJ and PLY file), loaded.
 fn meshes() -> Vec<(PathBuf, Mesh)> {
