@@ -296,8 +296,7 @@ impl Mesh {
                 n_links += 1;
                 if let Some(g) = self.face(y) {
                     if self.face_halfedge(g) == y {
-                        face_halfedges[usize::from(Some(y) == vrv0)] =
-                            [Self::ix(g), ix(y), ix(r)];
+                        face_halfedges[usize::from(Some(y) == vrv0)] = [Self::ix(g), ix(y), ix(r)];
                     }
                 }
             }

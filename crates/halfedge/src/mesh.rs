@@ -162,13 +162,19 @@ impl Mesh {
     /// The record of halfedge `h`.
     #[inline]
     pub(crate) fn rec(&self, h: HalfedgeId) -> &HalfedgeRec {
-        debug_assert!(self.halfedge_slots_.contains(h), "stale halfedge handle {h}");
+        debug_assert!(
+            self.halfedge_slots_.contains(h),
+            "stale halfedge handle {h}"
+        );
         &self.he[slot(h)]
     }
     /// The record of halfedge `h`, mutable.
     #[inline]
     pub(crate) fn rec_mut(&mut self, h: HalfedgeId) -> &mut HalfedgeRec {
-        debug_assert!(self.halfedge_slots_.contains(h), "stale halfedge handle {h}");
+        debug_assert!(
+            self.halfedge_slots_.contains(h),
+            "stale halfedge handle {h}"
+        );
         &mut self.he[slot(h)]
     }
     /// Slot index of a handle as `u32`.
@@ -474,7 +480,10 @@ impl Mesh {
     /// The other halfedge of the same edge.
     #[inline]
     pub fn opposite(&self, h: HalfedgeId) -> HalfedgeId {
-        debug_assert!(self.halfedge_slots_.contains(h), "stale halfedge handle {h}");
+        debug_assert!(
+            self.halfedge_slots_.contains(h),
+            "stale halfedge handle {h}"
+        );
         self.hh(Self::ix(h) ^ 1)
     }
     /// The face left of a halfedge; `None` for a boundary halfedge.
