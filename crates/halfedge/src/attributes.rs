@@ -190,7 +190,7 @@ impl Element for VertexId {
         &mut mesh.vertex_attributes
     }
     fn is_live(mesh: &Mesh, key: Self) -> bool {
-        mesh.vertices.contains_key(key)
+        mesh.vertex_slots_.contains(key)
     }
 }
 impl Element for HalfedgeId {
@@ -201,7 +201,7 @@ impl Element for HalfedgeId {
         &mut mesh.halfedge_attributes
     }
     fn is_live(mesh: &Mesh, key: Self) -> bool {
-        mesh.halfedges.contains_key(key)
+        mesh.halfedge_slots_.contains(key)
     }
 }
 impl Element for FaceId {
@@ -212,7 +212,7 @@ impl Element for FaceId {
         &mut mesh.face_attributes
     }
     fn is_live(mesh: &Mesh, key: Self) -> bool {
-        mesh.faces.contains_key(key)
+        mesh.face_slots_.contains(key)
     }
 }
 

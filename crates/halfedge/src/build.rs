@@ -14,16 +14,15 @@
 //!   before anything is built. Unreferenced vertices stay as isolated vertices, and
 //!   vertex `i` of the input is the vertex with [`Mesh::vertex_index`] `i`.
 //!
-//! For speed the faces are added on compact `u32` arrays (OpenMesh's layout) and, for
-//! large inputs, a second thread writes the [`Mesh`]'s memory meanwhile (see
-//! `compact_build.rs`). The result is the very mesh that adding the faces to it one by
-//! one gives (same handles, links and order; a unit test compares both on non-manifold
-//! input); on nefertiti subdivided twice (1.6 M faces) building takes about half the time.
+//! For speed the faces are added on bare `u32` connectivity arrays, which are then moved
+//! into the [`Mesh`] whole (see `compact_build.rs`). The result is the very mesh that
+//! adding the faces to it one by one gives (same handles, links and order; a unit test
+//! compares both on non-manifold input).
 
 use glam::DVec3;
 
 use crate::add_face::{add_face, Connectivity, Refusal, Scratch};
-use crate::compact_build::{create_elements, Compact};
+use crate::compact_build::Compact;
 use crate::{Error, FaceId, Mesh, Result, VertexId};
 
 /// What [`Mesh::from_polygons`] had to do to turn the input into a manifold triangle mesh.
@@ -67,10 +66,6 @@ impl std::fmt::Display for AddFaceError {
     }
 }
 impl std::error::Error for AddFaceError {}
-
-/// From this many triangles on, a second thread creates the mesh's elements while the
-/// add-face algorithm runs (see `compact_build.rs`).
-const PARALLEL_FROM_FACES: usize = 20_000;
 
 /// # Building
 impl Mesh {
@@ -134,34 +129,18 @@ impl Mesh {
         // At most 2 halfedges per triangle edge, twice over when a face is re-added on
         // copies of its vertices.
         let max_halfedges = n_faces.saturating_mul(12);
-        if compact && max_halfedges <= Compact::MAX_HALFEDGES && n <= Compact::MAX_HALFEDGES {
-            let mut mesh = Mesh::with_capacity(n, n_faces);
-            let parallel = n_faces >= PARALLEL_FROM_FACES
-                && std::thread::available_parallelism().is_ok_and(|p| p.get() > 1);
-            let compact = if parallel {
-                let (sender, batches) = std::sync::mpsc::sync_channel(64);
-                std::thread::scope(|scope| {
-                    let elements = scope.spawn(|| create_elements(&mut mesh, positions, batches));
-                    // Dropping the compact arrays' sender (also when unwinding) ends the
-                    // element thread.
-                    let mut compact = Compact::new(n, n_faces, Some(sender));
-                    add_polygons(&mut compact, |i| i, polygons, &mut report);
-                    compact.finish_sending();
-                    if let Err(panic) = elements.join() {
-                        std::panic::resume_unwind(panic);
-                    }
-                    compact
-                })
-            } else {
-                let mut compact = Compact::new(n, n_faces, None);
-                add_polygons(&mut compact, |i| i, polygons, &mut report);
-                compact.create_all(&mut mesh, positions);
-                compact
-            };
-            compact.finish(&mut mesh);
-            return Ok((mesh, report));
+        if max_halfedges > Compact::MAX_HALFEDGES || n > Compact::MAX_HALFEDGES {
+            return Err(Error::InvalidArgument(format!(
+                "{n} vertices and {n_faces} triangles are more than 32-bit slot indices \
+                 can address"
+            )));
         }
-        // Too large for `u32` handles: build on the mesh itself (same algorithm).
+        if compact {
+            let mut compact = Compact::new(n, n_faces);
+            add_polygons(&mut compact, |i| i, polygons, &mut report);
+            return Ok((compact.into_mesh(positions), report));
+        }
+        // The same algorithm on the mesh itself (tests compare the two).
         let mut mesh = Mesh::with_capacity(n, n_faces);
         let vertices: Vec<VertexId> = positions.iter().map(|&p| mesh.add_vertex(p)).collect();
         add_polygons(&mut mesh, |i| vertices[i as usize], polygons, &mut report);

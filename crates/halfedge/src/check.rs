@@ -23,50 +23,53 @@ impl Mesh {
     }
 
     fn check_invariants(&self) -> std::result::Result<(), Invariant> {
-        let live_v = self.vertices.values().filter(|s| !s.deleted).count();
-        let live_h = self.halfedges.values().filter(|s| !s.deleted).count();
-        let live_f = self.faces.values().filter(|s| !s.deleted).count();
+        let live_v = self.vertex_slots_.live_count();
+        let live_h = self.halfedge_slots_.live_count();
+        let live_f = self.face_slots_.live_count();
         if (live_v, live_h, live_f) != (self.n_vertices, self.n_halfedges, self.n_faces) {
             return Err(Invariant::Counts(format!(
                 "stored V/H/F {}/{}/{}, live {live_v}/{live_h}/{live_f}",
                 self.n_vertices, self.n_halfedges, self.n_faces
             )));
         }
+        let (vs, hs, fs) = (
+            &self.vertex_slots_,
+            &self.halfedge_slots_,
+            &self.face_slots_,
+        );
         let mut outgoing = vec![0usize; self.vertex_slots()];
         for h in self.halfedges() {
-            let s = &self.halfedges[h];
-            if !self.is_valid_halfedge(s.next)
-                || !self.is_valid_halfedge(s.prev)
-                || !self.is_valid_vertex(s.to)
+            let i = Self::ix(h) as usize;
+            let s = self.he[i];
+            if !hs.is_live_index(s.next as usize)
+                || !hs.is_live_index(s.prev as usize)
+                || !vs.is_live_index(s.to as usize)
             {
                 return Err(Invariant::DeadLink(h));
             }
-            if !self.is_valid_halfedge(s.opposite)
-                || s.opposite == h
-                || self.opposite(s.opposite) != h
-            {
+            if !hs.is_live_index(i ^ 1) {
                 return Err(Invariant::Opposite(h));
             }
-            if self.prev(s.next) != h || self.next(s.prev) != h {
+            if self.he[s.next as usize].prev as usize != i
+                || self.he[s.prev as usize].next as usize != i
+            {
                 return Err(Invariant::NextPrev(h));
             }
-            if let Some(f) = s.face {
-                if !self.is_valid_face(f) {
-                    return Err(Invariant::DeadLink(h));
-                }
+            if s.face != crate::handle::NONE && !fs.is_live_index(s.face as usize) {
+                return Err(Invariant::DeadLink(h));
             }
-            if self.face(s.next) != s.face {
+            if self.he[s.next as usize].face != s.face {
                 return Err(Invariant::FaceLoop(h));
             }
-            let from = self.from_vertex(h);
+            let from = self.he[i ^ 1].to;
             if from == s.to {
                 return Err(Invariant::SelfLoop(h));
             }
-            outgoing[self.vertex_index(from)] += 1;
+            outgoing[from as usize] += 1;
         }
         for f in self.faces() {
-            let h = self.faces[f].halfedge;
-            if !self.is_valid_halfedge(h) || self.face(h) != Some(f) {
+            let h = self.face_conn[Self::ix(f) as usize];
+            if !hs.is_live_index(h as usize) || self.he[h as usize].face != Self::ix(f) {
                 return Err(Invariant::FaceHalfedge(f));
             }
             let len = self.face_halfedges(f).take(4).count();
@@ -130,15 +133,16 @@ mod tests {
             let h = m.halfedges().next().unwrap();
             let n = m.next(h);
             let nn = m.next(n);
-            m.halfedges[h].next = nn;
+            m.rec_mut(h).next = Mesh::ix(nn);
         });
         assert!(matches!(i, Invariant::NextPrev(_)), "{i}");
 
         let i = broken(|m| {
             let h = m.halfedges().next().unwrap();
             let o = m.opposite(h);
-            let other = m.halfedges().find(|&g| g != h && g != o).unwrap();
-            m.halfedges[h].opposite = other;
+            // Opposites are neighbouring slots: remove one half of the edge.
+            m.halfedge_slots_.bury(Mesh::ix(o) as usize);
+            m.n_halfedges -= 1;
         });
         assert!(matches!(i, Invariant::Opposite(_)), "{i}");
 
@@ -146,14 +150,14 @@ mod tests {
             let f = m.faces().next().unwrap();
             let g = m.faces().nth(5).unwrap();
             let hg = m.face_halfedge(g);
-            m.faces[f].halfedge = hg;
+            m.face_conn[Mesh::ix(f) as usize] = Mesh::ix(hg);
         });
         assert!(matches!(i, Invariant::FaceHalfedge(_)), "{i}");
 
         let i = broken(|m| {
             let v = m.vertices().next().unwrap();
             let h = m.halfedges().find(|&h| m.from_vertex(h) != v).unwrap();
-            m.vertices[v].halfedge = Some(h);
+            m.vertex_conn[Mesh::ix(v) as usize] = Mesh::ix(h);
         });
         assert!(matches!(i, Invariant::VertexHalfedge(_)), "{i}");
 
@@ -166,7 +170,7 @@ mod tests {
             let h = m.halfedges().next().unwrap();
             let f = m.face(h);
             let g = m.faces().find(|&g| Some(g) != f).unwrap();
-            m.halfedges[h].face = Some(g);
+            m.rec_mut(h).face = Mesh::ix(g);
         });
         assert!(
             matches!(i, Invariant::FaceLoop(_) | Invariant::FaceHalfedge(_)),
@@ -175,7 +179,7 @@ mod tests {
 
         let i = broken(|m| {
             let v = m.vertices().next().unwrap();
-            m.vertices[v].halfedge = None;
+            m.vertex_conn[Mesh::ix(v) as usize] = crate::handle::NONE;
         });
         assert!(matches!(i, Invariant::Isolated(_)), "{i}");
     }
@@ -189,7 +193,7 @@ mod tests {
             .outgoing_halfedges(v)
             .find(|&h| !mesh.is_boundary_halfedge(h))
             .unwrap();
-        mesh.vertices[v].halfedge = Some(interior);
+        mesh.vertex_conn[Mesh::ix(v) as usize] = Mesh::ix(interior);
         assert!(matches!(
             mesh.check(),
             Err(crate::Error::Invariant(Invariant::BoundaryHalfedge(_)))

@@ -24,6 +24,7 @@
 
 use glam::DVec3;
 
+use crate::handle::{slot, NONE};
 use crate::{Error, FaceId, HalfedgeId, Mesh, Result, VertexId};
 
 /// Why [`Mesh::is_collapse_ok`] refuses a collapse (OpenMesh's
@@ -68,8 +69,8 @@ impl std::fmt::Display for CollapseVeto {
     }
 }
 
-/// One rewritten `next` link: `(halfedge, next before, next after)`.
-type Link = (HalfedgeId, HalfedgeId, HalfedgeId);
+/// One rewritten `next` link, as slot indices: `[halfedge, next before, next after]`.
+type Link = [u32; 3];
 
 /// Everything [`Mesh::vertex_split`] needs to undo a [`Mesh::collapse`], with OpenMesh's
 /// names for the parts of the collapse.
@@ -103,11 +104,16 @@ pub struct CollapseRecord {
     pub v0vr: Option<HalfedgeId>,
     /// `vr → v1`, kept: it takes the place of the removed `vr → v0`.
     pub vrv1: Option<HalfedgeId>,
-    links: [Option<Link>; 4],
-    face_halfedges: [Option<(FaceId, HalfedgeId, HalfedgeId)>; 2],
-    vertex_halfedges: [(VertexId, Option<HalfedgeId>, Option<HalfedgeId>); 4],
+    // The links the collapse rewrote, as slot indices (`NONE`: no element), kept compact
+    // since a hierarchy stores one record per vertex.
+    links: [Link; 4],
+    n_links: u8,
+    /// `[face, halfedge before, halfedge after]` for faces whose halfedge was re-chosen.
+    face_halfedges: [[u32; 3]; 2],
+    /// `[before, after]` outgoing halfedge of `v0`, `v1`, `vl` (or `v1`), `vr` (or `v1`).
+    vertex_halfedges: [[u32; 2]; 4],
     /// Outgoing halfedge of `v1` after which the moved halfedges start (counter-clockwise).
-    start: HalfedgeId,
+    start: u32,
     /// Number of halfedges moved from `v0` to `v1`.
     moved: u32,
 }
@@ -118,6 +124,17 @@ impl CollapseRecord {
     /// the two opposite vertices that are always among them.
     pub fn opposite_vertices(&self) -> impl Iterator<Item = VertexId> {
         self.vl.into_iter().chain(self.vr)
+    }
+
+    /// `v0`, `v1`, `vl` (or `v1`), `vr` (or `v1`): the vertices whose outgoing halfedge
+    /// the record remembers, in the order of `vertex_halfedges`.
+    fn record_vertices(&self) -> [VertexId; 4] {
+        [
+            self.v0,
+            self.v1,
+            self.vl.unwrap_or(self.v1),
+            self.vr.unwrap_or(self.v1),
+        ]
     }
 }
 
@@ -264,21 +281,22 @@ impl Mesh {
             fl.is_none().then_some(h),
             fr.is_none().then_some(o),
         ];
-        let mut links: [Option<Link>; 4] = [None; 4];
+        let ix = Self::ix::<HalfedgeId>;
+        let mut links: [Link; 4] = [[NONE; 3]; 4];
         let mut n_links = 0;
-        let mut face_halfedges = [None; 2];
+        let mut face_halfedges = [[NONE; 3]; 2];
         for y in leaving.into_iter().flatten() {
             let x = self.prev(y);
             if replacement(x).is_none() {
-                links[n_links] = Some((x, self.next(x), resolve(y)));
+                links[n_links] = [ix(x), ix(self.next(x)), ix(resolve(y))];
                 n_links += 1;
             }
             if let Some(Some(r)) = replacement(y) {
-                links[n_links] = Some((r, self.next(r), resolve(self.next(y))));
+                links[n_links] = [ix(r), ix(self.next(r)), ix(resolve(self.next(y)))];
                 n_links += 1;
                 if let Some(g) = self.face(y) {
                     if self.face_halfedge(g) == y {
-                        face_halfedges[usize::from(Some(y) == vrv0)] = Some((g, y, r));
+                        face_halfedges[usize::from(Some(y) == vrv0)] = [Self::ix(g), ix(y), ix(r)];
                     }
                 }
             }
@@ -293,21 +311,22 @@ impl Mesh {
         };
 
         let record_vertices = [v0, v1, vl.unwrap_or(v1), vr.unwrap_or(v1)];
-        let old_vertex_halfedges = record_vertices.map(|v| self.vertex_halfedge(v));
+        let old_vertex_halfedges = record_vertices.map(|v| self.vertex_conn[slot(v)]);
         // Only a boundary vertex can need its outgoing halfedge re-chosen afterwards: a
         // collapse never puts an interior vertex on the boundary.
         let on_boundary = record_vertices.map(|v| self.is_boundary_vertex(v));
 
         // --- mutate ---
+        self.touch_topology();
         // Rotating around v0 reads `prev` and `opposite` only, which this loop keeps.
         let mut moved = 0u32;
-        let first = self.vertices[v0].halfedge.expect("v0 has edges");
+        let first = self.vertex_halfedge(v0).expect("v0 has edges");
         let mut k = first;
         loop {
             let next = self.ccw_rotated(k);
             if !removed_out.contains(&Some(k)) {
                 let ko = self.opposite(k);
-                self.halfedges[ko].to = v1;
+                self.set_to_vertex(ko, v1);
                 moved += 1;
             }
             k = next;
@@ -315,29 +334,31 @@ impl Mesh {
                 break;
             }
         }
-        for &(x, _, n) in links.iter().flatten() {
-            self.set_next(x, n);
+        for &[x, _, n] in &links[..n_links] {
+            self.set_next_ix(x, n);
         }
         if let (Some(r), Some(y)) = (v1vl, v0vl) {
-            self.halfedges[r].face = self.face(y);
+            self.rec_mut(r).face = self.rec(y).face;
         }
         if let (Some(r), Some(y)) = (vrv1, vrv0) {
-            self.halfedges[r].face = self.face(y);
+            self.rec_mut(r).face = self.rec(y).face;
         }
-        for &(g, _, r) in face_halfedges.iter().flatten() {
-            self.faces[g].halfedge = r;
+        for &[g, _, r] in &face_halfedges {
+            if g != NONE {
+                self.face_conn[g as usize] = r;
+            }
         }
         // Vertex halfedges: v1 and the opposite vertices may have pointed at removed halfedges.
         let v1_out = v1vl
             .or_else(|| self.next_outgoing_alive(v1, o))
             .expect("v1 keeps an edge");
-        self.vertices[v1].halfedge = Some(v1_out);
+        self.set_vertex_halfedge(v1, Some(v1_out));
         if on_boundary[0] || on_boundary[1] {
             self.adjust_outgoing_halfedge(v1);
         }
         if let (Some(vl), Some(r)) = (vl, v1vl) {
             if self.vertex_halfedge(vl) == vlv0 {
-                self.vertices[vl].halfedge = Some(self.opposite(r));
+                self.set_vertex_halfedge(vl, Some(self.opposite(r)));
             }
             if on_boundary[2] {
                 self.adjust_outgoing_halfedge(vl);
@@ -345,34 +366,32 @@ impl Mesh {
         }
         if let (Some(vr), Some(r)) = (vr, vrv1) {
             if self.vertex_halfedge(vr) == vrv0 {
-                self.vertices[vr].halfedge = Some(r);
+                self.set_vertex_halfedge(vr, Some(r));
             }
             if on_boundary[3] {
                 self.adjust_outgoing_halfedge(vr);
             }
         }
         // Tombstones.
-        self.vertices[v0].deleted = true;
+        self.vertex_slots_.bury(slot(v0));
         self.n_vertices -= 1;
         for x in [Some(h), Some(o), vlv0, v0vl, v0vr, vrv0]
             .into_iter()
             .flatten()
         {
-            self.halfedges[x].deleted = true;
+            self.halfedge_slots_.bury(slot(x));
             self.n_halfedges -= 1;
         }
         for f in [fl, fr].into_iter().flatten() {
-            self.faces[f].deleted = true;
+            self.face_slots_.bury(slot(f));
             self.n_faces -= 1;
         }
-        let new_vertex_halfedges = record_vertices.map(|v| self.vertex_halfedge(v));
-        let mut vertex_halfedges = [(v0, None, None); 4];
+        let mut vertex_halfedges = [[NONE; 2]; 4];
         for i in 0..4 {
-            vertex_halfedges[i] = (
-                record_vertices[i],
+            vertex_halfedges[i] = [
                 old_vertex_halfedges[i],
-                new_vertex_halfedges[i],
-            );
+                self.vertex_conn[slot(record_vertices[i])],
+            ];
         }
         CollapseRecord {
             v0v1: h,
@@ -390,9 +409,10 @@ impl Mesh {
             v0vr,
             vrv1,
             links,
+            n_links: n_links as u8,
             face_halfedges,
             vertex_halfedges,
-            start,
+            start: ix(start),
             moved,
         }
     }
@@ -400,7 +420,7 @@ impl Mesh {
     /// The first outgoing halfedge of `v` counter-clockwise after `h` that is not `h`.
     fn next_outgoing_alive(&self, v: VertexId, h: HalfedgeId) -> Option<HalfedgeId> {
         self.outgoing_halfedges(v)
-            .find(|&k| k != h && !self.halfedges[k].deleted)
+            .find(|&k| k != h && self.halfedge_slots_.is_live(k))
     }
 
     /// Undoes [`collapse`](Self::collapse): revives `v0` (same handle), its edges and the
@@ -421,71 +441,83 @@ impl Mesh {
             .into_iter()
             .flatten()
         {
-            if !self.halfedges.get(x).is_some_and(|s| s.deleted) {
+            if !self.halfedge_slots_.is_tombstone(x) {
                 return refuse("a removed halfedge is not a tombstone any more");
             }
         }
         for f in [r.fl, r.fr].into_iter().flatten() {
-            if !self.faces.get(f).is_some_and(|s| s.deleted) {
+            if !self.face_slots_.is_tombstone(f) {
                 return refuse("a removed face is not a tombstone any more");
             }
         }
-        for &(x, _, new) in r.links.iter().flatten() {
-            if !self.is_valid_halfedge(x) || self.next(x) != new {
+        let hs = &self.halfedge_slots_;
+        for &[x, _, new] in &r.links[..usize::from(r.n_links)] {
+            if !hs.is_live_index(x as usize) || self.he[x as usize].next != new {
                 return refuse("a link the collapse wrote has changed");
             }
         }
-        for &(v, _, new) in &r.vertex_halfedges {
-            if !self.is_valid_vertex(v) && v != r.v0 {
+        for (v, &[_, new]) in r.record_vertices().into_iter().zip(&r.vertex_halfedges) {
+            if v == r.v0 {
+                continue;
+            }
+            if !self.is_valid_vertex(v) {
                 return refuse("a neighbour vertex was removed");
             }
-            if v != r.v0 && self.vertex_halfedge(v) != new {
+            if self.vertex_conn[slot(v)] != new {
                 return refuse("a vertex halfedge the collapse set has changed");
             }
         }
-        if !self.is_valid_halfedge(r.start) || self.from_vertex(r.start) != r.v1 {
+        let start = r.start as usize;
+        if !hs.is_live_index(start) || self.he[start ^ 1].to != Self::ix(r.v1) {
             return refuse("the anchor halfedge around v1 has changed");
         }
-        let mut k = r.start;
+        let mut k = start;
         for _ in 0..r.moved {
-            k = self.ccw_rotated(k);
-            if k == r.start {
+            k = (self.he[k].prev ^ 1) as usize;
+            if k == start {
                 return refuse("v1 has fewer edges than the collapse moved to it");
             }
         }
+        self.vertex_split_unchecked(r);
+        Ok(())
+    }
 
-        // --- mutate ---
-        self.vertices[r.v0].deleted = false;
+    /// [`vertex_split`](Self::vertex_split) without its checks, for a caller that knows
+    /// the connectivity is what the collapse left (a hierarchy whose mesh kept its
+    /// [`topology_stamp`](Self::topology_stamp) since its own last step).
+    pub(crate) fn vertex_split_unchecked(&mut self, r: &CollapseRecord) {
+        self.touch_topology();
+        let start = r.start as usize;
+        self.vertex_slots_.revive(slot(r.v0));
         self.n_vertices += 1;
         for x in [Some(r.v0v1), r.vlv0, r.v0vr].into_iter().flatten() {
-            let xo = self.halfedges[x].opposite;
-            self.halfedges[x].deleted = false;
-            self.halfedges[xo].deleted = false;
+            self.halfedge_slots_.revive(slot(x));
+            self.halfedge_slots_.revive(slot(x) ^ 1);
             self.n_halfedges += 2;
         }
         for f in [r.fl, r.fr].into_iter().flatten() {
-            self.faces[f].deleted = false;
+            self.face_slots_.revive(slot(f));
             self.n_faces += 1;
         }
         // The same walk as the check above: reviving changed no `prev` or `opposite`.
-        let mut k = r.start;
+        let v0 = Self::ix(r.v0);
+        let mut k = start;
         for _ in 0..r.moved {
-            k = self.ccw_rotated(k);
-            let ko = self.opposite(k);
-            self.halfedges[ko].to = r.v0;
+            k = (self.he[k].prev ^ 1) as usize;
+            self.he[k ^ 1].to = v0;
         }
-        for &(x, old, _) in r.links.iter().flatten() {
-            self.set_next(x, old);
+        for &[x, old, _] in &r.links[..usize::from(r.n_links)] {
+            self.set_next_ix(x, old);
         }
         // The kept halfedges return to their faces; the removed cycles are intact tombstones.
         if let (Some(x), Some(next)) = (r.v1vl, r.vlv0) {
-            self.halfedges[x].face = r.fl;
+            self.set_face(x, r.fl);
             self.set_next(r.v0v1, x);
             self.set_next(x, next);
             self.set_next(next, r.v0v1);
         }
         if let (Some(x), Some(prev)) = (r.vrv1, r.v0vr) {
-            self.halfedges[x].face = r.fr;
+            self.set_face(x, r.fr);
             self.set_next(r.v1v0, prev);
             self.set_next(prev, x);
             self.set_next(x, r.v1v0);
@@ -495,18 +527,19 @@ impl Mesh {
         for x in [Some(r.v0v1), r.vlv0, r.v0vr].into_iter().flatten() {
             for k in [x, self.opposite(x)] {
                 let n = self.next(k);
-                self.halfedges[n].prev = k;
+                self.rec_mut(n).prev = Self::ix(k);
             }
         }
-        for &(g, old, _) in r.face_halfedges.iter().flatten() {
-            self.faces[g].halfedge = old;
+        for &[g, old, _] in &r.face_halfedges {
+            if g != NONE {
+                self.face_conn[g as usize] = old;
+            }
         }
-        for &(v, old, _) in &r.vertex_halfedges {
-            self.vertices[v].halfedge = old;
+        for (v, &[old, _]) in r.record_vertices().into_iter().zip(&r.vertex_halfedges) {
+            self.vertex_conn[slot(v)] = old;
         }
         let (i0, i1) = (self.vertex_index(r.v0), self.vertex_index(r.v1));
         self.positions[i0] = r.p0;
         self.positions[i1] = r.p1;
-        Ok(())
     }
 }

@@ -6,40 +6,30 @@
 //! halfedge has no face and the faces follow in counter-clockwise order. Face
 //! circulators start at [`Mesh::face_halfedge`] and follow `next`.
 
+use crate::handle::NONE;
 use crate::{FaceId, HalfedgeId, Mesh, VertexId};
 
 /// # Iterating over elements
 impl Mesh {
     /// Live vertices, in slot order (file order for a mesh read from a file).
     pub fn vertices(&self) -> impl Iterator<Item = VertexId> + Clone + '_ {
-        self.vertices
-            .iter()
-            .filter(|(_, s)| !s.deleted)
-            .map(|(k, _)| k)
+        self.vertex_slots_.live_indices().map(|i| self.vh(i))
     }
     /// Live halfedges, in slot order.
     pub fn halfedges(&self) -> impl Iterator<Item = HalfedgeId> + Clone + '_ {
-        self.halfedges
-            .iter()
-            .filter(|(_, s)| !s.deleted)
-            .map(|(k, _)| k)
+        self.halfedge_slots_.live_indices().map(|i| self.hh(i))
     }
     /// One halfedge per live edge (the one created first, `a → b` for an edge first
     /// seen as `a → b`).
     pub fn edges(&self) -> impl Iterator<Item = HalfedgeId> + Clone + '_ {
-        self.halfedges
-            .iter()
-            .filter(|(k, s)| {
-                !s.deleted && crate::handle::slot(*k) < crate::handle::slot(s.opposite)
-            })
-            .map(|(k, _)| k)
+        self.halfedge_slots_
+            .live_indices()
+            .filter(|i| i % 2 == 0)
+            .map(|i| self.hh(i))
     }
     /// Live faces, in slot order (file order for a mesh read from a file).
     pub fn faces(&self) -> impl Iterator<Item = FaceId> + Clone + '_ {
-        self.faces
-            .iter()
-            .filter(|(_, s)| !s.deleted)
-            .map(|(k, _)| k)
+        self.face_slots_.live_indices().map(|i| self.fh(i))
     }
 }
 
@@ -47,18 +37,22 @@ impl Mesh {
 #[derive(Clone)]
 pub struct OutgoingHalfedges<'a> {
     mesh: &'a Mesh,
-    start: Option<HalfedgeId>,
-    current: Option<HalfedgeId>,
+    start: u32,
+    current: u32,
 }
 
 impl Iterator for OutgoingHalfedges<'_> {
     type Item = HalfedgeId;
     #[inline]
     fn next(&mut self) -> Option<HalfedgeId> {
-        let h = self.current?;
-        let n = self.mesh.ccw_rotated(h);
-        self.current = if Some(n) == self.start { None } else { Some(n) };
-        Some(h)
+        let h = self.current;
+        if h == NONE {
+            return None;
+        }
+        // ccw: opposite(prev(h))
+        let n = self.mesh.he[h as usize].prev ^ 1;
+        self.current = if n == self.start { NONE } else { n };
+        Some(self.mesh.hh(h))
     }
 }
 
@@ -66,18 +60,21 @@ impl Iterator for OutgoingHalfedges<'_> {
 #[derive(Clone)]
 pub struct FaceHalfedges<'a> {
     mesh: &'a Mesh,
-    start: HalfedgeId,
-    current: Option<HalfedgeId>,
+    start: u32,
+    current: u32,
 }
 
 impl Iterator for FaceHalfedges<'_> {
     type Item = HalfedgeId;
     #[inline]
     fn next(&mut self) -> Option<HalfedgeId> {
-        let h = self.current?;
-        let n = self.mesh.next(h);
-        self.current = if n == self.start { None } else { Some(n) };
-        Some(h)
+        let h = self.current;
+        if h == NONE {
+            return None;
+        }
+        let n = self.mesh.he[h as usize].next;
+        self.current = if n == self.start { NONE } else { n };
+        Some(self.mesh.hh(h))
     }
 }
 
@@ -86,7 +83,7 @@ impl Mesh {
     /// Outgoing halfedges of `v`, counter-clockwise from [`vertex_halfedge`](Self::vertex_halfedge).
     #[inline]
     pub fn outgoing_halfedges(&self, v: VertexId) -> OutgoingHalfedges<'_> {
-        let start = self.vertex_halfedge(v);
+        let start = self.vertex_conn[crate::handle::slot(v)];
         OutgoingHalfedges {
             mesh: self,
             start,
@@ -110,11 +107,11 @@ impl Mesh {
     /// The halfedges of `f`, starting at [`face_halfedge`](Self::face_halfedge).
     #[inline]
     pub fn face_halfedges(&self, f: FaceId) -> FaceHalfedges<'_> {
-        let start = self.face_halfedge(f);
+        let start = self.face_conn[crate::handle::slot(f)];
         FaceHalfedges {
             mesh: self,
             start,
-            current: Some(start),
+            current: start,
         }
     }
     /// The vertices of `f`, counter-clockwise, starting at `to_vertex(face_halfedge(f))`.

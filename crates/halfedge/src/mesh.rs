@@ -16,59 +16,54 @@
 //! by `next` along the boundary loop.
 
 use glam::DVec3;
-use slotmap::SlotMap;
 
 use crate::attributes::AttributeStore;
-use crate::handle::slot;
+use crate::handle::{slot, Slots, NONE};
 use crate::{Error, FaceId, HalfedgeId, Result, VertexId};
 
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct VertexSlot {
-    pub(crate) halfedge: Option<HalfedgeId>,
-    pub(crate) deleted: bool,
-}
-
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct HalfedgeSlot {
-    pub(crate) to: VertexId,
-    pub(crate) next: HalfedgeId,
-    pub(crate) prev: HalfedgeId,
-    pub(crate) opposite: HalfedgeId,
-    pub(crate) face: Option<FaceId>,
-    pub(crate) deleted: bool,
-}
-
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct FaceSlot {
-    pub(crate) halfedge: HalfedgeId,
-    pub(crate) deleted: bool,
+/// A halfedge's links, as slot indices (`NONE`: no face). Its opposite is the halfedge
+/// in the neighbouring slot (`index ^ 1`): edges are created and removed whole.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[repr(C)]
+pub(crate) struct HalfedgeRec {
+    pub(crate) to: u32,
+    pub(crate) next: u32,
+    pub(crate) prev: u32,
+    pub(crate) face: u32,
 }
 
 /// A triangle mesh in half-edge representation.
 ///
-/// Connectivity lives in three `slotmap`s (one per element kind); positions and user
-/// attributes live in dense arrays indexed by the element's slot
-/// ([`Mesh::vertex_index`]), as in pmp-library. Removing elements by
-/// [`collapse`](Mesh::collapse) only marks them deleted (tombstones), so that
-/// [`vertex_split`](Mesh::vertex_split) revives the very same handles;
-/// [`garbage_collection`](Mesh::garbage_collection) frees tombstones for good.
+/// Connectivity lives in flat arrays of `u32` slot indices, as in OpenMesh and
+/// pmp-library: 16 bytes per halfedge (`to`, `next`, `prev`, `face`; the opposite is
+/// the neighbouring slot), 4 bytes per vertex and per face, plus a generation and state
+/// per slot. Handles are versioned `slotmap` keys built from the slot index and its
+/// generation. Positions and user attributes live in dense arrays indexed by the same
+/// slot ([`Mesh::vertex_index`]). Removing elements by [`collapse`](Mesh::collapse)
+/// only marks them deleted (tombstones), so that [`vertex_split`](Mesh::vertex_split)
+/// revives the very same handles; [`garbage_collection`](Mesh::garbage_collection)
+/// frees tombstones for good.
 ///
 /// Navigation methods (`next`, `opposite`, `to_vertex`, …) take handles of this mesh and
 /// panic on a handle that was never part of it (a programming error, like an index out of
 /// bounds). Operations that take user input (`collapse`, building, IO) return
 /// [`Error`]s instead.
-#[derive(Clone, Default)]
 pub struct Mesh {
-    pub(crate) vertices: SlotMap<VertexId, VertexSlot>,
-    pub(crate) halfedges: SlotMap<HalfedgeId, HalfedgeSlot>,
-    pub(crate) faces: SlotMap<FaceId, FaceSlot>,
+    /// Outgoing halfedge per vertex slot (`NONE`: isolated).
+    pub(crate) vertex_conn: Vec<u32>,
+    pub(crate) vertex_slots_: Slots,
+    pub(crate) he: Vec<HalfedgeRec>,
+    pub(crate) halfedge_slots_: Slots,
+    /// A halfedge per face slot.
+    pub(crate) face_conn: Vec<u32>,
+    pub(crate) face_slots_: Slots,
     pub(crate) positions: Vec<DVec3>,
-    pub(crate) vertex_keys: Vec<VertexId>,
-    pub(crate) halfedge_keys: Vec<HalfedgeId>,
-    pub(crate) face_keys: Vec<FaceId>,
     pub(crate) n_vertices: usize,
     pub(crate) n_halfedges: usize,
     pub(crate) n_faces: usize,
+    /// See [`Mesh::topology_stamp`]: this mesh instance's id and its count of changes.
+    pub(crate) stamp_id: u64,
+    pub(crate) stamp_count: u64,
     pub(crate) vertex_attributes: AttributeStore,
     pub(crate) halfedge_attributes: AttributeStore,
     pub(crate) face_attributes: AttributeStore,
@@ -84,6 +79,116 @@ impl std::fmt::Debug for Mesh {
     }
 }
 
+/// Source of mesh instance ids for [`Mesh::topology_stamp`].
+static NEXT_MESH_ID: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
+
+fn next_mesh_id() -> u64 {
+    NEXT_MESH_ID.fetch_add(1, std::sync::atomic::Ordering::Relaxed)
+}
+
+impl Default for Mesh {
+    fn default() -> Self {
+        Self {
+            vertex_conn: Vec::new(),
+            vertex_slots_: Slots::default(),
+            he: Vec::new(),
+            halfedge_slots_: Slots::default(),
+            face_conn: Vec::new(),
+            face_slots_: Slots::default(),
+            positions: Vec::new(),
+            n_vertices: 0,
+            n_halfedges: 0,
+            n_faces: 0,
+            stamp_id: next_mesh_id(),
+            stamp_count: 0,
+            vertex_attributes: AttributeStore::default(),
+            halfedge_attributes: AttributeStore::default(),
+            face_attributes: AttributeStore::default(),
+        }
+    }
+}
+
+/// A clone is a mesh instance of its own: same contents, its own
+/// [`topology_stamp`](Mesh::topology_stamp).
+impl Clone for Mesh {
+    fn clone(&self) -> Self {
+        Self {
+            vertex_conn: self.vertex_conn.clone(),
+            vertex_slots_: self.vertex_slots_.clone(),
+            he: self.he.clone(),
+            halfedge_slots_: self.halfedge_slots_.clone(),
+            face_conn: self.face_conn.clone(),
+            face_slots_: self.face_slots_.clone(),
+            positions: self.positions.clone(),
+            n_vertices: self.n_vertices,
+            n_halfedges: self.n_halfedges,
+            n_faces: self.n_faces,
+            stamp_id: next_mesh_id(),
+            stamp_count: self.stamp_count,
+            vertex_attributes: self.vertex_attributes.clone(),
+            halfedge_attributes: self.halfedge_attributes.clone(),
+            face_attributes: self.face_attributes.clone(),
+        }
+    }
+}
+
+/// # Slot indices and handles (crate-internal)
+impl Mesh {
+    /// Records that the connectivity changed (a new [`topology_stamp`](Self::topology_stamp)).
+    #[inline]
+    pub(crate) fn touch_topology(&mut self) {
+        self.stamp_count += 1;
+    }
+    /// Vertex handle of slot `i`.
+    #[inline]
+    pub(crate) fn vh(&self, i: u32) -> VertexId {
+        self.vertex_slots_.key(i)
+    }
+    /// Halfedge handle of slot `i`.
+    #[inline]
+    pub(crate) fn hh(&self, i: u32) -> HalfedgeId {
+        self.halfedge_slots_.key(i)
+    }
+    /// Face handle of slot `i`.
+    #[inline]
+    pub(crate) fn fh(&self, i: u32) -> FaceId {
+        self.face_slots_.key(i)
+    }
+    /// Face handle of slot `i`, `None` for `NONE`.
+    #[inline]
+    pub(crate) fn fh_opt(&self, i: u32) -> Option<FaceId> {
+        (i != NONE).then(|| self.fh(i))
+    }
+    /// The record of halfedge `h`.
+    #[inline]
+    pub(crate) fn rec(&self, h: HalfedgeId) -> &HalfedgeRec {
+        debug_assert!(
+            self.halfedge_slots_.contains(h),
+            "stale halfedge handle {h}"
+        );
+        &self.he[slot(h)]
+    }
+    /// The record of halfedge `h`, mutable.
+    #[inline]
+    pub(crate) fn rec_mut(&mut self, h: HalfedgeId) -> &mut HalfedgeRec {
+        debug_assert!(
+            self.halfedge_slots_.contains(h),
+            "stale halfedge handle {h}"
+        );
+        &mut self.he[slot(h)]
+    }
+    /// Slot index of a handle as `u32`.
+    #[inline]
+    pub(crate) fn ix<K: slotmap::Key>(k: K) -> u32 {
+        slot(k) as u32
+    }
+    /// Slot index of an optional handle, `NONE` for `None`.
+    #[inline]
+    pub(crate) fn ix_opt<K: slotmap::Key>(k: Option<K>) -> u32 {
+        k.map_or(NONE, |k| slot(k) as u32)
+    }
+}
+
 /// # Counts and storage
 impl Mesh {
     /// An empty mesh.
@@ -95,9 +200,12 @@ impl Mesh {
     pub fn with_capacity(vertices: usize, faces: usize) -> Self {
         let halfedges = 2 * (vertices + faces + 2);
         Self {
-            vertices: SlotMap::with_capacity_and_key(vertices),
-            halfedges: SlotMap::with_capacity_and_key(halfedges),
-            faces: SlotMap::with_capacity_and_key(faces),
+            vertex_conn: Vec::with_capacity(vertices),
+            vertex_slots_: Slots::with_capacity(vertices),
+            he: Vec::with_capacity(halfedges),
+            halfedge_slots_: Slots::with_capacity(halfedges),
+            face_conn: Vec::with_capacity(faces),
+            face_slots_: Slots::with_capacity(faces),
             positions: Vec::with_capacity(vertices),
             ..Self::default()
         }
@@ -123,6 +231,15 @@ impl Mesh {
     pub fn n_faces(&self) -> usize {
         self.n_faces
     }
+    /// A value that changes whenever the connectivity of this mesh changes (elements
+    /// added, collapsed, split, freed), unique to this mesh instance (a clone has stamps
+    /// of its own); positions and attributes do not count. Equal stamps mean the same
+    /// mesh with unchanged connectivity: a [`Hierarchy`](crate::Hierarchy) uses it to
+    /// skip re-validating its own records.
+    #[inline]
+    pub fn topology_stamp(&self) -> u128 {
+        (u128::from(self.stamp_id) << 64) | u128::from(self.stamp_count)
+    }
     /// True when the mesh has no live vertex.
     #[inline]
     pub fn is_empty(&self) -> bool {
@@ -138,38 +255,35 @@ impl Mesh {
     /// Length of the per-halfedge arrays: every [`halfedge_index`](Self::halfedge_index) is below it.
     #[inline]
     pub fn halfedge_slots(&self) -> usize {
-        self.halfedge_keys.len()
+        self.he.len()
     }
     /// Length of the per-face arrays: every [`face_index`](Self::face_index) is below it.
     #[inline]
     pub fn face_slots(&self) -> usize {
-        self.face_keys.len()
+        self.face_conn.len()
     }
 
     /// The live vertex with [`vertex_index`](Self::vertex_index) `index`, if any
     /// (vertex `index` of the file for a mesh read from a file).
     #[inline]
     pub fn vertex_at(&self, index: usize) -> Option<VertexId> {
-        self.vertex_keys
-            .get(index)
-            .copied()
-            .filter(|&v| self.is_valid_vertex(v))
+        self.vertex_slots_
+            .is_live_index(index)
+            .then(|| self.vh(index as u32))
     }
     /// The live halfedge with [`halfedge_index`](Self::halfedge_index) `index`, if any.
     #[inline]
     pub fn halfedge_at(&self, index: usize) -> Option<HalfedgeId> {
-        self.halfedge_keys
-            .get(index)
-            .copied()
-            .filter(|&h| self.is_valid_halfedge(h))
+        self.halfedge_slots_
+            .is_live_index(index)
+            .then(|| self.hh(index as u32))
     }
     /// The live face with [`face_index`](Self::face_index) `index`, if any.
     #[inline]
     pub fn face_at(&self, index: usize) -> Option<FaceId> {
-        self.face_keys
-            .get(index)
-            .copied()
-            .filter(|&f| self.is_valid_face(f))
+        self.face_slots_
+            .is_live_index(index)
+            .then(|| self.fh(index as u32))
     }
 
     /// Dense index of a vertex in per-vertex arrays such as [`positions`](Self::positions).
@@ -193,22 +307,22 @@ impl Mesh {
     /// True when `v` is a live vertex of this mesh.
     #[inline]
     pub fn is_valid_vertex(&self, v: VertexId) -> bool {
-        self.vertices.get(v).is_some_and(|s| !s.deleted)
+        self.vertex_slots_.is_live(v)
     }
     /// True when `h` is a live halfedge of this mesh.
     #[inline]
     pub fn is_valid_halfedge(&self, h: HalfedgeId) -> bool {
-        self.halfedges.get(h).is_some_and(|s| !s.deleted)
+        self.halfedge_slots_.is_live(h)
     }
     /// True when `f` is a live face of this mesh.
     #[inline]
     pub fn is_valid_face(&self, f: FaceId) -> bool {
-        self.faces.get(f).is_some_and(|s| !s.deleted)
+        self.face_slots_.is_live(f)
     }
     /// True when `v` is a tombstone: removed by a collapse, revivable by a split.
     #[inline]
     pub fn is_deleted_vertex(&self, v: VertexId) -> bool {
-        self.vertices.get(v).is_some_and(|s| s.deleted)
+        self.vertex_slots_.is_tombstone(v)
     }
 
     /// Returns `Err(InvalidHandle)` unless `v` is live.
@@ -242,13 +356,13 @@ impl Mesh {
     /// Position of a vertex.
     #[inline]
     pub fn position(&self, v: VertexId) -> DVec3 {
-        debug_assert!(self.vertices.contains_key(v), "stale vertex handle {v}");
+        debug_assert!(self.vertex_slots_.contains(v), "stale vertex handle {v}");
         self.positions[slot(v)]
     }
     /// Sets the position of a vertex.
     #[inline]
     pub fn set_position(&mut self, v: VertexId, p: DVec3) {
-        assert!(self.vertices.contains_key(v), "stale vertex handle {v}");
+        assert!(self.vertex_slots_.contains(v), "stale vertex handle {v}");
         self.positions[slot(v)] = p;
     }
     /// All positions, indexed by [`vertex_index`](Self::vertex_index). Entries of removed
@@ -269,83 +383,75 @@ impl Mesh {
 impl Mesh {
     /// Adds an isolated vertex.
     pub fn add_vertex(&mut self, p: DVec3) -> VertexId {
-        let v = self.vertices.insert(VertexSlot {
-            halfedge: None,
-            deleted: false,
-        });
-        let i = slot(v);
-        if i == self.positions.len() {
-            self.positions.push(p);
-            self.vertex_keys.push(v);
+        let (i, reused) = self.vertex_slots_.allocate();
+        if reused {
+            self.positions[i as usize] = p;
+            self.vertex_conn[i as usize] = NONE;
         } else {
-            self.positions[i] = p;
-            self.vertex_keys[i] = v;
+            self.positions.push(p);
+            self.vertex_conn.push(NONE);
         }
         self.vertex_attributes.ensure_len(self.positions.len());
         self.n_vertices += 1;
-        v
+        self.touch_topology();
+        self.vh(i)
     }
 
     /// Creates the two halfedges of a new edge `a → b` (returned) and `b → a`,
     /// unlinked (`next`/`prev` point to themselves, no face).
     pub(crate) fn new_edge(&mut self, a: VertexId, b: VertexId) -> HalfedgeId {
-        let dummy = HalfedgeSlot {
-            to: b,
-            next: HalfedgeId::default(),
-            prev: HalfedgeId::default(),
-            opposite: HalfedgeId::default(),
-            face: None,
-            deleted: false,
-        };
-        let h0 = self.halfedges.insert(dummy);
-        let h1 = self.halfedges.insert(HalfedgeSlot { to: a, ..dummy });
-        {
-            let s = &mut self.halfedges[h0];
-            s.opposite = h1;
-            s.next = h0;
-            s.prev = h0;
+        let (i, reused) = self.halfedge_slots_.allocate_pair();
+        let pair = [
+            HalfedgeRec {
+                to: Self::ix(b),
+                next: i,
+                prev: i,
+                face: NONE,
+            },
+            HalfedgeRec {
+                to: Self::ix(a),
+                next: i + 1,
+                prev: i + 1,
+                face: NONE,
+            },
+        ];
+        if reused {
+            self.he[i as usize..i as usize + 2].copy_from_slice(&pair);
+        } else {
+            self.he.extend_from_slice(&pair);
         }
-        {
-            let s = &mut self.halfedges[h1];
-            s.opposite = h0;
-            s.next = h1;
-            s.prev = h1;
-        }
-        for h in [h0, h1] {
-            let i = slot(h);
-            if i >= self.halfedge_keys.len() {
-                self.halfedge_keys.resize(i + 1, HalfedgeId::default());
-            }
-            self.halfedge_keys[i] = h;
-        }
-        self.halfedge_attributes
-            .ensure_len(self.halfedge_keys.len());
+        self.halfedge_attributes.ensure_len(self.he.len());
         self.n_halfedges += 2;
-        h0
+        self.touch_topology();
+        self.hh(i)
     }
 
     pub(crate) fn new_face(&mut self, h: HalfedgeId) -> FaceId {
-        let f = self.faces.insert(FaceSlot {
-            halfedge: h,
-            deleted: false,
-        });
-        let i = slot(f);
-        if i >= self.face_keys.len() {
-            self.face_keys.resize(i + 1, FaceId::default());
+        let (i, reused) = self.face_slots_.allocate();
+        if reused {
+            self.face_conn[i as usize] = Self::ix(h);
+        } else {
+            self.face_conn.push(Self::ix(h));
         }
-        self.face_keys[i] = f;
-        self.face_attributes.ensure_len(self.face_keys.len());
+        self.face_attributes.ensure_len(self.face_conn.len());
         self.n_faces += 1;
-        f
+        self.touch_topology();
+        self.fh(i)
     }
 
-    /// Frees all tombstones left by collapses for good. Handles of removed elements become
+    /// Frees all tombstones left by collapses for good: their slots are reused by
+    /// elements created later, under new versions. Handles of removed elements become
     /// stale (and are detected as such); collapse records taken before become useless.
     /// Live handles and the indices of live elements do not change.
     pub fn garbage_collection(&mut self) {
-        self.vertices.retain(|_, s| !s.deleted);
-        self.halfedges.retain(|_, s| !s.deleted);
-        self.faces.retain(|_, s| !s.deleted);
+        let freed = self.vertex_slots_.free_tombstones();
+        self.vertex_slots_.push_free(freed.into_iter().rev());
+        let freed = self.halfedge_slots_.free_tombstones();
+        self.halfedge_slots_
+            .push_free(freed.into_iter().rev().filter(|i| i % 2 == 0));
+        let freed = self.face_slots_.free_tombstones();
+        self.face_slots_.push_free(freed.into_iter().rev());
+        self.touch_topology();
     }
 }
 
@@ -354,43 +460,48 @@ impl Mesh {
     /// The vertex a halfedge points to.
     #[inline]
     pub fn to_vertex(&self, h: HalfedgeId) -> VertexId {
-        self.halfedges[h].to
+        self.vh(self.rec(h).to)
     }
     /// The vertex a halfedge starts from.
     #[inline]
     pub fn from_vertex(&self, h: HalfedgeId) -> VertexId {
-        self.halfedges[self.halfedges[h].opposite].to
+        self.vh(self.he[slot(h) ^ 1].to)
     }
     /// The next halfedge around the face (or along the boundary loop).
     #[inline]
     pub fn next(&self, h: HalfedgeId) -> HalfedgeId {
-        self.halfedges[h].next
+        self.hh(self.rec(h).next)
     }
     /// The previous halfedge around the face (or along the boundary loop).
     #[inline]
     pub fn prev(&self, h: HalfedgeId) -> HalfedgeId {
-        self.halfedges[h].prev
+        self.hh(self.rec(h).prev)
     }
     /// The other halfedge of the same edge.
     #[inline]
     pub fn opposite(&self, h: HalfedgeId) -> HalfedgeId {
-        self.halfedges[h].opposite
+        debug_assert!(
+            self.halfedge_slots_.contains(h),
+            "stale halfedge handle {h}"
+        );
+        self.hh(Self::ix(h) ^ 1)
     }
     /// The face left of a halfedge; `None` for a boundary halfedge.
     #[inline]
     pub fn face(&self, h: HalfedgeId) -> Option<FaceId> {
-        self.halfedges[h].face
+        self.fh_opt(self.rec(h).face)
     }
     /// An outgoing halfedge of `v`: a boundary halfedge when `v` is on the boundary;
     /// `None` for an isolated vertex.
     #[inline]
     pub fn vertex_halfedge(&self, v: VertexId) -> Option<HalfedgeId> {
-        self.vertices[v].halfedge
+        let h = self.vertex_conn[slot(v)];
+        (h != NONE).then(|| self.hh(h))
     }
     /// A halfedge of face `f`.
     #[inline]
     pub fn face_halfedge(&self, f: FaceId) -> HalfedgeId {
-        self.faces[f].halfedge
+        self.hh(self.face_conn[slot(f)])
     }
     /// The next outgoing halfedge of `from_vertex(h)`, counter-clockwise:
     /// `opposite(prev(h))`.
@@ -406,7 +517,7 @@ impl Mesh {
     /// True when `h` has no face.
     #[inline]
     pub fn is_boundary_halfedge(&self, h: HalfedgeId) -> bool {
-        self.halfedges[h].face.is_none()
+        self.rec(h).face == NONE
     }
     /// True when either side of the edge of `h` has no face.
     #[inline]
@@ -416,15 +527,15 @@ impl Mesh {
     /// True when `v` is on the boundary or isolated (as in OpenMesh and pmp).
     #[inline]
     pub fn is_boundary_vertex(&self, v: VertexId) -> bool {
-        match self.vertices[v].halfedge {
-            None => true,
-            Some(h) => self.is_boundary_halfedge(h),
+        match self.vertex_conn[slot(v)] {
+            NONE => true,
+            h => self.he[h as usize].face == NONE,
         }
     }
     /// True when `v` has no incident edge.
     #[inline]
     pub fn is_isolated(&self, v: VertexId) -> bool {
-        self.vertices[v].halfedge.is_none()
+        self.vertex_conn[slot(v)] == NONE
     }
     /// True when some edge of `f` is on the boundary.
     pub fn is_boundary_face(&self, f: FaceId) -> bool {
@@ -442,39 +553,56 @@ impl Mesh {
     /// The three vertices of a triangle, starting at `to_vertex(face_halfedge(f))`.
     #[inline]
     pub fn triangle(&self, f: FaceId) -> [VertexId; 3] {
-        let h0 = self.faces[f].halfedge;
-        let h1 = self.next(h0);
-        let h2 = self.next(h1);
-        [self.to_vertex(h0), self.to_vertex(h1), self.to_vertex(h2)]
+        let h0 = self.face_conn[slot(f)];
+        let r0 = &self.he[h0 as usize];
+        let r1 = &self.he[r0.next as usize];
+        let r2 = &self.he[r1.next as usize];
+        [self.vh(r0.to), self.vh(r1.to), self.vh(r2.to)]
     }
 
     #[inline]
     pub(crate) fn set_next(&mut self, h: HalfedgeId, n: HalfedgeId) {
-        self.halfedges[h].next = n;
-        self.halfedges[n].prev = h;
+        self.rec_mut(h).next = Self::ix(n);
+        self.rec_mut(n).prev = Self::ix(h);
+    }
+    /// `next(x) = n` and `prev(n) = x`, on slot indices.
+    #[inline]
+    pub(crate) fn set_next_ix(&mut self, x: u32, n: u32) {
+        self.he[x as usize].next = n;
+        self.he[n as usize].prev = x;
     }
     #[inline]
     pub(crate) fn set_face(&mut self, h: HalfedgeId, f: Option<FaceId>) {
-        self.halfedges[h].face = f;
+        self.rec_mut(h).face = Self::ix_opt(f);
     }
     #[inline]
     pub(crate) fn set_vertex_halfedge(&mut self, v: VertexId, h: Option<HalfedgeId>) {
-        self.vertices[v].halfedge = h;
+        self.vertex_conn[slot(v)] = Self::ix_opt(h);
+    }
+    #[inline]
+    pub(crate) fn set_face_halfedge(&mut self, f: FaceId, h: HalfedgeId) {
+        self.face_conn[slot(f)] = Self::ix(h);
+    }
+    #[inline]
+    pub(crate) fn set_to_vertex(&mut self, h: HalfedgeId, v: VertexId) {
+        self.rec_mut(h).to = Self::ix(v);
     }
 
     /// Makes the vertex halfedge of `v` a boundary halfedge when there is one (the
     /// invariant every boundary query relies on). Searches clockwise, as OpenMesh does.
     pub(crate) fn adjust_outgoing_halfedge(&mut self, v: VertexId) {
-        let Some(start) = self.vertices[v].halfedge else {
+        let start = self.vertex_conn[slot(v)];
+        if start == NONE {
             return;
-        };
+        }
         let mut h = start;
         loop {
-            if self.is_boundary_halfedge(h) {
-                self.vertices[v].halfedge = Some(h);
+            if self.he[h as usize].face == NONE {
+                self.vertex_conn[slot(v)] = h;
                 return;
             }
-            h = self.cw_rotated(h);
+            // cw: next(opposite(h))
+            h = self.he[(h ^ 1) as usize].next;
             if h == start {
                 return;
             }

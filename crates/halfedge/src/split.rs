@@ -64,7 +64,7 @@ impl Mesh {
 
         let m = self.add_vertex(p);
         // h: a → m, o: m → a (o keeps `to = a`), new pair t: m → b, t_o: b → m.
-        self.halfedges[h].to = m;
+        self.set_to_vertex(h, m);
         let t = self.new_edge(m, b);
         let t_o = self.opposite(t);
 
@@ -81,7 +81,7 @@ impl Mesh {
                 self.set_next(x, h_prev);
                 self.set_next(h_prev, h);
                 self.set_face(x, Some(f));
-                self.faces[f].halfedge = h;
+                self.set_face_halfedge(f, h);
                 // (m, b, c) is f2: t → n → x_o.
                 self.set_next(t, h_next);
                 self.set_next(h_next, x_o);
@@ -110,7 +110,7 @@ impl Mesh {
                 self.set_next(o_next, y_o);
                 self.set_next(y_o, o);
                 self.set_face(y_o, Some(g));
-                self.faces[g].halfedge = o;
+                self.set_face_halfedge(g, o);
                 // (b, m, d) is g2: t_o → y → op.
                 self.set_next(t_o, y);
                 self.set_next(y, o_prev);

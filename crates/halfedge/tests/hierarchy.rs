@@ -47,6 +47,29 @@ fn coarsen_all_refine_all_is_bit_identical_on_real_meshes() {
     }
 }
 
+/// Splits skip their checks while the hierarchy's mesh has only been changed by the
+/// hierarchy; a mesh swapped in (or changed) behind its back makes every later split
+/// checked. Both ways, and in a clone, refinement restores the input exactly.
+#[test]
+fn trusted_and_checked_refinement_agree() {
+    let mesh = load("spot.obj");
+    let before = snapshot(&mesh);
+    let built = Hierarchy::build(mesh, &HierarchyOptions::rounds().with_target_faces(300)).unwrap();
+    let mut trusted = built.clone();
+    let mut checked = built.clone();
+    let copy = checked.mesh().clone();
+    *checked.mesh_mut() = copy;
+    for h in [&mut trusted, &mut checked] {
+        h.refine_to(0).unwrap();
+        h.mesh().check().unwrap();
+        assert!(snapshot(h.mesh()) == before);
+    }
+    // A mesh swapped in with different connectivity is caught by the checks.
+    let mut swapped = built.clone();
+    *swapped.mesh_mut() = load("spot.obj");
+    assert!(matches!(swapped.split_next(), Err(Error::SplitRefused(_))));
+}
+
 #[test]
 fn a_round_removes_about_45_percent_of_the_faces() {
     // The paper: "Each simplification step removes about 45 % of faces". (Meshes with much

@@ -362,3 +362,63 @@ fn generators_have_the_documented_counts() {
         "old vertices first"
     );
 }
+
+/// Garbage collection frees the tombstones of collapses; new elements reuse their
+/// slots under new versions, so the removed handles stay stale and the live ones keep
+/// their handles and indices.
+#[test]
+fn garbage_collection_reuses_slots_under_new_versions() {
+    let mut mesh = generators::icosphere(2);
+    let live_before: Vec<VertexId> = mesh.vertices().collect();
+    let mut removed = Vec::new();
+    for _ in 0..5 {
+        let h = mesh
+            .halfedges()
+            .find(|&h| mesh.is_collapse_ok(h).is_ok())
+            .unwrap();
+        removed.push(mesh.collapse(h).unwrap().v0);
+    }
+    mesh.check().unwrap();
+    let survivors: Vec<(VertexId, usize, DVec3)> = mesh
+        .vertices()
+        .map(|v| (v, mesh.vertex_index(v), mesh.position(v)))
+        .collect();
+    let slots = mesh.vertex_slots();
+    mesh.garbage_collection();
+    mesh.check().unwrap();
+    for &v in &removed {
+        assert!(!mesh.is_valid_vertex(v) && !mesh.is_deleted_vertex(v));
+    }
+    for &(v, i, p) in &survivors {
+        assert!(mesh.is_valid_vertex(v));
+        assert_eq!((mesh.vertex_index(v), mesh.position(v)), (i, p));
+    }
+    // Splitting edges creates vertices, edges and faces in the freed slots.
+    let mut created = Vec::new();
+    for _ in 0..5 {
+        let h = mesh.edges().next().unwrap();
+        let p = 0.5 * (mesh.position(mesh.from_vertex(h)) + mesh.position(mesh.to_vertex(h)));
+        created.push(mesh.split_edge(h, p));
+        mesh.check().unwrap();
+    }
+    assert_eq!(mesh.vertex_slots(), slots, "freed slots are reused");
+    let mut removed_slots = index_of(&mesh, removed.iter().copied());
+    let mut created_slots = index_of(&mesh, created.iter().copied());
+    removed_slots.sort();
+    created_slots.sort();
+    assert_eq!(removed_slots, created_slots);
+    for &old in &removed {
+        // Same slot, new version: the old handle does not alias the new vertex.
+        let new = mesh.vertex_at(mesh.vertex_index(old)).unwrap();
+        assert_ne!(old, new);
+        assert!(!mesh.is_valid_vertex(old) && mesh.is_valid_vertex(new));
+    }
+    // Navigation after reuse hands out the new versions.
+    for &v in &created {
+        for w in mesh.adjacent_vertices(v) {
+            assert!(mesh.is_valid_vertex(w));
+            assert!(mesh.adjacent_vertices(w).any(|u| u == v));
+        }
+    }
+    assert_eq!(mesh.n_vertices(), live_before.len());
+}

@@ -221,7 +221,6 @@ struct LabelBinding {
 /// attributes with [`mesh_mut`](Self::mesh_mut) at any level. Topology must only change
 /// through the hierarchy (a topological edit would make the following split or collapse
 /// fail with an error, never silently).
-#[derive(Clone)]
 pub struct Hierarchy {
     mesh: Mesh,
     records: Vec<CollapseRecord>,
@@ -237,6 +236,31 @@ pub struct Hierarchy {
     applied: usize,
     method: Method,
     labels: Option<LabelBinding>,
+    /// The mesh's [`Mesh::topology_stamp`] after the hierarchy's own last step: while it
+    /// is unchanged nobody else changed the connectivity, and splits skip their checks.
+    /// `None` for good once somebody else did: every later split is checked.
+    stamp: Option<u128>,
+}
+
+/// The clone's mesh is a mesh instance of its own; the clone trusts it exactly when the
+/// original trusts its mesh (see [`Mesh::topology_stamp`]).
+impl Clone for Hierarchy {
+    fn clone(&self) -> Self {
+        let mesh = self.mesh.clone();
+        let trusted = self.stamp == Some(self.mesh.topology_stamp());
+        Self {
+            stamp: trusted.then(|| mesh.topology_stamp()),
+            mesh,
+            records: self.records.clone(),
+            placements: self.placements.clone(),
+            details: self.details.clone(),
+            level_ends: self.level_ends.clone(),
+            level_faces: self.level_faces.clone(),
+            applied: self.applied,
+            method: self.method,
+            labels: self.labels,
+        }
+    }
 }
 
 impl std::fmt::Debug for Hierarchy {
@@ -284,6 +308,7 @@ impl Hierarchy {
             applied: 0,
             method: options.method,
             labels: None,
+            stamp: None,
         };
         match options.method {
             Method::Rounds => rounds::build(&mut h, options, progress)?,
@@ -296,6 +321,7 @@ impl Hierarchy {
         });
         h.records.shrink_to_fit();
         h.placements.shrink_to_fit();
+        h.stamp = Some(h.mesh.topology_stamp());
         Ok(h)
     }
 
@@ -485,6 +511,9 @@ impl Hierarchy {
             return Ok(false);
         };
         let (v0, v1, h) = (old.v0, old.v1, old.v0v1);
+        if self.stamp != Some(self.mesh.topology_stamp()) {
+            self.stamp = None;
+        }
         if !self.mesh.is_valid_halfedge(h)
             || self.mesh.from_vertex(h) != v0
             || self.mesh.to_vertex(h) != v1
@@ -509,6 +538,7 @@ impl Hierarchy {
         self.mesh.positions[i1] = p;
         self.records[r] = record;
         self.applied += 1;
+        self.stamp = self.stamp.map(|_| self.mesh.topology_stamp());
         Ok(true)
     }
 
@@ -527,7 +557,12 @@ impl Hierarchy {
         let r = self.applied - 1;
         let [d0, d1] = self.details.translations(r, self.mesh.positions());
         let record = &self.records[r];
-        self.mesh.vertex_split(record)?;
+        if self.stamp == Some(self.mesh.topology_stamp()) {
+            self.mesh.vertex_split_unchecked(record);
+        } else {
+            self.stamp = None;
+            self.mesh.vertex_split(record)?;
+        }
         let (i0, i1) = (
             self.mesh.vertex_index(record.v0),
             self.mesh.vertex_index(record.v1),
@@ -540,6 +575,7 @@ impl Hierarchy {
             }
         }
         self.applied = r;
+        self.stamp = self.stamp.map(|_| self.mesh.topology_stamp());
         Ok(true)
     }
 }
