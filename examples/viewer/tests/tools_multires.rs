@@ -326,3 +326,116 @@ fn submesh_edits_without_propagation_leave_the_host_bit_identical() {
     assert_screenshot(&p("shot.png"));
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn ffd_identity_drag_footprint_and_undo() {
+    let Some(prefix) = display_command() else {
+        return;
+    };
+    let dir = scratch_dir("ffd");
+    let input = dir.join("terrain.obj");
+    // A bumpy 3 × 2 sheet: x longest, z shortest (the FFD's heights).
+    let mut original = generators::grid(30, 20, 3.0, 2.0);
+    for p in original.positions_mut() {
+        p.z = 0.1 * (2.0 * p.x).sin() * (3.0 * p.y).cos();
+    }
+    halfedge::io::write_obj(&input, &original).unwrap();
+    let p = |name: &str| dir.join(name);
+    run_script(
+        prefix,
+        "ffd",
+        &dir,
+        &input,
+        serde_json::json!([
+            {"action": "select_tool", "tool": "ffd"},
+            {"action": "set", "param": "grid_u", "value": 10},
+            {"action": "set", "param": "grid_v", "value": 10},
+            {"action": "set", "param": "mode", "value": "global"},
+            {"action": "set", "param": "attach", "value": true},
+            {"action": "set", "param": "operation", "value": "bend"},
+            {"action": "set", "param": "bend", "value": 0},
+            {"action": "apply"},
+            {"action": "save", "path": p("identity.obj")},
+            {"action": "set", "param": "control", "value": ["shape", 4, 4]},
+            {"action": "pick_vertex", "index": 0},
+            {"action": "drag", "vector": [0.0, 0.0, 0.4], "steps": 4},
+            {"action": "save", "path": p("dragged.obj")},
+            {"action": "orbit", "yaw": 20, "pitch": 25},
+            {"action": "screenshot", "path": p("shot.png")},
+            {"action": "undo"},
+            {"action": "undo"},
+            {"action": "save", "path": p("undone.obj")},
+            {"action": "redo"},
+            {"action": "redo"},
+            {"action": "set", "param": "operation", "value": "twist"},
+            {"action": "set", "param": "twist", "value": 30},
+            {"action": "apply"},
+            {"action": "save", "path": p("twisted.obj")}
+        ]),
+    );
+    // Identity surfaces give the mesh back.
+    let identity = read(&p("identity.obj"));
+    identity.check().unwrap();
+    for (a, b) in original.positions().iter().zip(identity.positions()) {
+        assert!(
+            (*a - *b).length() < 1e-9,
+            "identity FFD moved a vertex by {}",
+            *a - *b
+        );
+    }
+    // Dragging S(4, 4) moves only vertices over its support, u and v in [1/7, 5/7]
+    // (bicubic, 10 control points: knots 0,0,0,0,1/7,…,6/7,1,1,1,1).
+    let dragged = read(&p("dragged.obj"));
+    dragged.check().unwrap();
+    let (lo, hi) = original.bounding_box().unwrap();
+    let unit = edit::ffd::BSplineSurface::planar(
+        &edit::ffd::Frame::WORLD,
+        [3, 3],
+        [10, 10],
+        [0.0, 0.0],
+        [1.0, 1.0],
+        0.0,
+    )
+    .unwrap();
+    let (a, b) = (
+        unit.evaluate(1.0 / 7.0, 0.5).x,
+        unit.evaluate(5.0 / 7.0, 0.5).x,
+    );
+    // Frame: x along world x, heights along world z, so frame z = x × z = −y.
+    let margin = 0.05;
+    let span = |l: f64, h: f64| (l - margin * (h - l), h + margin * (h - l));
+    let (x0, x1) = span(lo.x, hi.x);
+    let (z0, z1) = span(-hi.y, -lo.y);
+    let inside = |q: DVec3| {
+        let (x, z) = (q.x, -q.y);
+        let eps = 1e-9;
+        x > x0 + a * (x1 - x0) - eps
+            && x < x0 + b * (x1 - x0) + eps
+            && z > z0 + a * (z1 - z0) - eps
+            && z < z0 + b * (z1 - z0) + eps
+    };
+    let mut moved = 0;
+    for (i, (q, r)) in identity
+        .positions()
+        .iter()
+        .zip(dragged.positions())
+        .enumerate()
+    {
+        if q != r {
+            assert!(
+                inside(original.positions()[i]),
+                "vertex {i} outside the footprint moved"
+            );
+            moved += 1;
+        }
+    }
+    assert!(moved > 20, "only {moved} vertices moved");
+    assert!(moved < original.n_vertices() / 2);
+    // Undo (drag, identity) restores the input bit for bit; redo and a twist work on.
+    assert_eq!(read(&p("undone.obj")).positions(), original.positions());
+    let twisted = read(&p("twisted.obj"));
+    twisted.check().unwrap();
+    assert_ne!(twisted.positions(), dragged.positions());
+    assert_screenshot(&p("shot.png"));
+    std::fs::remove_dir_all(&dir).ok();
+}
