@@ -81,6 +81,8 @@ struct ControlDrag {
     index: (usize, usize),
     /// Displayed position at the start.
     start: DVec3,
+    /// The mesh's positions at the start.
+    base: Vec<DVec3>,
 }
 
 /// The FFD tool (see the module docs).
@@ -539,6 +541,7 @@ impl Tool for FfdTool {
                     net: c.0,
                     index: (c.1, c.2),
                     start,
+                    base: ctx.mesh().positions().to_vec(),
                 });
                 ctx.begin_edit("FFD drag");
             }
@@ -552,8 +555,14 @@ impl Tool for FfdTool {
                 let result =
                     Self::move_control(st, c, target).and_then(|()| self.deform(ctx, "FFD drag"));
                 match result {
-                    Ok(moved) if drag.phase == DragPhase::End => {
-                        self.drag = None;
+                    Ok(_) if drag.phase == DragPhase::End => {
+                        let d = self.drag.take().expect("checked");
+                        let moved = d
+                            .base
+                            .iter()
+                            .zip(ctx.mesh().positions())
+                            .filter(|(a, b)| a != b)
+                            .count();
                         self.record(ctx.mesh());
                         ctx.info(format!(
                             "FFD: moved {} control point ({}, {}) by {:.4}; {} vertices moved",

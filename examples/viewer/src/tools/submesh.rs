@@ -607,7 +607,7 @@ impl Tool for SubMeshEdit {
             "lambda" => self.lambda = positive(name, number_param(name, value)?)?,
             "mu" => {
                 let mu = number_param(name, value)?;
-                if !(mu < 0.0) {
+                if mu >= 0.0 || mu.is_nan() {
                     return Err(ToolError::new(format!("mu {mu}: must be negative")));
                 }
                 self.mu = mu;
