@@ -297,7 +297,16 @@ impl SceneRenderer {
             Mode::Indexed
         };
         let old = self.revision;
-        if old.map(|r| r.topology) != Some(revision.topology) || self.mode != Some(mode) {
+        // three-d checks partial updates of an indexed mesh against the number of indices
+        // (3 per triangle), not of vertices: a coarse level of a hierarchy keeps all its
+        // vertex slots with fewer triangles, so it is rebuilt instead (it is small).
+        let partial_ok = mode == Mode::Soup || 3 * mesh.n_faces() >= mesh.vertex_slots();
+        let changed = old.map(|r| r.geometry) != Some(revision.geometry)
+            || self.layer_revision != Some(layer_revision);
+        if old.map(|r| r.topology) != Some(revision.topology)
+            || self.mode != Some(mode)
+            || (changed && !partial_ok)
+        {
             self.rebuild(
                 mesh,
                 layer,

@@ -130,8 +130,11 @@ fn scripted_drag_undo_redo_save_and_screenshot() {
     );
     let script = dir.join("script.json");
     let text = serde_json::json!({"actions": [
-        {"action": "select_tool", "tool": "smooth pull"},
-        {"action": "set", "param": "radius", "value": 0.1},
+        {"action": "select_tool", "tool": "sub-mesh edits"},
+        {"action": "set", "param": "source", "value": "ring"},
+        {"action": "set", "param": "rings", "value": 2},
+        {"action": "set", "param": "levels", "value": 0},
+        {"action": "set", "param": "operation", "value": "pull"},
         {"action": "pick_vertex", "index": 0},
         {"action": "drag", "vector": [0.3, 0.0, 0.0], "steps": 4},
         {"action": "save", "path": a},
@@ -160,28 +163,40 @@ fn scripted_drag_undo_redo_save_and_screenshot() {
     );
     assert!(out.status.success(), "{}", display(&out));
 
-    // The drag moved vertex 0 by the vector (weight 1 at the picked vertex) and nothing
-    // beyond the falloff's cut-off (1.5 radii).
+    // The drag pulled the two rings around vertex 0 by the vector (no propagation) and
+    // nothing else.
     let moved = read(&a);
     moved.check().unwrap();
     assert_eq!(moved.n_vertices(), original.n_vertices());
-    let p0 = original.positions()[0];
-    let d = moved.positions()[0] - p0;
-    assert!(
-        (d - DVec3::new(0.3, 0.0, 0.0)).length() < 1e-12,
-        "moved by {d}"
-    );
-    let (lo, hi) = original.bounding_box().unwrap();
-    let cutoff = 1.5 * 0.1 * (hi - lo).length();
-    let mut changed = 0;
-    for (p, q) in original.positions().iter().zip(moved.positions()) {
-        if p.distance(p0) >= cutoff {
-            assert_eq!(p, q, "a vertex beyond the cut-off moved");
-        } else if p != q {
-            changed += 1;
+    let v0 = original.vertex_at(0).unwrap();
+    let mut ring = vec![false; original.vertex_slots()];
+    ring[0] = true;
+    for w in original.adjacent_vertices(v0) {
+        ring[original.vertex_index(w)] = true;
+        for x in original.adjacent_vertices(w) {
+            ring[original.vertex_index(x)] = true;
         }
     }
-    assert!(changed > 1, "the neighbourhood follows the picked vertex");
+    let t = DVec3::new(0.3, 0.0, 0.0);
+    let mut changed = 0;
+    for (i, (p, q)) in original
+        .positions()
+        .iter()
+        .zip(moved.positions())
+        .enumerate()
+    {
+        if ring[i] {
+            assert!(
+                (*q - *p - t).length() < 1e-12,
+                "vertex {i} moved by {}",
+                *q - *p
+            );
+            changed += 1;
+        } else {
+            assert_eq!(p, q, "vertex {i} outside the sub-mesh moved");
+        }
+    }
+    assert!(changed > 1, "the rings follow the picked vertex");
 
     // Undo restored the input exactly; redo and a screen drag moved further.
     assert_eq!(read(&b).positions(), original.positions());

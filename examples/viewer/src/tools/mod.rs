@@ -24,11 +24,15 @@
 //!
 //! To add a method, implement [`Tool`] in a new module and list it in [`default_tools`].
 
+mod ffd;
 mod inspect;
-mod smooth_pull;
+mod multires;
+mod submesh;
 
+pub use ffd::FfdTool;
 pub use inspect::Inspect;
-pub use smooth_pull::SmoothPull;
+pub use multires::{Multires, SharedLabels, SubMeshLabels};
+pub use submesh::SubMeshEdit;
 
 use glam::DVec3;
 use halfedge::{FaceId, Mesh, VertexId};
@@ -39,9 +43,12 @@ use crate::document::Document;
 
 /// The tools of the viewer, in selector order. Add new methods here.
 pub fn default_tools() -> Vec<Box<dyn Tool>> {
+    let labels = SharedLabels::default();
     vec![
         Box::new(Inspect::default()),
-        Box::new(SmoothPull::default()),
+        Box::new(Multires::new(labels.clone())),
+        Box::new(SubMeshEdit::new(labels.clone())),
+        Box::new(FfdTool::new(labels)),
     ]
 }
 

@@ -1,0 +1,747 @@
+//! *FFD* — the shape- and height-surface free-form deformation of Feng, Ma & Peng, *A new
+//! free-form deformation through the control of parametric surfaces* ([`edit::ffd`]).
+//!
+//! *Attach* fits a placement frame to the bounding box of the mesh (or of the sub-mesh of
+//! the *Multiresolution* labels): `u` along the longest side, heights along the shortest,
+//! the shape surface `S` a flat bicubic B-spline under the object, the height surface `H`
+//! at height 1. In **global** mode `S` covers the whole object (grown by 5 %); in
+//! **local** mode it covers the middle 60 % of it, the object crosses its borders and the
+//! border control points stay fixed (two layers, §4), so the deformed part stays joined to
+//! the rest.
+//!
+//! The control nets are drawn over the mesh: `S` in orange at its place under the object,
+//! `H` in blue on top of it (its frame height is drawn scaled by the object's height;
+//! pinned points are grey). Press near a control point (along the mouse ray) and drag:
+//! the mesh follows live, one undo step per drag; for `H` only the height counts (`h ↦
+//! H_y h`). The ready operations *bend*, *taper* and *twist* act on the current surfaces.
+//! Undo and redo bring the surfaces back with the positions they produced.
+
+use std::cell::Cell;
+
+use edit::ffd::{AttachOptions, BSplineSurface, Ffd, Frame, Mode};
+use edit::selection::Vertices;
+use glam::DVec3;
+use halfedge::Mesh;
+use three_d::egui;
+
+use super::{
+    bool_param, number_param, string_param, Drag, DragPhase, Overlay, Pick, SharedLabels, Tool,
+    ToolContext, ToolError, ViewInfo,
+};
+use crate::app::group;
+use crate::colors::Rgba;
+
+/// Which control net.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Net {
+    /// The shape surface `S`.
+    Shape,
+    /// The height surface `H`.
+    Height,
+}
+
+/// The ready operation of *Apply*.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Operation {
+    /// Bend the shape surface along `u`.
+    Bend,
+    /// Narrow `S` and slope `H` along `u`.
+    Taper,
+    /// Twist `S` about its `u` axis.
+    Twist,
+}
+
+const OPERATIONS: [(Operation, &str); 3] = [
+    (Operation::Bend, "bend"),
+    (Operation::Taper, "taper"),
+    (Operation::Twist, "twist"),
+];
+
+const SHAPE_COLOR: Rgba = [255, 140, 30, 255];
+const HEIGHT_COLOR: Rgba = [60, 150, 255, 255];
+const PINNED_COLOR: Rgba = [140, 140, 140, 255];
+const SELECTED_COLOR: Rgba = [230, 30, 60, 255];
+
+/// An attached FFD with what the tool needs around it.
+struct Attached {
+    ffd: Ffd,
+    /// Scratch copy of the mesh that `deform` writes into.
+    work: Mesh,
+    /// Slots of the attached vertices.
+    attached: Vec<usize>,
+    /// Height of the object along the frame's `y`, to draw `H` on top of it.
+    display_height: f64,
+    /// Surfaces and the hash of the positions they produced, for undo / redo.
+    history: Vec<(BSplineSurface, BSplineSurface, u64)>,
+}
+
+/// A drag of a control point in progress.
+struct ControlDrag {
+    net: Net,
+    index: (usize, usize),
+    /// Displayed position at the start.
+    start: DVec3,
+    /// The mesh's positions at the start.
+    base: Vec<DVec3>,
+}
+
+/// The FFD tool (see the module docs).
+pub struct FfdTool {
+    shared: SharedLabels,
+    /// Attach to the sub-mesh of the labels (else the whole mesh).
+    pub submesh: bool,
+    /// Local mode (the surface covers the middle of the object).
+    pub local: bool,
+    /// Control grid `[u, v]` of both surfaces (bicubic).
+    pub grid: [usize; 2],
+    /// The operation of *Apply*.
+    pub operation: Operation,
+    /// Bend angle, degrees.
+    pub bend: f64,
+    /// Taper factors at `u = 0` and `u = 1`.
+    pub taper: [f64; 2],
+    /// Twist angle, degrees.
+    pub twist: f64,
+    state: Option<Attached>,
+    /// Control point chosen by a script (`control`) or by the last press.
+    pending: Cell<Option<(Net, usize, usize)>>,
+    /// Chosen by a script: the next drag moves it wherever the press is.
+    armed: bool,
+    selected: Option<(Net, usize, usize)>,
+    drag: Option<ControlDrag>,
+    view: Option<ViewInfo>,
+    note: Option<String>,
+}
+
+impl FfdTool {
+    /// The tool, reading the sub-mesh labels from `shared`.
+    pub fn new(shared: SharedLabels) -> Self {
+        Self {
+            shared,
+            submesh: false,
+            local: false,
+            grid: [7, 5],
+            operation: Operation::Bend,
+            bend: 45.0,
+            taper: [1.0, 0.5],
+            twist: 60.0,
+            state: None,
+            pending: Cell::new(None),
+            armed: false,
+            selected: None,
+            drag: None,
+            view: None,
+            note: None,
+        }
+    }
+
+    /// Attaches the FFD to the mesh (or the sub-mesh).
+    pub fn attach(&mut self, ctx: &mut ToolContext<'_>) -> Result<(), ToolError> {
+        let mesh = ctx.mesh();
+        let mask = if self.submesh {
+            Some(
+                self.shared
+                    .get(mesh)
+                    .ok_or_else(|| {
+                        ToolError::new(
+                            "no sub-mesh labels for this mesh: cut one with Multiresolution",
+                        )
+                    })?
+                    .inside_mask(),
+            )
+        } else {
+            None
+        };
+        let vertices = match &mask {
+            Some(m) => Vertices::Mask(m),
+            None => Vertices::All,
+        };
+        // The bounding box of the selected vertices.
+        let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+        for v in mesh.vertices() {
+            let i = mesh.vertex_index(v);
+            if mask.as_ref().is_none_or(|m| m[i]) {
+                lo = lo.min(mesh.positions()[i]);
+                hi = hi.max(mesh.positions()[i]);
+            }
+        }
+        if !lo.is_finite() {
+            return Err(ToolError::new("nothing to attach: the mesh is empty"));
+        }
+        let extent = hi - lo;
+        let mut axes = [0usize, 1, 2];
+        axes.sort_by(|&a, &b| extent[b].total_cmp(&extent[a]));
+        let (long, short) = (axes[0], axes[2]);
+        let frame = Frame::new(lo, DVec3::AXES[long], DVec3::AXES[short])?;
+        let margin = if self.local { -0.2 } else { 0.05 };
+        let grid = self.grid;
+        let ffd = Ffd::covering(
+            mesh,
+            vertices,
+            frame,
+            ([3, 3], grid),
+            ([3, 3], grid),
+            margin,
+            AttachOptions::default(),
+        )?;
+        let attached: Vec<usize> = mesh
+            .vertices()
+            .map(|v| mesh.vertex_index(v))
+            .filter(|&i| ffd.parameters(i).is_some())
+            .collect();
+        let display_height = extent[short]
+            .max(1e-3 * extent[long])
+            .max(f64::MIN_POSITIVE);
+        let (s, h) = (ffd.shape().clone(), ffd.height().clone());
+        let mode = ffd.mode();
+        let n = ffd.attached();
+        self.state = Some(Attached {
+            ffd,
+            work: mesh.clone(),
+            attached,
+            display_height,
+            history: vec![(s, h, positions_hash(mesh))],
+        });
+        self.selected = None;
+        ctx.info(format!(
+            "FFD attached: {} vertices ({}), S and H {}×{} bicubic",
+            group(n),
+            match mode {
+                Mode::Global => "global",
+                Mode::Local => "local: border control points fixed",
+            },
+            grid[0],
+            grid[1]
+        ));
+        Ok(())
+    }
+
+    /// Attaches if needed or if another tool changed the mesh since.
+    fn ensure_attached(&mut self, ctx: &mut ToolContext<'_>) -> Result<(), ToolError> {
+        let fresh = self.state.as_ref().is_some_and(|s| {
+            s.work.vertex_slots() == ctx.mesh().vertex_slots()
+                && s.history.last().map(|h| h.2) == Some(positions_hash(ctx.mesh()))
+        });
+        if !fresh {
+            self.attach(ctx)?;
+        }
+        Ok(())
+    }
+
+    /// Deforms the mesh by the current surfaces (inside the open undo step).
+    fn deform(&mut self, ctx: &mut ToolContext<'_>, label: &str) -> Result<usize, ToolError> {
+        let st = self.state.as_mut().expect("attached");
+        st.ffd.deform(&mut st.work)?;
+        ctx.begin_edit(label);
+        let positions = ctx.positions_mut();
+        let mut moved = 0;
+        for &i in &st.attached {
+            let p = st.work.positions()[i];
+            if positions[i] != p {
+                moved += 1;
+            }
+            positions[i] = p;
+        }
+        Ok(moved)
+    }
+
+    /// Records the surfaces with the positions they produced (end of a gesture).
+    fn record(&mut self, mesh: &Mesh) {
+        if let Some(st) = &mut self.state {
+            let entry = (
+                st.ffd.shape().clone(),
+                st.ffd.height().clone(),
+                positions_hash(mesh),
+            );
+            st.history.push(entry);
+            if st.history.len() > 256 {
+                st.history.remove(1);
+            }
+        }
+    }
+
+    /// Applies the ready operation to the current surfaces and deforms.
+    pub fn run(&mut self, ctx: &mut ToolContext<'_>) -> Result<(), ToolError> {
+        self.ensure_attached(ctx)?;
+        let st = self.state.as_mut().expect("attached");
+        let what = match self.operation {
+            Operation::Bend => {
+                st.ffd.bend(self.bend.to_radians())?;
+                format!("bend {}°", self.bend)
+            }
+            Operation::Taper => {
+                st.ffd.taper(self.taper[0], self.taper[1])?;
+                format!("taper {} → {}", self.taper[0], self.taper[1])
+            }
+            Operation::Twist => {
+                st.ffd.twist(self.twist.to_radians())?;
+                format!("twist {}°", self.twist)
+            }
+        };
+        let moved = self.deform(ctx, &format!("FFD {what}"))?;
+        ctx.doc.end_edit();
+        self.record(ctx.mesh());
+        ctx.info(format!("FFD {what}: {} vertices moved", group(moved)));
+        Ok(())
+    }
+
+    /// Surfaces back to rest, and the mesh with them.
+    fn reset(&mut self, ctx: &mut ToolContext<'_>) -> Result<(), ToolError> {
+        self.ensure_attached(ctx)?;
+        self.state.as_mut().expect("attached").ffd.reset();
+        let moved = self.deform(ctx, "FFD reset")?;
+        ctx.doc.end_edit();
+        self.record(ctx.mesh());
+        ctx.info(format!("FFD reset: {} vertices moved", group(moved)));
+        Ok(())
+    }
+
+    /// Where control point `(i, j)` of `net` is drawn.
+    fn displayed(st: &Attached, net: Net, i: usize, j: usize) -> Option<DVec3> {
+        match net {
+            Net::Shape => st.ffd.shape().control_point(i, j),
+            Net::Height => {
+                let frame = st.ffd.frame();
+                let l = frame.to_local(st.ffd.height().control_point(i, j)?);
+                Some(frame.to_world(DVec3::new(l.x, l.y * st.display_height, l.z)))
+            }
+        }
+    }
+
+    fn is_pinned(st: &Attached, net: Net, i: usize, j: usize) -> bool {
+        match net {
+            Net::Shape => st.ffd.is_shape_pinned(i, j),
+            Net::Height => st.ffd.is_height_pinned(i, j),
+        }
+    }
+
+    /// The unpinned control point nearest to the ray from the eye through `point`, within
+    /// about 2° of it.
+    fn nearest(&self, point: DVec3) -> Option<(Net, usize, usize)> {
+        let st = self.state.as_ref()?;
+        let view = self.view?;
+        let dir = (point - view.eye).try_normalize()?;
+        let mut best: Option<(f64, (Net, usize, usize))> = None;
+        for net in [Net::Shape, Net::Height] {
+            let [cu, cv] = st.ffd.shape().count();
+            for i in 0..cu {
+                for j in 0..cv {
+                    if Self::is_pinned(st, net, i, j) {
+                        continue;
+                    }
+                    let Some(p) = Self::displayed(st, net, i, j) else {
+                        continue;
+                    };
+                    let d = p - view.eye;
+                    let along = d.dot(dir);
+                    if along <= 0.0 {
+                        continue;
+                    }
+                    let angle = (d - along * dir).length() / along;
+                    if angle < 0.035 && best.is_none_or(|(b, _)| angle < b) {
+                        best = Some((angle, (net, i, j)));
+                    }
+                }
+            }
+        }
+        best.map(|(_, c)| c)
+    }
+
+    /// Moves control point `c` so that it is drawn at `target`.
+    fn move_control(
+        st: &mut Attached,
+        c: (Net, usize, usize),
+        target: DVec3,
+    ) -> Result<(), ToolError> {
+        let (net, i, j) = c;
+        match net {
+            Net::Shape => st.ffd.shape_mut().set_control_point(i, j, target)?,
+            Net::Height => {
+                let frame = *st.ffd.frame();
+                let old = frame.to_local(st.ffd.height().control_point(i, j).expect("valid"));
+                let y = frame.to_local(target).y / st.display_height;
+                st.ffd.height_mut().set_control_point(
+                    i,
+                    j,
+                    frame.to_world(DVec3::new(old.x, y, old.z)),
+                )?;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// A hash of the positions (bits), to recognise the state a surface produced.
+fn positions_hash(mesh: &Mesh) -> u64 {
+    let mut h: u64 = 0x8422_2325_CBF2_9CE4;
+    for p in mesh.positions() {
+        for x in [p.x, p.y, p.z] {
+            h = (h ^ x.to_bits())
+                .wrapping_mul(0x9E37_79B9_7F4A_7C15)
+                .rotate_left(31);
+        }
+    }
+    h
+}
+
+fn net_name(net: Net) -> &'static str {
+    match net {
+        Net::Shape => "shape",
+        Net::Height => "height",
+    }
+}
+
+const PARAMETERS: [&str; 12] = [
+    "scope",
+    "mode",
+    "grid_u",
+    "grid_v",
+    "operation",
+    "bend",
+    "taper_start",
+    "taper_end",
+    "twist",
+    "attach",
+    "reset",
+    "control",
+];
+
+impl Tool for FfdTool {
+    fn name(&self) -> &str {
+        "FFD"
+    }
+
+    fn description(&self) -> &str {
+        "Feng, Ma & Peng: free-form deformation by a shape surface S and a height surface H. \
+         Attach, drag the control points of S (orange) or H (blue), or bend, taper, twist."
+    }
+
+    fn ui(&mut self, ui: &mut egui::Ui, ctx: &mut ToolContext<'_>) {
+        self.view = Some(ctx.view);
+        if let Some(note) = self.note.take() {
+            ctx.info(note);
+        }
+        ui.horizontal(|ui| {
+            ui.label("Attach to");
+            ui.selectable_value(&mut self.submesh, false, "mesh");
+            ui.selectable_value(&mut self.submesh, true, "sub-mesh");
+        });
+        ui.horizontal(|ui| {
+            ui.label("Mode");
+            ui.selectable_value(&mut self.local, false, "global");
+            ui.selectable_value(&mut self.local, true, "local");
+        });
+        ui.horizontal(|ui| {
+            ui.label("Control grid");
+            ui.add(egui::DragValue::new(&mut self.grid[0]).range(4..=20));
+            ui.label("×");
+            ui.add(egui::DragValue::new(&mut self.grid[1]).range(4..=20));
+        });
+        ui.horizontal(|ui| {
+            if ui.button("Attach").clicked() {
+                if let Err(e) = self.attach(ctx) {
+                    ctx.error(format!("FFD: {e}"));
+                }
+            }
+            if ui
+                .add_enabled(self.state.is_some(), egui::Button::new("Reset surfaces"))
+                .clicked()
+            {
+                if let Err(e) = self.reset(ctx) {
+                    ctx.error(format!("FFD: {e}"));
+                }
+            }
+        });
+        match &self.state {
+            Some(st) => {
+                ui.weak(format!(
+                    "{} vertices attached ({})",
+                    group(st.ffd.attached()),
+                    if st.ffd.mode() == Mode::Global {
+                        "global"
+                    } else {
+                        "local"
+                    }
+                ));
+            }
+            None => {
+                ui.weak("Not attached.");
+            }
+        }
+        ui.weak("Press near a control point and drag it (H: up and down).");
+        ui.separator();
+        ui.horizontal(|ui| {
+            ui.label("Operation");
+            for (o, name) in OPERATIONS {
+                ui.selectable_value(&mut self.operation, o, name);
+            }
+        });
+        match self.operation {
+            Operation::Bend => {
+                ui.add(egui::Slider::new(&mut self.bend, -180.0..=180.0).text("angle (°)"));
+            }
+            Operation::Taper => {
+                ui.add(egui::Slider::new(&mut self.taper[0], 0.0..=2.0).text("factor at u = 0"));
+                ui.add(egui::Slider::new(&mut self.taper[1], 0.0..=2.0).text("factor at u = 1"));
+            }
+            Operation::Twist => {
+                ui.add(egui::Slider::new(&mut self.twist, -360.0..=360.0).text("angle (°)"));
+            }
+        }
+        if ui.button("Apply").clicked() {
+            if let Err(e) = self.run(ctx) {
+                ctx.error(format!("FFD: {e}"));
+            }
+        }
+    }
+
+    fn on_pick(&mut self, pick: Option<&Pick>, _ctx: &mut ToolContext<'_>) {
+        if let Some(p) = pick {
+            if !self.armed {
+                if let Some(c) = self.nearest(p.point) {
+                    self.selected = Some(c);
+                }
+            }
+        }
+    }
+
+    fn wants_drag(&self, pick: &Pick) -> bool {
+        if self.state.is_none() {
+            return false;
+        }
+        if self.armed {
+            return true;
+        }
+        match self.nearest(pick.point) {
+            Some(c) => {
+                self.pending.set(Some(c));
+                true
+            }
+            None => false,
+        }
+    }
+
+    fn on_drag(&mut self, drag: &Drag, ctx: &mut ToolContext<'_>) {
+        match drag.phase {
+            DragPhase::Start => {
+                let Some(c) = self.pending.take() else {
+                    return;
+                };
+                self.armed = false;
+                if let Err(e) = self.ensure_attached(ctx) {
+                    ctx.error(format!("FFD: {e}"));
+                    return;
+                }
+                let st = self.state.as_ref().expect("attached");
+                let Some(start) = Self::displayed(st, c.0, c.1, c.2) else {
+                    return;
+                };
+                self.selected = Some(c);
+                self.drag = Some(ControlDrag {
+                    net: c.0,
+                    index: (c.1, c.2),
+                    start,
+                    base: ctx.mesh().positions().to_vec(),
+                });
+                ctx.begin_edit("FFD drag");
+            }
+            DragPhase::Move | DragPhase::End => {
+                let Some(d) = &self.drag else {
+                    return;
+                };
+                let c = (d.net, d.index.0, d.index.1);
+                let target = d.start + drag.delta();
+                let st = self.state.as_mut().expect("attached");
+                let result =
+                    Self::move_control(st, c, target).and_then(|()| self.deform(ctx, "FFD drag"));
+                match result {
+                    Ok(_) if drag.phase == DragPhase::End => {
+                        let d = self.drag.take().expect("checked");
+                        let moved = d
+                            .base
+                            .iter()
+                            .zip(ctx.mesh().positions())
+                            .filter(|(a, b)| a != b)
+                            .count();
+                        self.record(ctx.mesh());
+                        ctx.info(format!(
+                            "FFD: moved {} control point ({}, {}) by {:.4}; {} vertices moved",
+                            net_name(c.0),
+                            c.1,
+                            c.2,
+                            drag.delta().length(),
+                            group(moved)
+                        ));
+                    }
+                    Ok(_) => {}
+                    Err(e) => ctx.error(format!("FFD: {e}")),
+                }
+            }
+        }
+    }
+
+    fn apply(&mut self, ctx: &mut ToolContext<'_>) -> Result<(), ToolError> {
+        self.run(ctx)
+    }
+
+    fn set_parameter(
+        &mut self,
+        name: &str,
+        value: &serde_json::Value,
+        ctx: &mut ToolContext<'_>,
+    ) -> Result<(), ToolError> {
+        let grid = |value: &serde_json::Value| -> Result<usize, ToolError> {
+            let n = number_param(name, value)?;
+            if (4.0..=64.0).contains(&n) && n.fract() == 0.0 {
+                Ok(n as usize)
+            } else {
+                Err(ToolError::new(format!(
+                    "{name} {n}: a whole number in 4..=64"
+                )))
+            }
+        };
+        match name {
+            "scope" => {
+                self.submesh = match string_param(name, value)? {
+                    "mesh" => false,
+                    "submesh" => true,
+                    s => return Err(ToolError::new(format!("scope {s:?}: mesh or submesh"))),
+                }
+            }
+            "mode" => {
+                self.local = match string_param(name, value)? {
+                    "global" => false,
+                    "local" => true,
+                    s => return Err(ToolError::new(format!("mode {s:?}: global or local"))),
+                }
+            }
+            "grid_u" => self.grid[0] = grid(value)?,
+            "grid_v" => self.grid[1] = grid(value)?,
+            "operation" => {
+                let s = string_param(name, value)?;
+                self.operation = OPERATIONS
+                    .iter()
+                    .find(|(_, n)| n.eq_ignore_ascii_case(s))
+                    .map(|(o, _)| *o)
+                    .ok_or_else(|| {
+                        ToolError::new(format!("operation {s:?}: bend, taper or twist"))
+                    })?;
+            }
+            "bend" => self.bend = number_param(name, value)?,
+            "taper_start" => self.taper[0] = number_param(name, value)?,
+            "taper_end" => self.taper[1] = number_param(name, value)?,
+            "twist" => self.twist = number_param(name, value)?,
+            "attach" => {
+                if bool_param(name, value)? {
+                    self.attach(ctx)?;
+                }
+            }
+            "reset" => {
+                if bool_param(name, value)? {
+                    self.reset(ctx)?;
+                }
+            }
+            "control" => {
+                let bad = || ToolError::bad_value(name, "[\"shape\" or \"height\", i, j]", value);
+                let a = value.as_array().filter(|a| a.len() == 3).ok_or_else(bad)?;
+                let net = match a[0].as_str() {
+                    Some("shape") => Net::Shape,
+                    Some("height") => Net::Height,
+                    _ => return Err(bad()),
+                };
+                let i = a[1].as_u64().ok_or_else(bad)? as usize;
+                let j = a[2].as_u64().ok_or_else(bad)? as usize;
+                self.ensure_attached(ctx)?;
+                let [cu, cv] = self.state.as_ref().expect("attached").ffd.shape().count();
+                if i >= cu || j >= cv {
+                    return Err(ToolError::new(format!(
+                        "control point ({i}, {j}) outside the {cu}×{cv} grid"
+                    )));
+                }
+                self.pending.set(Some((net, i, j)));
+                self.selected = Some((net, i, j));
+                self.armed = true;
+            }
+            _ => return Err(ToolError::unknown_parameter(self.name(), name, &PARAMETERS)),
+        }
+        Ok(())
+    }
+
+    fn parameters(&self) -> Vec<(&'static str, serde_json::Value)> {
+        vec![
+            (
+                "scope",
+                if self.submesh { "submesh" } else { "mesh" }.into(),
+            ),
+            ("mode", if self.local { "local" } else { "global" }.into()),
+            ("grid_u", self.grid[0].into()),
+            ("grid_v", self.grid[1].into()),
+            (
+                "operation",
+                OPERATIONS
+                    .iter()
+                    .find(|(o, _)| *o == self.operation)
+                    .expect("listed")
+                    .1
+                    .into(),
+            ),
+            ("bend", self.bend.into()),
+            ("taper_start", self.taper[0].into()),
+            ("taper_end", self.taper[1].into()),
+            ("twist", self.twist.into()),
+        ]
+    }
+
+    fn overlay(&self, _mesh: &Mesh, overlay: &mut Overlay) {
+        let Some(st) = &self.state else {
+            return;
+        };
+        let [cu, cv] = st.ffd.shape().count();
+        for (net, color) in [(Net::Shape, SHAPE_COLOR), (Net::Height, HEIGHT_COLOR)] {
+            let p = |i, j| Self::displayed(st, net, i, j).expect("in the grid");
+            for i in 0..cu {
+                for j in 0..cv {
+                    let selected = self.selected == Some((net, i, j));
+                    let (c, s) = if selected {
+                        (SELECTED_COLOR, 1.8)
+                    } else if Self::is_pinned(st, net, i, j) {
+                        (PINNED_COLOR, 0.8)
+                    } else {
+                        (color, 1.1)
+                    };
+                    overlay.marker(p(i, j), c, s);
+                    if i + 1 < cu {
+                        overlay.segment(p(i, j), p(i + 1, j), color);
+                    }
+                    if j + 1 < cv {
+                        overlay.segment(p(i, j), p(i, j + 1), color);
+                    }
+                }
+            }
+        }
+    }
+
+    fn on_mesh_replaced(&mut self, mesh: &Mesh) {
+        self.drag = None;
+        let Some(st) = &mut self.state else {
+            return;
+        };
+        if st.work.vertex_slots() != mesh.vertex_slots() {
+            self.state = None;
+            self.note = Some("FFD detached: the mesh changed".into());
+            return;
+        }
+        let hash = positions_hash(mesh);
+        match st.history.iter().rposition(|e| e.2 == hash) {
+            Some(k) => {
+                let (s, h, _) = st.history[k].clone();
+                *st.ffd.shape_mut() = s;
+                *st.ffd.height_mut() = h;
+            }
+            None => {
+                self.state = None;
+                self.note = Some("FFD detached: the positions are not ones it made".into());
+            }
+        }
+    }
+}

@@ -1,0 +1,901 @@
+//! *Multiresolution* — the progressive hierarchy and the sub-mesh labels of *Interactive
+//! Editing of Multiresolution Meshes* (the seed paper, sections 3 and 4.1; DESIGN.md §2).
+//!
+//! - **Build** a [`Hierarchy`] of the current mesh with the paper's rounds or a QEM
+//!   decimation, down to a target face count; the document stays at the finest level.
+//! - **Level slider**: coarsens or refines with the hierarchy's detail coefficients. Edits
+//!   made by other tools at a coarse level ride along to the finer levels: before moving,
+//!   the document's positions are copied into the hierarchy's mesh (when the document's
+//!   connectivity is the hierarchy's current level, or a level already visited, e.g. after
+//!   undo), then the hierarchy moves, and its mesh goes back into the document as one undo
+//!   step.
+//! - **Sub-mesh frontier** (section 4.1, Fig. 2): (a) picked vertices joined into a closed
+//!   loop by shortest edge paths, (b) a collar of faces (the faces around the loop through
+//!   the picked vertices; the frontier is its border on the side of the smaller part),
+//!   (c) a cutting plane through a picked point, normal along an axis or the view. The
+//!   labels (host, sub-mesh, frontier) colour the mesh, the frontier is drawn over it, and
+//!   the labels ride along through level changes (Fig. 4 rule, [`halfedge::labels`]).
+//!   They are shared with the *Sub-mesh edits* and *FFD* tools through [`SharedLabels`].
+
+use std::cell::RefCell;
+use std::collections::HashMap;
+use std::rc::Rc;
+use std::time::Instant;
+
+use glam::DVec3;
+use halfedge::{FaceId, Hierarchy, HierarchyOptions, Mesh, Method, VertexId, FRONTIER};
+use three_d::egui;
+
+use super::{
+    bool_param, number_param, string_param, Overlay, Pick, Tool, ToolContext, ToolError, ViewInfo,
+};
+use crate::app::group;
+use crate::colors::{Rgba, NO_LABEL};
+
+/// Label of the host (the part outside the sub-mesh).
+pub const HOST: u32 = 0;
+/// Label of the sub-mesh.
+pub const SUBMESH: u32 = 1;
+
+/// Colour of the frontier segments.
+const FRONTIER_COLOR: Rgba = [255, 220, 40, 255];
+
+/// A hash of a mesh's connectivity: slot counts and, for every live face, its index, its
+/// corners and its halfedges (rotated to start at the smallest corner). Equal
+/// fingerprints mean the same handles and the same triangles, so that per-slot data (labels,
+/// positions) carry over.
+pub fn connectivity_fingerprint(mesh: &Mesh) -> u64 {
+    const K: u64 = 0x9E37_79B9_7F4A_7C15;
+    let mut h: u64 = 0xCBF2_9CE4_8422_2325;
+    let mut mix = |x: u64| {
+        h = (h ^ x).wrapping_mul(K).rotate_left(29);
+    };
+    for x in [
+        mesh.vertex_slots(),
+        mesh.halfedge_slots(),
+        mesh.face_slots(),
+        mesh.n_vertices(),
+        mesh.n_faces(),
+    ] {
+        mix(x as u64);
+    }
+    for f in mesh.faces() {
+        mix(mesh.face_index(f) as u64);
+        let hs: Vec<_> = mesh.face_halfedges(f).collect();
+        let vs: Vec<usize> = hs
+            .iter()
+            .map(|&e| mesh.vertex_index(mesh.to_vertex(e)))
+            .collect();
+        let start = (0..vs.len()).min_by_key(|&i| vs[i]).unwrap_or(0);
+        for k in 0..vs.len() {
+            let i = (start + k) % vs.len();
+            mix(vs[i] as u64);
+            mix(mesh.halfedge_index(hs[i]) as u64);
+        }
+    }
+    h
+}
+
+/// Sub-mesh labels of the current mesh: one label per vertex slot ([`HOST`], [`SUBMESH`]
+/// or [`FRONTIER`]), valid for the connectivity they were made on.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SubMeshLabels {
+    /// Label per vertex slot (dead slots: [`NO_LABEL`]).
+    pub labels: Vec<u32>,
+    /// [`connectivity_fingerprint`] of the mesh they belong to.
+    pub fingerprint: u64,
+    /// How they were made (for the status line and panels).
+    pub description: String,
+}
+
+impl SubMeshLabels {
+    /// True when the labels belong to `mesh`'s connectivity.
+    pub fn matches(&self, mesh: &Mesh) -> bool {
+        self.labels.len() == mesh.vertex_slots()
+            && self.fingerprint == connectivity_fingerprint(mesh)
+    }
+
+    /// The sub-mesh as a mask per vertex slot: the sub-mesh and its frontier (the frontier
+    /// vertices are shared by the sub-mesh and the host, section 4.1).
+    pub fn inside_mask(&self) -> Vec<bool> {
+        self.labels
+            .iter()
+            .map(|&l| l == SUBMESH || l == FRONTIER)
+            .collect()
+    }
+
+    /// Number of vertices per label `(host, sub-mesh, frontier)`.
+    pub fn counts(&self) -> (usize, usize, usize) {
+        let mut c = (0, 0, 0);
+        for &l in &self.labels {
+            match l {
+                HOST => c.0 += 1,
+                SUBMESH => c.1 += 1,
+                FRONTIER => c.2 += 1,
+                _ => {}
+            }
+        }
+        c
+    }
+
+    /// Labels for display: host 0, sub-mesh 1, frontier 2.
+    pub fn display_labels(&self) -> Vec<u32> {
+        self.labels
+            .iter()
+            .map(|&l| match l {
+                HOST => 0,
+                SUBMESH => 1,
+                FRONTIER => 2,
+                _ => NO_LABEL,
+            })
+            .collect()
+    }
+
+    /// Colours the mesh by these labels.
+    pub fn show(&self, ctx: &mut ToolContext<'_>) {
+        ctx.show_vertex_labels(
+            "sub-mesh labels",
+            self.display_labels(),
+            vec![
+                (0, "host".into()),
+                (1, "sub-mesh".into()),
+                (2, "frontier".into()),
+            ],
+        );
+    }
+
+    /// The frontier edges (both ends on the frontier) as segments over `mesh`.
+    pub fn frontier_overlay(&self, mesh: &Mesh, overlay: &mut Overlay) {
+        if self.labels.len() != mesh.vertex_slots() {
+            return;
+        }
+        for e in mesh.edges() {
+            let (a, b) = (mesh.from_vertex(e), mesh.to_vertex(e));
+            if self.labels[mesh.vertex_index(a)] == FRONTIER
+                && self.labels[mesh.vertex_index(b)] == FRONTIER
+            {
+                overlay.segment(mesh.position(a), mesh.position(b), FRONTIER_COLOR);
+            }
+        }
+    }
+}
+
+/// The sub-mesh labels shared by the tools (set by *Multiresolution*, used by *Sub-mesh
+/// edits* and *FFD*).
+#[derive(Clone, Debug, Default)]
+pub struct SharedLabels(Rc<RefCell<Option<SubMeshLabels>>>);
+
+impl SharedLabels {
+    /// The labels, if any and if they belong to `mesh`.
+    pub fn get(&self, mesh: &Mesh) -> Option<SubMeshLabels> {
+        self.0
+            .borrow()
+            .as_ref()
+            .filter(|l| l.matches(mesh))
+            .cloned()
+    }
+    /// Replaces the labels.
+    pub fn set(&self, labels: Option<SubMeshLabels>) {
+        *self.0.borrow_mut() = labels;
+    }
+    /// True when labels are set (whatever mesh they belong to).
+    pub fn is_set(&self) -> bool {
+        self.0.borrow().is_some()
+    }
+}
+
+/// How the sub-mesh frontier is made.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FrontierMode {
+    /// (a) Picked vertices joined into a closed loop.
+    Loop,
+    /// (b) The collar of faces around the loop through the picked vertices.
+    Collar,
+    /// (c) A cutting plane through the picked point.
+    Plane,
+}
+
+impl FrontierMode {
+    const ALL: [(FrontierMode, &'static str); 3] = [
+        (FrontierMode::Loop, "loop"),
+        (FrontierMode::Collar, "collar"),
+        (FrontierMode::Plane, "plane"),
+    ];
+    fn name(self) -> &'static str {
+        Self::ALL
+            .iter()
+            .find(|(m, _)| *m == self)
+            .expect("listed")
+            .1
+    }
+}
+
+/// The normal of the cutting plane.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PlaneNormal {
+    /// World x.
+    X,
+    /// World y.
+    Y,
+    /// World z.
+    Z,
+    /// The viewing direction at the time of the pick.
+    View,
+}
+
+impl PlaneNormal {
+    const ALL: [(PlaneNormal, &'static str); 4] = [
+        (PlaneNormal::X, "x"),
+        (PlaneNormal::Y, "y"),
+        (PlaneNormal::Z, "z"),
+        (PlaneNormal::View, "view"),
+    ];
+    fn name(self) -> &'static str {
+        Self::ALL
+            .iter()
+            .find(|(m, _)| *m == self)
+            .expect("listed")
+            .1
+    }
+    fn vector(self, view: &ViewInfo) -> DVec3 {
+        match self {
+            PlaneNormal::X => DVec3::X,
+            PlaneNormal::Y => DVec3::Y,
+            PlaneNormal::Z => DVec3::Z,
+            PlaneNormal::View => view.forward,
+        }
+    }
+}
+
+/// The multiresolution tool (see the module docs).
+pub struct Multires {
+    shared: SharedLabels,
+    /// Rounds (the paper) or QEM.
+    pub method: Method,
+    /// Stop building at this many faces.
+    pub target_faces: usize,
+    /// Planarity bound of the rounds, degrees.
+    pub max_normal_deviation: f64,
+    hierarchy: Option<Hierarchy>,
+    /// Level shown by the slider.
+    level: usize,
+    /// Connectivity fingerprint → level, for the levels visited.
+    visited: HashMap<u64, usize>,
+    /// Frontier construction.
+    pub frontier: FrontierMode,
+    /// Cutting-plane normal.
+    pub normal: PlaneNormal,
+    /// Swap the sub-mesh and the host.
+    pub flip: bool,
+    picks: Vec<VertexId>,
+    plane: Option<(DVec3, DVec3)>,
+    collar: Vec<FaceId>,
+    view: Option<ViewInfo>,
+}
+
+impl Multires {
+    /// The tool, sharing its labels through `shared`.
+    pub fn new(shared: SharedLabels) -> Self {
+        Self {
+            shared,
+            method: Method::Rounds,
+            target_faces: 500,
+            max_normal_deviation: 90.0,
+            hierarchy: None,
+            level: 0,
+            visited: HashMap::new(),
+            frontier: FrontierMode::Loop,
+            normal: PlaneNormal::Y,
+            flip: false,
+            picks: Vec::new(),
+            plane: None,
+            collar: Vec::new(),
+            view: None,
+        }
+    }
+
+    /// The hierarchy, once built.
+    pub fn hierarchy(&self) -> Option<&Hierarchy> {
+        self.hierarchy.as_ref()
+    }
+
+    fn options(&self) -> HierarchyOptions {
+        let base = match self.method {
+            Method::Rounds => HierarchyOptions::rounds()
+                .with_max_normal_deviation(self.max_normal_deviation.to_radians()),
+            Method::Qem => HierarchyOptions::qem(),
+        };
+        base.with_target_faces(self.target_faces)
+    }
+
+    /// Builds the hierarchy of the document's mesh and leaves the document at level 0.
+    pub fn build(&mut self, ctx: &mut ToolContext<'_>) -> Result<(), ToolError> {
+        let start = Instant::now();
+        let input = ctx.mesh().clone();
+        let input_fp = connectivity_fingerprint(&input);
+        let input_faces = input.n_faces();
+        let labels = self.shared.get(&input);
+        let mut last = None;
+        let mut h =
+            Hierarchy::build_with_progress(input, &self.options(), &mut |p| last = Some(p))?;
+        let built = start.elapsed();
+        let coarse_faces = h.mesh().n_faces();
+        // Back to the input (bit for bit), where the document is.
+        h.go_to_level(0)?;
+        if let Some(labels) = labels {
+            // Labels made on the input: attach them at level 0.
+            let attribute = h.mesh_mut().label_attribute();
+            let n = labels.labels.len();
+            h.mesh_mut().attribute_values_mut(attribute)[..n].copy_from_slice(&labels.labels);
+            h.attach_labels(attribute);
+        }
+        let fp = connectivity_fingerprint(h.mesh());
+        if fp != input_fp {
+            ctx.begin_topology_edit("Build hierarchy");
+            *ctx.mesh_mut() = h.mesh().clone();
+            ctx.doc.end_edit();
+        }
+        self.visited.clear();
+        self.visited.insert(fp, 0);
+        self.level = 0;
+        let levels = h.coarsest_level();
+        self.hierarchy = Some(h);
+        let _ = last;
+        ctx.info(format!(
+            "Built {} hierarchy: {levels} levels, {} → {} faces in {:.0} ms",
+            method_name(self.method),
+            group(input_faces),
+            group(coarse_faces),
+            built.as_secs_f64() * 1e3
+        ));
+        Ok(())
+    }
+
+    /// Copies the document's positions into the hierarchy's mesh, first moving the
+    /// hierarchy to the document's level when the document shows another visited level.
+    fn sync_from_document(&mut self, ctx: &ToolContext<'_>) -> Result<(), ToolError> {
+        let h = self
+            .hierarchy
+            .as_mut()
+            .ok_or_else(|| ToolError::new("no hierarchy: build one first"))?;
+        let doc = ctx.mesh();
+        let fp = connectivity_fingerprint(doc);
+        if fp != connectivity_fingerprint(h.mesh()) {
+            let Some(&level) = self.visited.get(&fp) else {
+                return Err(ToolError::new(
+                    "the mesh's connectivity is none of the hierarchy's levels (another \
+                     mesh was loaded or its connectivity changed): build the hierarchy again",
+                ));
+            };
+            h.go_to_level(level)?;
+            if connectivity_fingerprint(h.mesh()) != fp {
+                return Err(ToolError::new(
+                    "the hierarchy could not return to the document's level: build it again",
+                ));
+            }
+            self.level = level;
+        }
+        let target = h.mesh_mut();
+        let src = doc.positions();
+        let live: Vec<usize> = doc.vertices().map(|v| doc.vertex_index(v)).collect();
+        let dst = target.positions_mut();
+        for i in live {
+            dst[i] = src[i];
+        }
+        Ok(())
+    }
+
+    /// Moves to `level` (coarsening or refining with detail coefficients), one undo step.
+    pub fn go_to_level(
+        &mut self,
+        level: usize,
+        ctx: &mut ToolContext<'_>,
+    ) -> Result<(), ToolError> {
+        self.sync_from_document(ctx)?;
+        let h = self.hierarchy.as_mut().expect("synced");
+        if level > h.coarsest_level() {
+            return Err(ToolError::new(format!(
+                "level {level} does not exist (levels 0..={})",
+                h.coarsest_level()
+            )));
+        }
+        let from = h.current_level().unwrap_or(self.level);
+        if from == level
+            && connectivity_fingerprint(ctx.mesh()) == connectivity_fingerprint(h.mesh())
+        {
+            self.level = level;
+            return Ok(());
+        }
+        let start = Instant::now();
+        h.go_to_level(level)?;
+        let took = start.elapsed();
+        let fp = connectivity_fingerprint(h.mesh());
+        self.visited.insert(fp, level);
+        self.level = level;
+        ctx.begin_topology_edit(&format!("Level {level}"));
+        *ctx.mesh_mut() = h.mesh().clone();
+        self.picks.clear();
+        self.collar.clear();
+        // The labels rode along (Fig. 4 rule): publish them for this level.
+        if let Some(attribute) = h.label_attribute() {
+            let labels = read_labels(h.mesh(), attribute);
+            let labels = SubMeshLabels {
+                labels,
+                fingerprint: fp,
+                description: "multiresolution labels".into(),
+            };
+            labels.show(ctx);
+            self.shared.set(Some(labels));
+        }
+        let verb = if level > from { "coarsened" } else { "refined" };
+        ctx.info(format!(
+            "Level {level}: {} faces, {} vertices ({verb} from level {from} in {:.1} ms)",
+            group(ctx.mesh().n_faces()),
+            group(ctx.mesh().n_vertices()),
+            took.as_secs_f64() * 1e3
+        ));
+        Ok(())
+    }
+
+    /// Makes the frontier from the picks and labels the two sides (on the hierarchy's
+    /// mesh when there is one, so that the labels ride along through levels).
+    pub fn define_labels(&mut self, ctx: &mut ToolContext<'_>) -> Result<(), ToolError> {
+        let use_hierarchy = self.hierarchy.is_some() && self.sync_from_document(ctx).is_ok();
+        let mut scratch;
+        let mesh: &mut Mesh = if use_hierarchy {
+            self.hierarchy.as_mut().expect("checked").mesh_mut()
+        } else {
+            scratch = ctx.mesh().clone();
+            &mut scratch
+        };
+        let frontier = match self.frontier {
+            FrontierMode::Loop => {
+                if self.picks.len() < 3 {
+                    return Err(ToolError::new(format!(
+                        "a loop needs at least 3 picked vertices ({} so far)",
+                        self.picks.len()
+                    )));
+                }
+                mesh.frontier_through(&self.picks)?
+            }
+            FrontierMode::Collar => {
+                if self.picks.len() < 3 {
+                    return Err(ToolError::new(format!(
+                        "a collar needs at least 3 picked vertices ({} so far)",
+                        self.picks.len()
+                    )));
+                }
+                let path = mesh.closed_loop_through(&self.picks)?;
+                let mut seen = vec![false; mesh.face_slots()];
+                let mut collar = Vec::new();
+                for &e in &path {
+                    for f in mesh.adjacent_faces(mesh.from_vertex(e)) {
+                        if !std::mem::replace(&mut seen[mesh.face_index(f)], true) {
+                            collar.push(f);
+                        }
+                    }
+                }
+                let frontier = mesh.frontier_from_collar(&collar)?;
+                self.collar = collar;
+                frontier
+            }
+            FrontierMode::Plane => {
+                let (point, normal) = self
+                    .plane
+                    .ok_or_else(|| ToolError::new("pick a point of the cutting plane"))?;
+                mesh.frontier_from_plane(point, normal)?
+            }
+        };
+        let (mut attribute, mut counts) = mesh.label_sides(&frontier, SUBMESH, HOST)?;
+        let mut swap = match self.frontier {
+            FrontierMode::Plane => {
+                // The sub-mesh is on the normal's side of the plane.
+                let (point, normal) = self.plane.expect("checked");
+                let values = mesh.attribute_values(attribute);
+                let side: f64 = mesh
+                    .vertices()
+                    .filter(|&v| values[mesh.vertex_index(v)] == SUBMESH)
+                    .map(|v| (mesh.position(v) - point).dot(normal))
+                    .sum();
+                side < 0.0
+            }
+            _ => counts.left_vertices > counts.right_vertices,
+        };
+        swap ^= self.flip;
+        if swap {
+            (attribute, counts) = mesh.label_sides(&frontier, HOST, SUBMESH)?;
+        }
+        let labels = read_labels(mesh, attribute);
+        let fp = connectivity_fingerprint(mesh);
+        if use_hierarchy {
+            self.hierarchy
+                .as_mut()
+                .expect("checked")
+                .attach_labels(attribute);
+        }
+        let sub = if swap {
+            counts.right_vertices
+        } else {
+            counts.left_vertices
+        };
+        let host = if swap {
+            counts.left_vertices
+        } else {
+            counts.right_vertices
+        };
+        let description = format!(
+            "{} frontier of {} edges: sub-mesh {} vertices, host {}, frontier {}",
+            self.frontier.name(),
+            frontier.halfedges().len(),
+            group(sub),
+            group(host),
+            group(counts.frontier_vertices)
+        );
+        let labels = SubMeshLabels {
+            labels,
+            fingerprint: fp,
+            description: description.clone(),
+        };
+        labels.show(ctx);
+        self.shared.set(Some(labels));
+        ctx.info(format!("Labelled: {description}"));
+        Ok(())
+    }
+
+    fn clear_picks(&mut self, ctx: &mut ToolContext<'_>) {
+        self.picks.clear();
+        self.collar.clear();
+        self.plane = None;
+        self.shared.set(None);
+        if let Some(h) = &mut self.hierarchy {
+            h.detach_labels();
+        }
+        ctx.clear_colors();
+        ctx.info("Multiresolution: picks and labels cleared");
+    }
+
+    fn show_labels(&self, ctx: &mut ToolContext<'_>) {
+        if let Some(l) = self.shared.get(ctx.mesh()) {
+            l.show(ctx);
+        }
+    }
+}
+
+fn method_name(m: Method) -> &'static str {
+    match m {
+        Method::Rounds => "rounds",
+        Method::Qem => "QEM",
+    }
+}
+
+/// The labels of the live vertices ([`NO_LABEL`] for dead slots).
+fn read_labels(mesh: &Mesh, attribute: halfedge::Attribute<VertexId, u32>) -> Vec<u32> {
+    let values = mesh.attribute_values(attribute);
+    let mut labels = vec![NO_LABEL; mesh.vertex_slots()];
+    for v in mesh.vertices() {
+        let i = mesh.vertex_index(v);
+        labels[i] = values[i];
+    }
+    labels
+}
+
+const PARAMETERS: [&str; 9] = [
+    "method",
+    "target_faces",
+    "level",
+    "frontier",
+    "normal",
+    "flip",
+    "define",
+    "clear_picks",
+    "max_normal_deviation",
+];
+
+impl Tool for Multires {
+    fn name(&self) -> &str {
+        "Multiresolution"
+    }
+
+    fn description(&self) -> &str {
+        "Seed paper §3–4.1: build a hierarchy (rounds or QEM), move between levels with \
+         detail coefficients (edits at coarse levels reach the fine ones), cut a sub-mesh \
+         by a picked loop, a collar or a cutting plane."
+    }
+
+    fn ui(&mut self, ui: &mut egui::Ui, ctx: &mut ToolContext<'_>) {
+        self.view = Some(ctx.view);
+        ui.strong("Hierarchy");
+        ui.horizontal(|ui| {
+            ui.label("Method");
+            ui.selectable_value(&mut self.method, Method::Rounds, "rounds");
+            ui.selectable_value(&mut self.method, Method::Qem, "QEM");
+        });
+        ui.horizontal(|ui| {
+            ui.label("Target faces");
+            ui.add(egui::DragValue::new(&mut self.target_faces).range(4..=10_000_000));
+        });
+        if self.method == Method::Rounds {
+            ui.add(
+                egui::Slider::new(&mut self.max_normal_deviation, 10.0..=180.0)
+                    .text("planarity (°)"),
+            );
+        }
+        if ui.button("Build hierarchy").clicked() {
+            if let Err(e) = self.build(ctx) {
+                ctx.error(format!("Build failed: {e}"));
+            }
+        }
+        if let Some(h) = &self.hierarchy {
+            let coarsest = h.coarsest_level();
+            let counts = h.level_face_counts().to_vec();
+            let mut level = self.level;
+            let r = ui.add(egui::Slider::new(&mut level, 0..=coarsest).text("level"));
+            ui.weak(format!(
+                "level {level}: {} faces · {} levels · {} faces at the coarsest",
+                group(counts[level.min(coarsest)]),
+                coarsest + 1,
+                group(counts[coarsest])
+            ));
+            if level != self.level {
+                if let Err(e) = self.go_to_level(level, ctx) {
+                    ctx.error(format!("Level change failed: {e}"));
+                }
+            }
+            if r.drag_stopped() || (r.changed() && !r.dragged()) {
+                ctx.doc.end_edit();
+            }
+        } else {
+            ui.weak("No hierarchy yet.");
+        }
+        ui.separator();
+        ui.strong("Sub-mesh");
+        let before = (self.frontier, self.normal, self.flip);
+        ui.horizontal(|ui| {
+            ui.label("Frontier");
+            egui::ComboBox::from_id_salt("multires-frontier")
+                .selected_text(self.frontier.name())
+                .show_ui(ui, |ui| {
+                    for (m, name) in FrontierMode::ALL {
+                        ui.selectable_value(&mut self.frontier, m, name);
+                    }
+                });
+        });
+        if self.frontier == FrontierMode::Plane {
+            ui.horizontal(|ui| {
+                ui.label("Normal");
+                egui::ComboBox::from_id_salt("multires-normal")
+                    .selected_text(self.normal.name())
+                    .show_ui(ui, |ui| {
+                        for (m, name) in PlaneNormal::ALL {
+                            ui.selectable_value(&mut self.normal, m, name);
+                        }
+                    });
+            });
+        }
+        ui.checkbox(&mut self.flip, "flip sides");
+        if (self.frontier, self.normal, self.flip) != before {
+            if before.0 != self.frontier {
+                self.picks.clear();
+                self.plane = None;
+            } else if let Some((p, _)) = self.plane {
+                self.plane = Some((p, self.normal.vector(&ctx.view)));
+            }
+            if self.has_enough_picks() {
+                if let Err(e) = self.define_labels(ctx) {
+                    ctx.error(format!("Frontier: {e}"));
+                }
+            }
+        }
+        ui.weak(match self.frontier {
+            FrontierMode::Loop => "Click vertices around the part to cut (3 or more).",
+            FrontierMode::Collar => {
+                "Click vertices around the part: the band of faces along them is the collar."
+            }
+            FrontierMode::Plane => {
+                "Click a point of the cutting plane; the sub-mesh is on the normal's side."
+            }
+        });
+        ui.horizontal(|ui| {
+            ui.label(format!("{} picks", self.picks.len()));
+            if ui.button("Label").clicked() {
+                if let Err(e) = self.define_labels(ctx) {
+                    ctx.error(format!("Frontier: {e}"));
+                }
+            }
+            if ui.button("Clear").clicked() {
+                self.clear_picks(ctx);
+            }
+        });
+        if let Some(l) = self.shared.get(ctx.mesh()) {
+            let (host, sub, front) = l.counts();
+            ui.weak(format!(
+                "sub-mesh {} · host {} · frontier {} vertices",
+                group(sub),
+                group(host),
+                group(front)
+            ));
+        } else if self.shared.is_set() {
+            ui.weak("The labels belong to another level or mesh.");
+        }
+    }
+
+    fn on_pick(&mut self, pick: Option<&Pick>, ctx: &mut ToolContext<'_>) {
+        let Some(pick) = pick else {
+            return;
+        };
+        match self.frontier {
+            FrontierMode::Loop | FrontierMode::Collar => {
+                if self.picks.last() != Some(&pick.vertex) {
+                    self.picks.push(pick.vertex);
+                }
+            }
+            FrontierMode::Plane => {
+                self.plane = Some((pick.point, self.normal.vector(&ctx.view)));
+            }
+        }
+        if self.has_enough_picks() {
+            if let Err(e) = self.define_labels(ctx) {
+                ctx.info(format!("{} picks: {e}", self.picks.len()));
+            }
+        } else {
+            ctx.info(format!(
+                "Picked v{} ({} picks)",
+                ctx.mesh().vertex_index(pick.vertex),
+                self.picks.len()
+            ));
+        }
+    }
+
+    fn apply(&mut self, ctx: &mut ToolContext<'_>) -> Result<(), ToolError> {
+        self.build(ctx)
+    }
+
+    fn set_parameter(
+        &mut self,
+        name: &str,
+        value: &serde_json::Value,
+        ctx: &mut ToolContext<'_>,
+    ) -> Result<(), ToolError> {
+        match name {
+            "method" => {
+                self.method = match string_param(name, value)?.to_lowercase().as_str() {
+                    "rounds" => Method::Rounds,
+                    "qem" => Method::Qem,
+                    s => return Err(ToolError::new(format!("method {s:?}: rounds or qem"))),
+                }
+            }
+            "target_faces" => {
+                let n = number_param(name, value)?;
+                if !(n >= 4.0 && n.is_finite()) {
+                    return Err(ToolError::new(format!("target_faces {n}: at least 4")));
+                }
+                self.target_faces = n as usize;
+            }
+            "max_normal_deviation" => {
+                let d = number_param(name, value)?;
+                if !(d > 0.0 && d <= 180.0) {
+                    return Err(ToolError::new(format!(
+                        "max_normal_deviation {d}: degrees in (0, 180]"
+                    )));
+                }
+                self.max_normal_deviation = d;
+            }
+            "level" => {
+                let l = number_param(name, value)?;
+                if !(l >= 0.0 && l.fract() == 0.0) {
+                    return Err(ToolError::bad_value(name, "a level number", value));
+                }
+                self.go_to_level(l as usize, ctx)?;
+            }
+            "frontier" => {
+                let s = string_param(name, value)?;
+                self.frontier = FrontierMode::ALL
+                    .iter()
+                    .find(|(_, n)| n.eq_ignore_ascii_case(s))
+                    .map(|(m, _)| *m)
+                    .ok_or_else(|| {
+                        ToolError::new(format!("frontier {s:?}: loop, collar or plane"))
+                    })?;
+                self.picks.clear();
+                self.plane = None;
+            }
+            "normal" => {
+                let s = string_param(name, value)?;
+                self.normal = PlaneNormal::ALL
+                    .iter()
+                    .find(|(_, n)| n.eq_ignore_ascii_case(s))
+                    .map(|(m, _)| *m)
+                    .ok_or_else(|| ToolError::new(format!("normal {s:?}: x, y, z or view")))?;
+            }
+            "flip" => self.flip = bool_param(name, value)?,
+            "define" => {
+                if bool_param(name, value)? {
+                    self.define_labels(ctx)?;
+                }
+            }
+            "clear_picks" => {
+                if bool_param(name, value)? {
+                    self.clear_picks(ctx);
+                }
+            }
+            _ => return Err(ToolError::unknown_parameter(self.name(), name, &PARAMETERS)),
+        }
+        Ok(())
+    }
+
+    fn parameters(&self) -> Vec<(&'static str, serde_json::Value)> {
+        vec![
+            ("method", method_name(self.method).to_lowercase().into()),
+            ("target_faces", self.target_faces.into()),
+            ("max_normal_deviation", self.max_normal_deviation.into()),
+            ("level", self.level.into()),
+            ("frontier", self.frontier.name().into()),
+            ("normal", self.normal.name().into()),
+            ("flip", self.flip.into()),
+        ]
+    }
+
+    fn overlay(&self, mesh: &Mesh, overlay: &mut Overlay) {
+        for &v in &self.picks {
+            if mesh.is_valid_vertex(v) {
+                overlay.marker(mesh.position(v), Overlay::PICK, 1.2);
+            }
+        }
+        if let Some((p, _)) = self.plane {
+            overlay.marker(p, Overlay::PICK, 1.5);
+        }
+        if let Some(labels) = self.shared.0.borrow().as_ref() {
+            if labels.labels.len() == mesh.vertex_slots() {
+                labels.frontier_overlay(mesh, overlay);
+            }
+        }
+    }
+
+    fn on_mesh_replaced(&mut self, mesh: &Mesh) {
+        self.picks.retain(|&v| mesh.is_valid_vertex(v));
+        self.collar.retain(|&f| mesh.is_valid_face(f));
+        if let Some(&level) = self.visited.get(&connectivity_fingerprint(mesh)) {
+            self.level = level;
+        }
+    }
+
+    fn activate(&mut self, ctx: &mut ToolContext<'_>) {
+        self.show_labels(ctx);
+    }
+}
+
+impl Multires {
+    fn has_enough_picks(&self) -> bool {
+        match self.frontier {
+            FrontierMode::Loop | FrontierMode::Collar => self.picks.len() >= 3,
+            FrontierMode::Plane => self.plane.is_some(),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use halfedge::generators;
+
+    #[test]
+    fn fingerprints_tell_connectivity_apart() {
+        let a = generators::icosphere(2);
+        let mut b = a.clone();
+        b.positions_mut()[0] += DVec3::X;
+        assert_eq!(connectivity_fingerprint(&a), connectivity_fingerprint(&b));
+        let c = generators::icosphere(1);
+        assert_ne!(connectivity_fingerprint(&a), connectivity_fingerprint(&c));
+        let mut h =
+            Hierarchy::build(a.clone(), &HierarchyOptions::rounds().with_target_faces(80)).unwrap();
+        assert_ne!(
+            connectivity_fingerprint(h.mesh()),
+            connectivity_fingerprint(&a)
+        );
+        h.go_to_level(0).unwrap();
+        assert_eq!(
+            connectivity_fingerprint(h.mesh()),
+            connectivity_fingerprint(&a)
+        );
+    }
+}

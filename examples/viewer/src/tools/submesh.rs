@@ -1,0 +1,752 @@
+//! *Sub-mesh edits* — the edits of *Interactive Editing of Multiresolution Meshes* §4.2–4.3
+//! on a sub-mesh, with `n` propagation levels (collars of faces beyond the frontier over
+//! which the edit fades), and Taubin's λ|μ smoothing (§4.2, Taubin 1995) of the sub-mesh
+//! and its collar or of the whole mesh. The library side is [`edit::submesh`] and
+//! [`edit::smoothing`].
+//!
+//! The sub-mesh is the *Multiresolution* tool's labels (the sub-mesh and its frontier),
+//! the vertices within a number of rings around a picked vertex, or the whole mesh.
+//! *Pull* follows a drag in the view plane; *scale*, *rotate*, *taper*, *twist* and
+//! *smooth* act on *Apply*. Scale is about the sub-mesh's centroid; rotate about the
+//! axis through the frontier's centroid along the normal of the plane fitted to the
+//! frontier (the view direction for a sub-mesh without frontier); taper and twist grow
+//! level by level inward from the frontier (Fig. 10 a / 12 a), or along the view's up
+//! axis over the whole mesh.
+
+use std::collections::VecDeque;
+
+use edit::smoothing::{Smoother, Weights};
+use edit::submesh::{Axis, Edit, Falloff, Propagation, SubMesh, Variation};
+use glam::DVec3;
+use halfedge::{Mesh, VertexId};
+use three_d::egui;
+
+use super::{
+    bool_param, number_param, string_param, Drag, DragPhase, Overlay, Pick, SharedLabels, Tool,
+    ToolContext, ToolError, ViewInfo,
+};
+use crate::app::group;
+use crate::colors::NO_LABEL;
+
+/// Where the sub-mesh comes from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Source {
+    /// The *Multiresolution* tool's labels.
+    Labels,
+    /// The rings around a picked vertex.
+    Ring,
+    /// The whole mesh.
+    All,
+}
+
+/// The operation of the tool.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Operation {
+    /// Pull by a drag.
+    Pull,
+    /// Scale about the centroid.
+    Scale,
+    /// Rotate about the sub-mesh's axis.
+    Rotate,
+    /// Barr taper.
+    Taper,
+    /// Barr twist.
+    Twist,
+    /// Taubin smoothing.
+    Smooth,
+}
+
+const SOURCES: [(Source, &str); 3] = [
+    (Source::Labels, "labels"),
+    (Source::Ring, "ring"),
+    (Source::All, "all"),
+];
+
+const OPERATIONS: [(Operation, &str); 6] = [
+    (Operation::Pull, "pull"),
+    (Operation::Scale, "scale"),
+    (Operation::Rotate, "rotate"),
+    (Operation::Taper, "taper"),
+    (Operation::Twist, "twist"),
+    (Operation::Smooth, "smooth"),
+];
+
+fn name_of<T: PartialEq + Copy>(table: &[(T, &'static str)], x: T) -> &'static str {
+    table.iter().find(|(t, _)| *t == x).expect("listed").1
+}
+
+fn parse<T: Copy>(table: &[(T, &'static str)], param: &str, s: &str) -> Result<T, ToolError> {
+    table
+        .iter()
+        .find(|(_, n)| n.eq_ignore_ascii_case(s))
+        .map(|(t, _)| *t)
+        .ok_or_else(|| {
+            let names: Vec<&str> = table.iter().map(|(_, n)| *n).collect();
+            ToolError::new(format!("{param} {s:?}: one of {}", names.join(", ")))
+        })
+}
+
+/// A pull in progress.
+struct PullDrag {
+    sub: SubMesh,
+    base: Vec<DVec3>,
+    work: Mesh,
+    touched: Vec<u32>,
+}
+
+/// The sub-mesh edit tool (see the module docs).
+pub struct SubMeshEdit {
+    shared: SharedLabels,
+    /// Where the sub-mesh comes from.
+    pub source: Source,
+    /// Rings around the picked vertex (source `ring`).
+    pub rings: usize,
+    /// The operation.
+    pub operation: Operation,
+    /// Propagation levels `n`.
+    pub levels: usize,
+    /// Smooth (else linear) fall-off over the collars.
+    pub smooth_falloff: bool,
+    /// Scale factor.
+    pub scale: f64,
+    /// Rotation angle, degrees.
+    pub angle: f64,
+    /// Taper factor.
+    pub taper: f64,
+    /// Twist angle, degrees.
+    pub twist: f64,
+    /// Taubin λ.
+    pub lambda: f64,
+    /// Taubin μ.
+    pub mu: f64,
+    /// Taubin iterations.
+    pub iterations: usize,
+    /// Cotangent (else uniform) weights.
+    pub cotangent: bool,
+    /// Smooth the whole mesh (else the sub-mesh and its collar).
+    pub smooth_whole: bool,
+    /// Collar rings smoothed with the sub-mesh.
+    pub smooth_collar: usize,
+    centre: Option<VertexId>,
+    drag: Option<PullDrag>,
+    view: Option<ViewInfo>,
+}
+
+impl SubMeshEdit {
+    /// The tool, reading the multiresolution labels from `shared`.
+    pub fn new(shared: SharedLabels) -> Self {
+        Self {
+            shared,
+            source: Source::Labels,
+            rings: 4,
+            operation: Operation::Pull,
+            levels: 2,
+            smooth_falloff: true,
+            scale: 1.3,
+            angle: 30.0,
+            taper: 0.6,
+            twist: 60.0,
+            lambda: 0.33,
+            mu: -0.34,
+            iterations: 10,
+            cotangent: false,
+            smooth_whole: false,
+            smooth_collar: 1,
+            centre: None,
+            drag: None,
+            view: None,
+        }
+    }
+
+    fn propagation(&self) -> Propagation {
+        Propagation {
+            levels: self.levels,
+            falloff: if self.smooth_falloff {
+                Falloff::Smooth
+            } else {
+                Falloff::Linear
+            },
+        }
+    }
+
+    /// The sub-mesh the tool acts on.
+    pub fn submesh(&self, mesh: &Mesh) -> Result<SubMesh, ToolError> {
+        let mask = match self.source {
+            Source::Labels => self
+                .shared
+                .get(mesh)
+                .ok_or_else(|| {
+                    ToolError::new(
+                        "no sub-mesh labels for this mesh: make a frontier with the \
+                         Multiresolution tool, or choose the ring or all source",
+                    )
+                })?
+                .inside_mask(),
+            Source::Ring => {
+                let centre = self
+                    .centre
+                    .filter(|&v| mesh.is_valid_vertex(v))
+                    .ok_or_else(|| ToolError::new("pick the centre vertex of the ring"))?;
+                rings_around(mesh, centre, self.rings)
+            }
+            Source::All => {
+                let mut mask = vec![false; mesh.vertex_slots()];
+                for v in mesh.vertices() {
+                    mask[mesh.vertex_index(v)] = true;
+                }
+                mask
+            }
+        };
+        Ok(SubMesh::from_mask(mesh, &mask)?)
+    }
+
+    /// The edit of the current operation (not pull, not smooth) on `sub`.
+    fn edit(&self, mesh: &Mesh, sub: &SubMesh) -> Result<Edit, ToolError> {
+        let positions = mesh.positions();
+        let centroid = sub
+            .vertex_indices()
+            .iter()
+            .map(|&i| positions[i as usize])
+            .sum::<DVec3>()
+            / sub.len() as f64;
+        let view = self.view.unwrap_or(ViewInfo {
+            eye: DVec3::Z,
+            forward: -DVec3::Z,
+            right: DVec3::X,
+            up: DVec3::Y,
+            scene_radius: 1.0,
+        });
+        let has_frontier = !sub.frontier_indices().is_empty();
+        // Taper and twist: inward levels from the frontier, or along the view's up axis.
+        let barr = |sub: &SubMesh| -> Result<(Option<Axis>, Variation), ToolError> {
+            if has_frontier {
+                Ok((None, Variation::Levels(None)))
+            } else {
+                let axis = Axis::new(centroid, view.up)?;
+                let (lo, hi) = sub.axial_extent(mesh, &axis)?;
+                Ok((Some(axis), Variation::Along { start: lo, end: hi }))
+            }
+        };
+        Ok(match self.operation {
+            Operation::Scale => Edit::Scale {
+                centre: centroid,
+                factor: self.scale,
+            },
+            Operation::Rotate => {
+                let axis = if has_frontier {
+                    sub.axis(mesh)?
+                } else {
+                    Axis::new(centroid, view.forward)?
+                };
+                Edit::Rotate {
+                    axis,
+                    angle: self.angle.to_radians(),
+                    bounded: false,
+                }
+            }
+            Operation::Taper => {
+                let (axis, variation) = barr(sub)?;
+                Edit::Taper {
+                    axis,
+                    factor: self.taper,
+                    variation,
+                }
+            }
+            Operation::Twist => {
+                let (axis, variation) = barr(sub)?;
+                Edit::Twist {
+                    axis,
+                    angle: self.twist.to_radians(),
+                    variation,
+                }
+            }
+            Operation::Pull | Operation::Smooth => {
+                return Err(ToolError::new("internal: not a one-shot edit"));
+            }
+        })
+    }
+
+    /// Applies the current operation (pull needs a drag).
+    pub fn run(&mut self, ctx: &mut ToolContext<'_>) -> Result<(), ToolError> {
+        let mesh = ctx.mesh();
+        let op = name_of(&OPERATIONS, self.operation);
+        let mut work = mesh.clone();
+        let (sub_len, what) = match self.operation {
+            Operation::Pull => {
+                return Err(ToolError::new(
+                    "pull follows a drag: press on the mesh and drag",
+                ))
+            }
+            Operation::Smooth => {
+                let weights = if self.cotangent {
+                    Weights::Cotangent
+                } else {
+                    Weights::Uniform
+                };
+                let mut smoother = if self.smooth_whole {
+                    Smoother::new(mesh, edit::selection::Vertices::All, weights, true)?
+                } else {
+                    let sub = self.submesh(mesh)?;
+                    Smoother::for_submesh(mesh, &sub, self.smooth_collar, weights, true)?
+                };
+                smoother.taubin(&mut work, self.lambda, self.mu, self.iterations)?;
+                (
+                    smoother.moving(),
+                    format!(
+                        "Taubin λ {} μ {} × {} ({}) over {}",
+                        self.lambda,
+                        self.mu,
+                        self.iterations,
+                        if self.cotangent {
+                            "cotangent"
+                        } else {
+                            "uniform"
+                        },
+                        if self.smooth_whole {
+                            "the whole mesh".to_string()
+                        } else {
+                            format!("the sub-mesh + {} collar rings", self.smooth_collar)
+                        }
+                    ),
+                )
+            }
+            _ => {
+                let sub = self.submesh(mesh)?;
+                let edit = self.edit(mesh, &sub)?;
+                sub.apply(&mut work, &edit, self.propagation())?;
+                (sub.len(), format!("{op}, n = {}", self.levels))
+            }
+        };
+        // Copy what changed (bit for bit) into the document, as one undo step.
+        let changed: Vec<usize> = mesh
+            .vertices()
+            .map(|v| mesh.vertex_index(v))
+            .filter(|&i| mesh.positions()[i] != work.positions()[i])
+            .collect();
+        ctx.begin_edit(&format!("Sub-mesh {op}"));
+        let positions = ctx.positions_mut();
+        for &i in &changed {
+            positions[i] = work.positions()[i];
+        }
+        ctx.doc.end_edit();
+        ctx.info(format!(
+            "Sub-mesh {what}: {} vertices moved (sub-mesh {} vertices)",
+            group(changed.len()),
+            group(sub_len)
+        ));
+        Ok(())
+    }
+
+    /// Colours the sub-mesh, its frontier and its propagation collars.
+    fn show(&self, ctx: &mut ToolContext<'_>) {
+        let mesh = ctx.mesh();
+        let Ok(sub) = self.submesh(mesh) else {
+            return;
+        };
+        let mut labels = vec![NO_LABEL; mesh.vertex_slots()];
+        for &i in sub.vertex_indices() {
+            labels[i as usize] = 0;
+        }
+        for &i in sub.frontier_indices() {
+            labels[i as usize] = 1;
+        }
+        let mut legend = vec![(0, "sub-mesh".to_string()), (1, "frontier".to_string())];
+        if let Ok(collars) = sub.collars(mesh, self.levels) {
+            for (k, collar) in collars.iter().enumerate() {
+                for &i in collar {
+                    labels[i as usize] = 2 + k as u32;
+                }
+                legend.push((2 + k as u32, format!("collar {}", k + 1)));
+            }
+        }
+        ctx.show_vertex_labels("sub-mesh and collars", labels, legend);
+    }
+}
+
+/// The vertices within `rings` rings of `centre` (breadth-first over the one-rings).
+pub fn rings_around(mesh: &Mesh, centre: VertexId, rings: usize) -> Vec<bool> {
+    let mut mask = vec![false; mesh.vertex_slots()];
+    let mut queue = VecDeque::from([(centre, 0usize)]);
+    mask[mesh.vertex_index(centre)] = true;
+    while let Some((v, d)) = queue.pop_front() {
+        if d == rings {
+            continue;
+        }
+        for w in mesh.adjacent_vertices(v) {
+            let i = mesh.vertex_index(w);
+            if !mask[i] {
+                mask[i] = true;
+                queue.push_back((w, d + 1));
+            }
+        }
+    }
+    mask
+}
+
+const PARAMETERS: [&str; 16] = [
+    "source",
+    "rings",
+    "operation",
+    "levels",
+    "falloff",
+    "scale",
+    "angle",
+    "taper",
+    "twist",
+    "lambda",
+    "mu",
+    "iterations",
+    "weights",
+    "smooth_region",
+    "smooth_collar",
+    "apply",
+];
+
+fn positive(name: &str, x: f64) -> Result<f64, ToolError> {
+    if x > 0.0 && x.is_finite() {
+        Ok(x)
+    } else {
+        Err(ToolError::new(format!("{name} {x}: must be positive")))
+    }
+}
+
+fn count(name: &str, value: &serde_json::Value) -> Result<usize, ToolError> {
+    let x = number_param(name, value)?;
+    if x >= 0.0 && x.fract() == 0.0 && x < 1e6 {
+        Ok(x as usize)
+    } else {
+        Err(ToolError::bad_value(name, "a whole number ≥ 0", value))
+    }
+}
+
+impl Tool for SubMeshEdit {
+    fn name(&self) -> &str {
+        "Sub-mesh edits"
+    }
+
+    fn description(&self) -> &str {
+        "Seed paper §4.2–4.3: pull (drag), scale, rotate, taper, twist a sub-mesh with n \
+         propagation levels; Taubin λ|μ smoothing of the sub-mesh + collar or the mesh."
+    }
+
+    fn ui(&mut self, ui: &mut egui::Ui, ctx: &mut ToolContext<'_>) {
+        self.view = Some(ctx.view);
+        let before = (self.source, self.rings, self.levels, self.operation);
+        ui.horizontal(|ui| {
+            ui.label("Sub-mesh");
+            for (s, name) in SOURCES {
+                ui.selectable_value(&mut self.source, s, name);
+            }
+        });
+        match self.source {
+            Source::Labels => {
+                if self.shared.get(ctx.mesh()).is_none() {
+                    ui.weak("No labels for this mesh: cut one with Multiresolution.");
+                }
+            }
+            Source::Ring => {
+                ui.add(egui::Slider::new(&mut self.rings, 0..=30).text("rings"));
+                ui.weak("Click (or press to pull) the centre vertex.");
+            }
+            Source::All => {}
+        }
+        ui.horizontal_wrapped(|ui| {
+            ui.label("Operation");
+            for (o, name) in OPERATIONS {
+                ui.selectable_value(&mut self.operation, o, name);
+            }
+        });
+        if self.operation != Operation::Smooth {
+            ui.add(egui::Slider::new(&mut self.levels, 0..=20).text("propagation n"));
+            ui.checkbox(&mut self.smooth_falloff, "smooth fall-off");
+        }
+        match self.operation {
+            Operation::Pull => {
+                ui.weak("Press on the mesh and drag: the sub-mesh follows in the view plane.");
+            }
+            Operation::Scale => {
+                ui.add(
+                    egui::Slider::new(&mut self.scale, 0.2..=3.0)
+                        .text("factor")
+                        .logarithmic(true),
+                );
+            }
+            Operation::Rotate => {
+                ui.add(egui::Slider::new(&mut self.angle, -180.0..=180.0).text("angle (°)"));
+            }
+            Operation::Taper => {
+                ui.add(
+                    egui::Slider::new(&mut self.taper, 0.1..=3.0)
+                        .text("factor")
+                        .logarithmic(true),
+                );
+            }
+            Operation::Twist => {
+                ui.add(egui::Slider::new(&mut self.twist, -360.0..=360.0).text("angle (°)"));
+            }
+            Operation::Smooth => {
+                ui.add(egui::Slider::new(&mut self.lambda, 0.01..=0.9).text("λ"));
+                ui.add(egui::Slider::new(&mut self.mu, -0.95..=-0.01).text("μ"));
+                ui.add(egui::Slider::new(&mut self.iterations, 1..=200).text("iterations"));
+                ui.horizontal(|ui| {
+                    ui.selectable_value(&mut self.cotangent, false, "uniform");
+                    ui.selectable_value(&mut self.cotangent, true, "cotangent");
+                });
+                ui.horizontal(|ui| {
+                    ui.selectable_value(&mut self.smooth_whole, false, "sub-mesh + collar");
+                    ui.selectable_value(&mut self.smooth_whole, true, "whole mesh");
+                });
+                if !self.smooth_whole {
+                    ui.add(egui::Slider::new(&mut self.smooth_collar, 0..=10).text("collar rings"));
+                }
+            }
+        }
+        if self.operation != Operation::Pull && ui.button("Apply").clicked() {
+            if let Err(e) = self.run(ctx) {
+                ctx.error(format!("Sub-mesh edit: {e}"));
+            }
+        }
+        if before != (self.source, self.rings, self.levels, self.operation) {
+            self.show(ctx);
+        }
+    }
+
+    fn on_pick(&mut self, pick: Option<&Pick>, ctx: &mut ToolContext<'_>) {
+        if let Some(p) = pick {
+            if self.source == Source::Ring {
+                self.centre = Some(p.vertex);
+            }
+        }
+        self.show(ctx);
+    }
+
+    fn wants_drag(&self, _pick: &Pick) -> bool {
+        self.operation == Operation::Pull
+    }
+
+    fn on_drag(&mut self, drag: &Drag, ctx: &mut ToolContext<'_>) {
+        match drag.phase {
+            DragPhase::Start => {
+                if self.source == Source::Ring {
+                    self.centre = Some(drag.pick.vertex);
+                }
+                match self.submesh(ctx.mesh()) {
+                    Ok(sub) => {
+                        ctx.begin_edit("Sub-mesh pull");
+                        self.drag = Some(PullDrag {
+                            sub,
+                            base: ctx.mesh().positions().to_vec(),
+                            work: ctx.mesh().clone(),
+                            touched: Vec::new(),
+                        });
+                    }
+                    Err(e) => ctx.error(format!("Sub-mesh pull: {e}")),
+                }
+            }
+            DragPhase::Move | DragPhase::End => {
+                let propagation = self.propagation();
+                let Some(d) = &mut self.drag else {
+                    return;
+                };
+                d.work.positions_mut().copy_from_slice(&d.base);
+                let edit = Edit::Pull {
+                    offset: drag.delta(),
+                };
+                match d.sub.apply(&mut d.work, &edit, propagation) {
+                    Ok(snapshot) => {
+                        d.touched.extend_from_slice(snapshot.indices());
+                        d.touched.sort_unstable();
+                        d.touched.dedup();
+                        let positions = ctx.positions_mut();
+                        for &i in &d.touched {
+                            positions[i as usize] = d.work.positions()[i as usize];
+                        }
+                    }
+                    Err(e) => ctx.error(format!("Sub-mesh pull: {e}")),
+                }
+                if drag.phase == DragPhase::End {
+                    let d = self.drag.take().expect("checked");
+                    ctx.info(format!(
+                        "Sub-mesh pull: {} vertices moved (sub-mesh {}, n = {}), |d| = {:.4}",
+                        group(d.touched.len()),
+                        group(d.sub.len()),
+                        self.levels,
+                        drag.delta().length()
+                    ));
+                }
+            }
+        }
+    }
+
+    fn apply(&mut self, ctx: &mut ToolContext<'_>) -> Result<(), ToolError> {
+        self.run(ctx)
+    }
+
+    fn set_parameter(
+        &mut self,
+        name: &str,
+        value: &serde_json::Value,
+        ctx: &mut ToolContext<'_>,
+    ) -> Result<(), ToolError> {
+        match name {
+            "source" => self.source = parse(&SOURCES, name, string_param(name, value)?)?,
+            "rings" => self.rings = count(name, value)?,
+            "operation" => self.operation = parse(&OPERATIONS, name, string_param(name, value)?)?,
+            "levels" => self.levels = count(name, value)?,
+            "falloff" => {
+                self.smooth_falloff = match string_param(name, value)? {
+                    "smooth" => true,
+                    "linear" => false,
+                    s => return Err(ToolError::new(format!("falloff {s:?}: linear or smooth"))),
+                }
+            }
+            "scale" => self.scale = positive(name, number_param(name, value)?)?,
+            "angle" => self.angle = number_param(name, value)?,
+            "taper" => self.taper = positive(name, number_param(name, value)?)?,
+            "twist" => self.twist = number_param(name, value)?,
+            "lambda" => self.lambda = positive(name, number_param(name, value)?)?,
+            "mu" => {
+                let mu = number_param(name, value)?;
+                if mu >= 0.0 || mu.is_nan() {
+                    return Err(ToolError::new(format!("mu {mu}: must be negative")));
+                }
+                self.mu = mu;
+            }
+            "iterations" => self.iterations = count(name, value)?,
+            "weights" => {
+                self.cotangent = match string_param(name, value)? {
+                    "cotangent" => true,
+                    "uniform" => false,
+                    s => {
+                        return Err(ToolError::new(format!(
+                            "weights {s:?}: uniform or cotangent"
+                        )))
+                    }
+                }
+            }
+            "smooth_region" => {
+                self.smooth_whole = match string_param(name, value)? {
+                    "mesh" => true,
+                    "submesh" => false,
+                    s => {
+                        return Err(ToolError::new(format!(
+                            "smooth_region {s:?}: submesh or mesh"
+                        )))
+                    }
+                }
+            }
+            "smooth_collar" => self.smooth_collar = count(name, value)?,
+            "apply" => {
+                if bool_param(name, value)? {
+                    self.run(ctx)?;
+                }
+            }
+            _ => return Err(ToolError::unknown_parameter(self.name(), name, &PARAMETERS)),
+        }
+        self.show(ctx);
+        Ok(())
+    }
+
+    fn parameters(&self) -> Vec<(&'static str, serde_json::Value)> {
+        vec![
+            ("source", name_of(&SOURCES, self.source).into()),
+            ("rings", self.rings.into()),
+            ("operation", name_of(&OPERATIONS, self.operation).into()),
+            ("levels", self.levels.into()),
+            (
+                "falloff",
+                if self.smooth_falloff {
+                    "smooth"
+                } else {
+                    "linear"
+                }
+                .into(),
+            ),
+            ("scale", self.scale.into()),
+            ("angle", self.angle.into()),
+            ("taper", self.taper.into()),
+            ("twist", self.twist.into()),
+            ("lambda", self.lambda.into()),
+            ("mu", self.mu.into()),
+            ("iterations", self.iterations.into()),
+            (
+                "weights",
+                if self.cotangent {
+                    "cotangent"
+                } else {
+                    "uniform"
+                }
+                .into(),
+            ),
+            (
+                "smooth_region",
+                if self.smooth_whole { "mesh" } else { "submesh" }.into(),
+            ),
+            ("smooth_collar", self.smooth_collar.into()),
+        ]
+    }
+
+    fn overlay(&self, mesh: &Mesh, overlay: &mut Overlay) {
+        if self.source == Source::Ring {
+            if let Some(v) = self.centre.filter(|&v| mesh.is_valid_vertex(v)) {
+                overlay.marker(mesh.position(v), Overlay::PICK, 1.3);
+            }
+        }
+        if self.source == Source::Labels {
+            if let Some(labels) = self.shared.get(mesh) {
+                labels.frontier_overlay(mesh, overlay);
+            }
+        }
+    }
+
+    fn on_mesh_replaced(&mut self, mesh: &Mesh) {
+        self.drag = None;
+        if self.centre.is_some_and(|v| !mesh.is_valid_vertex(v)) {
+            self.centre = None;
+        }
+    }
+
+    fn activate(&mut self, ctx: &mut ToolContext<'_>) {
+        self.show(ctx);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use halfedge::generators;
+
+    #[test]
+    fn rings_grow_with_the_count() {
+        let mesh = generators::icosphere(3);
+        let v = mesh.vertices().next().unwrap();
+        let zero = rings_around(&mesh, v, 0);
+        assert_eq!(zero.iter().filter(|&&b| b).count(), 1);
+        let one = rings_around(&mesh, v, 1);
+        assert_eq!(one.iter().filter(|&&b| b).count(), 1 + mesh.valence(v));
+        let many = rings_around(&mesh, v, 100);
+        assert_eq!(many.iter().filter(|&&b| b).count(), mesh.n_vertices());
+    }
+
+    #[test]
+    fn a_scale_without_propagation_leaves_the_host_alone() {
+        let mesh = generators::icosphere(3);
+        let shared = SharedLabels::default();
+        let mut tool = SubMeshEdit::new(shared);
+        tool.source = Source::Ring;
+        tool.centre = mesh.vertices().next();
+        tool.levels = 0;
+        tool.operation = Operation::Scale;
+        let sub = tool.submesh(&mesh).unwrap();
+        let edit = tool.edit(&mesh, &sub).unwrap();
+        let mut work = mesh.clone();
+        sub.apply(&mut work, &edit, tool.propagation()).unwrap();
+        for v in mesh.vertices() {
+            let i = mesh.vertex_index(v);
+            if !sub.contains_index(i) {
+                assert_eq!(mesh.positions()[i], work.positions()[i]);
+            }
+        }
+        assert_ne!(mesh.positions(), work.positions());
+    }
+}

@@ -1,0 +1,441 @@
+//! Scripted runs of the Multiresolution, Sub-mesh edits and FFD tools under Xvfb (see
+//! `tests/scripted.rs` for how the display is found): each selects its tool, sets
+//! parameters, picks, drags or applies, saves the mesh and takes a screenshot; the tests
+//! check the PNG is not blank, the saved meshes pass `check()`, the edit moved what it
+//! should and nothing else, and undo restores the input bit for bit.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+use glam::DVec3;
+use halfedge::{generators, Mesh};
+
+const PACKAGES: &str = "xvfb xauth libgl1-mesa-dri libegl1 libxkbcommon-x11-0";
+
+/// Serialises the tests that start a display: `xvfb-run -a` races when started in
+/// parallel, and llvmpipe gains nothing from sharing two cores.
+static DISPLAY_LOCK: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
+/// A command prefix that gives the viewer a display, or `None` (after failing in CI).
+fn display_command() -> Option<Command> {
+    let has_xvfb_run = Command::new("sh")
+        .args(["-c", "command -v xvfb-run"])
+        .stdout(Stdio::null())
+        .status()
+        .is_ok_and(|s| s.success());
+    if has_xvfb_run {
+        let mut cmd = Command::new("xvfb-run");
+        cmd.args(["-a", "-s", "-screen 0 1280x1024x24"]);
+        return Some(cmd);
+    }
+    if std::env::var_os("DISPLAY").is_some() {
+        // `env` runs the viewer directly on the current display.
+        return Some(Command::new("env"));
+    }
+    if std::env::var_os("CI").is_some() {
+        panic!(
+            "the viewer tests need an X display: install Xvfb and software OpenGL \
+             (apt-get install {PACKAGES}) so that `xvfb-run` exists"
+        );
+    }
+    eprintln!(
+        "skipping the viewer test: neither xvfb-run nor DISPLAY (apt-get install {PACKAGES})"
+    );
+    None
+}
+
+fn scratch_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("viewer-test-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Runs the viewer with `args` on a display, killing it after `limit`.
+fn run_viewer(prefix: Command, args: &[&std::ffi::OsStr], limit: Duration) -> Output {
+    let _guard = DISPLAY_LOCK.lock().unwrap_or_else(|e| e.into_inner());
+    let mut cmd = prefix;
+    cmd.arg(env!("CARGO_BIN_EXE_viewer"))
+        .args(args)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped());
+    let mut child = cmd.spawn().expect("the viewer starts");
+    let start = Instant::now();
+    loop {
+        if child.try_wait().unwrap().is_some() {
+            break;
+        }
+        if start.elapsed() > limit {
+            child.kill().ok();
+            let out = child.wait_with_output().unwrap();
+            panic!(
+                "the viewer did not finish within {limit:?}\nstdout:\n{}\nstderr:\n{}",
+                String::from_utf8_lossy(&out.stdout),
+                String::from_utf8_lossy(&out.stderr)
+            );
+        }
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    child.wait_with_output().unwrap()
+}
+
+fn read(path: &Path) -> Mesh {
+    halfedge::io::read(path)
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+        .0
+}
+
+/// Standard deviation of the luminance and number of distinct colours of a PNG.
+fn image_stats(path: &Path) -> (f64, usize, (u32, u32)) {
+    let img = image::open(path)
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+        .to_rgb8();
+    let lum: Vec<f64> = img
+        .pixels()
+        .map(|p| 0.2126 * p.0[0] as f64 + 0.7152 * p.0[1] as f64 + 0.0722 * p.0[2] as f64)
+        .collect();
+    let mean = lum.iter().sum::<f64>() / lum.len() as f64;
+    let var = lum.iter().map(|l| (l - mean) * (l - mean)).sum::<f64>() / lum.len() as f64;
+    let mut colors: Vec<[u8; 3]> = img.pixels().map(|p| p.0).collect();
+    colors.sort_unstable();
+    colors.dedup();
+    (var.sqrt(), colors.len(), img.dimensions())
+}
+
+fn display(out: &Output) -> String {
+    format!(
+        "status {:?}\nstdout:\n{}\nstderr:\n{}",
+        out.status,
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    )
+}
+
+/// Runs a script on `input` and asserts success.
+fn run_script(prefix: Command, name: &str, dir: &Path, input: &Path, actions: serde_json::Value) {
+    let script = dir.join(format!("{name}.json"));
+    std::fs::write(
+        &script,
+        serde_json::json!({ "actions": actions }).to_string(),
+    )
+    .unwrap();
+    let out = run_viewer(
+        prefix,
+        &[
+            input.as_os_str(),
+            "--script".as_ref(),
+            script.as_os_str(),
+            "--size".as_ref(),
+            "900x640".as_ref(),
+            "--msaa".as_ref(),
+            "0".as_ref(),
+        ],
+        Duration::from_secs(240),
+    );
+    assert!(out.status.success(), "{}", display(&out));
+}
+
+fn assert_screenshot(path: &Path) {
+    let (sigma, colors, size) = image_stats(path);
+    assert_eq!(size, (900, 640));
+    assert!(
+        sigma > 10.0,
+        "luminance deviation {sigma}: blank screenshot?"
+    );
+    assert!(colors > 200, "only {colors} colours: blank screenshot?");
+}
+
+/// The rings of `rings` around vertex `centre` of `mesh` (a mask per slot).
+fn rings_around(mesh: &Mesh, centre: usize, rings: usize) -> Vec<bool> {
+    let mut mask = vec![false; mesh.vertex_slots()];
+    mask[centre] = true;
+    let mut front = vec![centre];
+    for _ in 0..rings {
+        let mut next = Vec::new();
+        for &i in &front {
+            for w in mesh.adjacent_vertices(mesh.vertex_at(i).unwrap()) {
+                let j = mesh.vertex_index(w);
+                if !mask[j] {
+                    mask[j] = true;
+                    next.push(j);
+                }
+            }
+        }
+        front = next;
+    }
+    mask
+}
+
+#[test]
+fn multires_edit_at_a_coarse_level_reaches_the_fine_mesh() {
+    let Some(prefix) = display_command() else {
+        return;
+    };
+    let dir = scratch_dir("multires");
+    let input = dir.join("sphere.obj");
+    let original = generators::icosphere(4);
+    halfedge::io::write_obj(&input, &original).unwrap();
+    let p = |name: &str| dir.join(name);
+    let t = [0.25, -0.125, 0.0625];
+    run_script(
+        prefix,
+        "multires",
+        &dir,
+        &input,
+        serde_json::json!([
+            {"action": "select_tool", "tool": "multiresolution"},
+            {"action": "set", "param": "method", "value": "rounds"},
+            {"action": "set", "param": "target_faces", "value": 200},
+            {"action": "apply"},
+            {"action": "set", "param": "level", "value": 3},
+            {"action": "save", "path": p("coarse.obj")},
+            {"action": "select_tool", "tool": "sub-mesh edits"},
+            {"action": "set", "param": "source", "value": "all"},
+            {"action": "set", "param": "operation", "value": "pull"},
+            {"action": "pick_screen", "x": 0.5, "y": 0.5},
+            {"action": "drag", "vector": t, "steps": 3},
+            {"action": "save", "path": p("coarse-moved.obj")},
+            {"action": "select_tool", "tool": "multiresolution"},
+            {"action": "set", "param": "level", "value": 0},
+            {"action": "save", "path": p("fine.obj")},
+            {"action": "screenshot", "path": p("shot.png")},
+            {"action": "undo"},
+            {"action": "undo"},
+            {"action": "undo"},
+            {"action": "save", "path": p("undone.obj")}
+        ]),
+    );
+    let coarse = read(&p("coarse.obj"));
+    coarse.check().unwrap();
+    assert!(
+        coarse.n_faces() < original.n_faces() / 4,
+        "level 3 is coarse"
+    );
+    let moved = read(&p("coarse-moved.obj"));
+    moved.check().unwrap();
+    let t = DVec3::from_array(t);
+    for v in coarse.vertices() {
+        let i = coarse.vertex_index(v);
+        assert!((moved.positions()[i] - coarse.positions()[i] - t).length() < 1e-12);
+    }
+    // Refined back with detail coefficients: the input translated.
+    let fine = read(&p("fine.obj"));
+    fine.check().unwrap();
+    assert_eq!(fine.n_faces(), original.n_faces());
+    assert_eq!(fine.n_vertices(), original.n_vertices());
+    for (i, (a, b)) in original
+        .positions()
+        .iter()
+        .zip(fine.positions())
+        .enumerate()
+    {
+        let d = (*b - *a - t).length();
+        assert!(d < 1e-9, "vertex {i}: off the translated input by {d}");
+    }
+    // Undo (level 0, pull, level 3) restores the input bit for bit.
+    let undone = read(&p("undone.obj"));
+    assert_eq!(undone.positions(), original.positions());
+    assert_eq!(undone.n_faces(), original.n_faces());
+    assert_screenshot(&p("shot.png"));
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn submesh_edits_without_propagation_leave_the_host_bit_identical() {
+    let Some(prefix) = display_command() else {
+        return;
+    };
+    let dir = scratch_dir("submesh");
+    let input = dir.join("sphere.obj");
+    let original = generators::icosphere(4);
+    halfedge::io::write_obj(&input, &original).unwrap();
+    let p = |name: &str| dir.join(name);
+    run_script(
+        prefix,
+        "submesh",
+        &dir,
+        &input,
+        serde_json::json!([
+            {"action": "select_tool", "tool": "sub-mesh edits"},
+            {"action": "set", "param": "source", "value": "ring"},
+            {"action": "set", "param": "rings", "value": 4},
+            {"action": "set", "param": "levels", "value": 0},
+            {"action": "set", "param": "operation", "value": "scale"},
+            {"action": "set", "param": "scale", "value": 1.5},
+            {"action": "pick_vertex", "index": 7},
+            {"action": "apply"},
+            {"action": "save", "path": p("scaled.obj")},
+            {"action": "undo"},
+            {"action": "save", "path": p("undone.obj")},
+            {"action": "select_tool", "tool": "multiresolution"},
+            {"action": "set", "param": "frontier", "value": "plane"},
+            {"action": "set", "param": "normal", "value": "x"},
+            {"action": "pick_vertex", "index": 0},
+            {"action": "select_tool", "tool": "sub-mesh edits"},
+            {"action": "set", "param": "source", "value": "labels"},
+            {"action": "set", "param": "operation", "value": "twist"},
+            {"action": "set", "param": "twist", "value": 90},
+            {"action": "apply"},
+            {"action": "set", "param": "operation", "value": "smooth"},
+            {"action": "set", "param": "iterations", "value": 5},
+            {"action": "apply"},
+            {"action": "save", "path": p("twisted.obj")},
+            {"action": "orbit", "yaw": 40, "pitch": 15},
+            {"action": "screenshot", "path": p("shot.png")}
+        ]),
+    );
+    // Scale of the 4 rings around vertex 7, n = 0: outside bit-identical.
+    let scaled = read(&p("scaled.obj"));
+    scaled.check().unwrap();
+    let ring = rings_around(&original, 7, 4);
+    let mut moved = 0;
+    for (i, (a, b)) in original
+        .positions()
+        .iter()
+        .zip(scaled.positions())
+        .enumerate()
+    {
+        if ring[i] {
+            moved += usize::from(a != b);
+        } else {
+            assert_eq!(a, b, "vertex {i} outside the sub-mesh moved");
+        }
+    }
+    assert!(moved > 10, "only {moved} vertices of the sub-mesh moved");
+    assert_eq!(read(&p("undone.obj")).positions(), original.positions());
+    // Twist (n = 0) and smoothing of the sub-mesh cut by the plane x = x(v0) with its
+    // collar ring: the far side of the plane does not move.
+    let twisted = read(&p("twisted.obj"));
+    twisted.check().unwrap();
+    let x0 = original.positions()[0].x;
+    let edge = 0.2; // more than two edge lengths of icosphere(4)
+    let mut moved = 0;
+    for (i, (a, b)) in original
+        .positions()
+        .iter()
+        .zip(twisted.positions())
+        .enumerate()
+    {
+        if a.x < x0 - edge {
+            assert_eq!(a, b, "vertex {i} beyond the frontier moved");
+        } else if a != b {
+            moved += 1;
+        }
+    }
+    assert!(moved > 10, "only {moved} vertices of the sub-mesh moved");
+    assert_screenshot(&p("shot.png"));
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn ffd_identity_drag_footprint_and_undo() {
+    let Some(prefix) = display_command() else {
+        return;
+    };
+    let dir = scratch_dir("ffd");
+    let input = dir.join("terrain.obj");
+    // A bumpy 3 × 2 sheet: x longest, z shortest (the FFD's heights).
+    let mut original = generators::grid(30, 20, 3.0, 2.0);
+    for p in original.positions_mut() {
+        p.z = 0.1 * (2.0 * p.x).sin() * (3.0 * p.y).cos();
+    }
+    halfedge::io::write_obj(&input, &original).unwrap();
+    let p = |name: &str| dir.join(name);
+    run_script(
+        prefix,
+        "ffd",
+        &dir,
+        &input,
+        serde_json::json!([
+            {"action": "select_tool", "tool": "ffd"},
+            {"action": "set", "param": "grid_u", "value": 10},
+            {"action": "set", "param": "grid_v", "value": 10},
+            {"action": "set", "param": "mode", "value": "global"},
+            {"action": "set", "param": "attach", "value": true},
+            {"action": "set", "param": "operation", "value": "bend"},
+            {"action": "set", "param": "bend", "value": 0},
+            {"action": "apply"},
+            {"action": "save", "path": p("identity.obj")},
+            {"action": "set", "param": "control", "value": ["shape", 4, 4]},
+            {"action": "pick_vertex", "index": 0},
+            {"action": "drag", "vector": [0.0, 0.0, 0.4], "steps": 4},
+            {"action": "save", "path": p("dragged.obj")},
+            {"action": "orbit", "yaw": 20, "pitch": 25},
+            {"action": "screenshot", "path": p("shot.png")},
+            {"action": "undo"},
+            {"action": "undo"},
+            {"action": "save", "path": p("undone.obj")},
+            {"action": "redo"},
+            {"action": "redo"},
+            {"action": "set", "param": "operation", "value": "twist"},
+            {"action": "set", "param": "twist", "value": 30},
+            {"action": "apply"},
+            {"action": "save", "path": p("twisted.obj")}
+        ]),
+    );
+    // Identity surfaces give the mesh back.
+    let identity = read(&p("identity.obj"));
+    identity.check().unwrap();
+    for (a, b) in original.positions().iter().zip(identity.positions()) {
+        assert!(
+            (*a - *b).length() < 1e-9,
+            "identity FFD moved a vertex by {}",
+            *a - *b
+        );
+    }
+    // Dragging S(4, 4) moves only vertices over its support, u and v in [1/7, 5/7]
+    // (bicubic, 10 control points: knots 0,0,0,0,1/7,…,6/7,1,1,1,1).
+    let dragged = read(&p("dragged.obj"));
+    dragged.check().unwrap();
+    let (lo, hi) = original.bounding_box().unwrap();
+    let unit = edit::ffd::BSplineSurface::planar(
+        &edit::ffd::Frame::WORLD,
+        [3, 3],
+        [10, 10],
+        [0.0, 0.0],
+        [1.0, 1.0],
+        0.0,
+    )
+    .unwrap();
+    let (a, b) = (
+        unit.evaluate(1.0 / 7.0, 0.5).x,
+        unit.evaluate(5.0 / 7.0, 0.5).x,
+    );
+    // Frame: x along world x, heights along world z, so frame z = x × z = −y.
+    let margin = 0.05;
+    let span = |l: f64, h: f64| (l - margin * (h - l), h + margin * (h - l));
+    let (x0, x1) = span(lo.x, hi.x);
+    let (z0, z1) = span(-hi.y, -lo.y);
+    let inside = |q: DVec3| {
+        let (x, z) = (q.x, -q.y);
+        let eps = 1e-9;
+        x > x0 + a * (x1 - x0) - eps
+            && x < x0 + b * (x1 - x0) + eps
+            && z > z0 + a * (z1 - z0) - eps
+            && z < z0 + b * (z1 - z0) + eps
+    };
+    let mut moved = 0;
+    for (i, (q, r)) in identity
+        .positions()
+        .iter()
+        .zip(dragged.positions())
+        .enumerate()
+    {
+        if q != r {
+            assert!(
+                inside(original.positions()[i]),
+                "vertex {i} outside the footprint moved"
+            );
+            moved += 1;
+        }
+    }
+    assert!(moved > 20, "only {moved} vertices moved");
+    assert!(moved < original.n_vertices() / 2);
+    // Undo (drag, identity) restores the input bit for bit; redo and a twist work on.
+    assert_eq!(read(&p("undone.obj")).positions(), original.positions());
+    let twisted = read(&p("twisted.obj"));
+    twisted.check().unwrap();
+    assert_ne!(twisted.positions(), dragged.positions());
+    assert_screenshot(&p("shot.png"));
+    std::fs::remove_dir_all(&dir).ok();
+}
