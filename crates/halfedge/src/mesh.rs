@@ -64,6 +64,10 @@ pub struct Mesh {
     /// See [`Mesh::topology_stamp`]: this mesh instance's id and its count of changes.
     pub(crate) stamp_id: u64,
     pub(crate) stamp_count: u64,
+    /// Number of calls that handed out write access to positions from outside the crate
+    /// ([`Mesh::positions_mut`], [`Mesh::set_position`]): a hierarchy compares it to know
+    /// whether positions are exactly as its own steps left them.
+    pub(crate) position_edits: u64,
     pub(crate) vertex_attributes: AttributeStore,
     pub(crate) halfedge_attributes: AttributeStore,
     pub(crate) face_attributes: AttributeStore,
@@ -101,6 +105,7 @@ impl Default for Mesh {
             n_faces: 0,
             stamp_id: next_mesh_id(),
             stamp_count: 0,
+            position_edits: 0,
             vertex_attributes: AttributeStore::default(),
             halfedge_attributes: AttributeStore::default(),
             face_attributes: AttributeStore::default(),
@@ -125,6 +130,7 @@ impl Clone for Mesh {
             n_faces: self.n_faces,
             stamp_id: next_mesh_id(),
             stamp_count: self.stamp_count,
+            position_edits: self.position_edits,
             vertex_attributes: self.vertex_attributes.clone(),
             halfedge_attributes: self.halfedge_attributes.clone(),
             face_attributes: self.face_attributes.clone(),
@@ -363,6 +369,7 @@ impl Mesh {
     #[inline]
     pub fn set_position(&mut self, v: VertexId, p: DVec3) {
         assert!(self.vertex_slots_.contains(v), "stale vertex handle {v}");
+        self.position_edits = self.position_edits.wrapping_add(1);
         self.positions[slot(v)] = p;
     }
     /// All positions, indexed by [`vertex_index`](Self::vertex_index). Entries of removed
@@ -375,6 +382,7 @@ impl Mesh {
     /// parallel per-vertex updates (`par_iter_mut`).
     #[inline]
     pub fn positions_mut(&mut self) -> &mut [DVec3] {
+        self.position_edits = self.position_edits.wrapping_add(1);
         &mut self.positions
     }
 }

@@ -240,6 +240,11 @@ pub struct Hierarchy {
     /// is unchanged nobody else changed the connectivity, and splits skip their checks.
     /// `None` for good once somebody else did: every later split is checked.
     stamp: Option<u128>,
+    /// `Some(the mesh's position edit count)` while no position has been changed since
+    /// the build except by the hierarchy's own steps: then every neighbour is where it
+    /// was when its record was collapsed, every translation `C_f − C_i` is exactly zero,
+    /// and steps skip computing the centroids. `None` for good after the first edit.
+    clean_positions: Option<u64>,
 }
 
 /// The clone's mesh is a mesh instance of its own; the clone trusts it exactly when the
@@ -250,6 +255,7 @@ impl Clone for Hierarchy {
         let trusted = self.stamp == Some(self.mesh.topology_stamp());
         Self {
             stamp: trusted.then(|| mesh.topology_stamp()),
+            clean_positions: self.clean_positions,
             mesh,
             records: self.records.clone(),
             placements: self.placements.clone(),
@@ -309,6 +315,7 @@ impl Hierarchy {
             method: options.method,
             labels: None,
             stamp: None,
+            clean_positions: None,
         };
         match options.method {
             Method::Rounds => rounds::build(&mut h, options, progress)?,
@@ -322,6 +329,7 @@ impl Hierarchy {
         h.records.shrink_to_fit();
         h.placements.shrink_to_fit();
         h.stamp = Some(h.mesh.topology_stamp());
+        h.clean_positions = Some(h.mesh.position_edits);
         Ok(h)
     }
 
@@ -533,13 +541,26 @@ impl Hierarchy {
             p1 + t * (p0 - p1) + residual
         };
         let record = self.mesh.collapse(h)?;
-        self.details.refresh(r, self.mesh.positions());
+        if !self.positions_are_clean() {
+            self.details.refresh(r, self.mesh.positions());
+        }
         let i1 = self.mesh.vertex_index(v1);
         self.mesh.positions[i1] = p;
         self.records[r] = record;
         self.applied += 1;
         self.stamp = self.stamp.map(|_| self.mesh.topology_stamp());
         Ok(true)
+    }
+
+    /// True while positions are exactly as the hierarchy's own steps left them (see
+    /// `clean_positions`); false for good after the first outside edit or topology change.
+    fn positions_are_clean(&mut self) -> bool {
+        let clean = self.clean_positions == Some(self.mesh.position_edits)
+            && self.stamp == Some(self.mesh.topology_stamp());
+        if !clean {
+            self.clean_positions = None;
+        }
+        clean
     }
 
     /// One step finer: splits the last collapsed record, re-inserting `v0` (same handle)
@@ -555,7 +576,12 @@ impl Hierarchy {
             return Ok(false);
         }
         let r = self.applied - 1;
-        let [d0, d1] = self.details.translations(r, self.mesh.positions());
+        let clean = self.positions_are_clean();
+        let [d0, d1] = if clean {
+            [DVec3::ZERO; 2]
+        } else {
+            self.details.translations(r, self.mesh.positions())
+        };
         let record = &self.records[r];
         if self.stamp == Some(self.mesh.topology_stamp()) {
             self.mesh.vertex_split_unchecked(record);
@@ -567,8 +593,11 @@ impl Hierarchy {
             self.mesh.vertex_index(record.v0),
             self.mesh.vertex_index(record.v1),
         );
-        self.mesh.positions[i0] = translate_exact(record.p0, d0);
-        self.mesh.positions[i1] = translate_exact(record.p1, d1);
+        // The split put v0 and v1 back at p0 and p1; only translations move them on.
+        if !clean {
+            self.mesh.positions[i0] = translate_exact(record.p0, d0);
+            self.mesh.positions[i1] = translate_exact(record.p1, d1);
+        }
         if let Some(binding) = self.labels {
             if r < binding.defined_at {
                 labels::classify_split(&mut self.mesh, binding.attribute, record.v0);
