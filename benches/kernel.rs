@@ -20,7 +20,6 @@ use criterion::{criterion_group, criterion_main, Criterion};
 use glam::DVec3;
 use halfedge::io;
 use halfedge::Mesh;
-use rayon::prelude::*;
 
 fn soup(mesh: &Mesh) -> (Vec<DVec3>, Vec<[u32; 3]>) {
     let index = io::file_vertex_indices(mesh);
@@ -34,18 +33,6 @@ fn soup(mesh: &Mesh) -> (Vec<DVec3>, Vec<[u32; 3]>) {
 
 fn one_ring_sum(mesh: &Mesh) -> usize {
     mesh.vertices()
-        .map(|v| {
-            mesh.adjacent_vertices(v)
-                .map(|w| mesh.vertex_index(w))
-                .sum::<usize>()
-        })
-        .sum()
-}
-
-fn one_ring_sum_parallel(mesh: &Mesh) -> usize {
-    (0..mesh.vertex_slots())
-        .into_par_iter()
-        .filter_map(|i| mesh.vertex_at(i))
         .map(|v| {
             mesh.adjacent_vertices(v)
                 .map(|w| mesh.vertex_index(w))
@@ -87,7 +74,7 @@ fn benches(c: &mut Criterion) {
         b.iter(|| one_ring_sum(black_box(&big)))
     });
     group.bench_function("one-ring circulation, all vertices (0.8 M), rayon", |b| {
-        b.iter(|| one_ring_sum_parallel(black_box(&big)))
+        b.iter(|| common::one_ring_sum_parallel(black_box(&big)))
     });
     group.bench_function("vertex normals (0.8 M vertices)", |b| {
         b.iter(|| black_box(&big).vertex_normals())

@@ -20,8 +20,7 @@ use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion, Throughput};
-use halfedge::{Hierarchy, HierarchyOptions, Mesh};
-use rayon::prelude::*;
+use halfedge::{Hierarchy, HierarchyOptions};
 
 /// Sizes asked for by `MULTIRES_LARGE`, all by default.
 fn sizes() -> Vec<common::Large> {
@@ -33,20 +32,6 @@ fn sizes() -> Vec<common::Large> {
         .map(String::from)
         .collect();
     common::select(&labels).unwrap_or_else(|e| panic!("MULTIRES_LARGE: {e}"))
-}
-
-/// Sum of the neighbour indices of every vertex (so the circulation cannot be optimised
-/// away), in parallel over vertex slots.
-fn one_ring_sum(mesh: &Mesh) -> usize {
-    (0..mesh.vertex_slots())
-        .into_par_iter()
-        .filter_map(|i| mesh.vertex_at(i))
-        .map(|v| {
-            mesh.adjacent_vertices(v)
-                .map(|w| mesh.vertex_index(w))
-                .sum::<usize>()
-        })
-        .sum()
 }
 
 /// The hierarchy bench's rounds: planarity bound 90° so that rounds reach ~2,000 faces.
@@ -80,7 +65,7 @@ fn large(c: &mut Criterion) {
             b.iter_with_large_drop(|| black_box(&mesh).vertex_normals())
         });
         group.bench_function("one-ring circulation, rayon", |b| {
-            b.iter(|| one_ring_sum(black_box(&mesh)))
+            b.iter(|| common::one_ring_sum_parallel(black_box(&mesh)))
         });
         group.bench_function("rounds hierarchy to 2,000 faces and back", |b| {
             b.iter_batched(

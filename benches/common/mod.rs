@@ -19,28 +19,17 @@
 #![allow(dead_code)] // each bench uses part of the module
 
 use std::path::{Path, PathBuf};
+
+use rayon::prelude::*;
 use std::time::SystemTime;
 
 use halfedge::io::{self, PlyFormat};
 use halfedge::{generators, Mesh};
 
-/// The workspace root.
-pub fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-}
-
-/// The shared real meshes: `MULTIRES_MESHES`, else the first `shared/meshes` folder
-/// above the workspace.
-pub fn meshes_dir() -> PathBuf {
-    if let Some(dir) = std::env::var_os("MULTIRES_MESHES") {
-        return PathBuf::from(dir);
-    }
-    root()
-        .ancestors()
-        .map(|a| a.join("shared/meshes"))
-        .find(|d| d.is_dir())
-        .expect("no shared/meshes directory above the workspace (set MULTIRES_MESHES)")
-}
+// The workspace root and the shared meshes folder, as the integration tests find them.
+#[path = "../../tests/common/mod.rs"]
+mod tests_common;
+pub use tests_common::{root, shared_meshes as meshes_dir};
 
 /// A shared mesh by file name (`"spot.obj"`).
 pub fn load_shared(name: &str) -> Mesh {
@@ -243,4 +232,18 @@ pub fn thousands(n: usize) -> String {
         out.push(c);
     }
     out
+}
+
+/// Sum of the neighbour indices of every vertex (so that the circulation cannot be
+/// optimised away), in parallel over vertex slots: the one-ring circulation bench.
+pub fn one_ring_sum_parallel(mesh: &Mesh) -> usize {
+    (0..mesh.vertex_slots())
+        .into_par_iter()
+        .filter_map(|i| mesh.vertex_at(i))
+        .map(|v| {
+            mesh.adjacent_vertices(v)
+                .map(|w| mesh.vertex_index(w))
+                .sum::<usize>()
+        })
+        .sum()
 }
