@@ -6,36 +6,20 @@
 //! grown by breadth-first rings from a front vertex; spot with a ≈ 300-vertex disk around
 //! its snout.
 
+mod common;
+
 use std::hint::black_box;
-use std::path::PathBuf;
 use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use edit::area::{
     EditingArea, EditingSession, Embedding, EmbeddingOptions, EmbeddingWeights, SessionOptions,
 };
-use halfedge::{generators, Mesh, VertexId};
-
-fn meshes_dir() -> PathBuf {
-    if let Ok(dir) = std::env::var("MULTIRES_MESHES") {
-        return PathBuf::from(dir);
-    }
-    let mut dir = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
-    loop {
-        if dir.join("shared/meshes").is_dir() {
-            return dir.join("shared/meshes");
-        }
-        assert!(dir.pop(), "no shared/meshes above the workspace");
-    }
-}
-
-fn load(name: &str) -> Mesh {
-    halfedge::io::read(meshes_dir().join(name)).expect(name).0
-}
+use halfedge::{Mesh, VertexId};
 
 /// Nefertiti subdivided twice and a ≈ 100k-vertex disk around a front vertex.
 fn large_area() -> (Mesh, EditingArea, VertexId) {
-    let mesh = generators::subdivide(&generators::subdivide(&load("nefertiti.obj")));
+    let mesh = common::nefertiti_x2();
     let seed = mesh.vertex_at(25951).unwrap();
     let area = EditingArea::disk_around(&mesh, seed, 100_000).expect("a disk");
     (mesh, area, seed)
@@ -43,7 +27,7 @@ fn large_area() -> (Mesh, EditingArea, VertexId) {
 
 /// Spot and a ≈ 300-vertex disk around its snout.
 fn small_area() -> (Mesh, EditingArea, VertexId) {
-    let mesh = load("spot.obj");
+    let mesh = common::load_shared("spot.obj");
     let seed = mesh.vertex_at(1855).unwrap();
     let area = EditingArea::disk_around(&mesh, seed, 260).expect("a disk");
     (mesh, area, seed)

@@ -5,8 +5,9 @@
 //! `cargo bench --bench blend` (add `-- <filter>` for one group). Inputs are built once
 //! per group; sample sizes are small on purpose (whole-field operations take 0.1–1 s).
 
+mod common;
+
 use std::hint::black_box;
-use std::path::PathBuf;
 use std::sync::{Mutex, OnceLock};
 use std::time::{Duration, Instant};
 
@@ -18,26 +19,6 @@ use edit::regions::{Regions, Role};
 use edit::shape::ShapeFunction;
 use glam::{DMat4, DQuat, DVec3};
 use halfedge::{generators, Mesh};
-
-fn meshes_dir() -> PathBuf {
-    if let Ok(dir) = std::env::var("MULTIRES_MESHES") {
-        return PathBuf::from(dir);
-    }
-    let mut dir = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
-    loop {
-        let candidate = dir.join("shared").join("meshes");
-        if candidate.is_dir() {
-            return candidate;
-        }
-        assert!(dir.pop(), "no shared/meshes above the workspace");
-    }
-}
-
-/// Nefertiti subdivided twice (≈ 0.8 M vertices, 1.6 M faces).
-fn nefertiti_x2() -> Mesh {
-    let (mesh, _) = halfedge::io::read(meshes_dir().join("nefertiti.obj")).expect("nefertiti");
-    generators::subdivide(&generators::subdivide(&mesh))
-}
 
 /// A 1000 × 1000 grid (≈ 1 M vertices) over the unit square, gently waved in z.
 fn wavy_grid(n: usize) -> Mesh {
@@ -94,7 +75,7 @@ fn fast_marching(c: &mut Criterion) {
     group.sample_size(10);
     group.measurement_time(Duration::from_secs(12));
     let inputs: [(&str, MeshMaker); 2] = [
-        ("nefertiti_x2", nefertiti_x2),
+        ("nefertiti_x2", common::nefertiti_x2),
         ("grid_1001x1001", || wavy_grid(1000)),
     ];
     for (name, make) in inputs {

@@ -2,7 +2,8 @@
 //! subdivided twice, 0.8 M vertices): Barr taper / twist / bend, Taubin steps, FFD attach
 //! and deform. Run with `cargo bench --bench deformers`.
 
-use std::path::PathBuf;
+mod common;
+
 use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, Criterion};
@@ -11,26 +12,11 @@ use edit::ffd::{AttachOptions, Ffd, Frame};
 use edit::selection::Vertices;
 use edit::smoothing::{Smoother, Weights};
 use glam::DVec3;
-use halfedge::{generators, Mesh};
-
-fn meshes_dir() -> PathBuf {
-    if let Ok(dir) = std::env::var("MULTIRES_MESHES") {
-        return PathBuf::from(dir);
-    }
-    let mut dir = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
-    loop {
-        let candidate = dir.join("shared").join("meshes");
-        if candidate.is_dir() {
-            return candidate;
-        }
-        assert!(dir.pop(), "no shared/meshes above the workspace");
-    }
-}
+use halfedge::Mesh;
 
 /// Nefertiti subdivided twice (≈ 0.8 M vertices, 1.6 M faces).
 fn big_mesh() -> Mesh {
-    let (mesh, _) = halfedge::io::read(meshes_dir().join("nefertiti.obj")).unwrap();
-    let mesh = generators::subdivide(&generators::subdivide(&mesh));
+    let mesh = common::nefertiti_x2();
     eprintln!(
         "bench mesh: {} vertices, {} faces",
         mesh.n_vertices(),

@@ -5,35 +5,20 @@
 //!
 //! Run: `cargo bench --bench hierarchy`.
 
-use std::path::PathBuf;
+mod common;
+
 use std::sync::OnceLock;
 use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion};
-use halfedge::{generators, Hierarchy, HierarchyOptions, Mesh};
+use halfedge::{Hierarchy, HierarchyOptions, Mesh};
 
 const TARGET_FACES: usize = 2000;
 
-fn meshes_dir() -> PathBuf {
-    if let Ok(dir) = std::env::var("MULTIRES_MESHES") {
-        return PathBuf::from(dir);
-    }
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .ancestors()
-        .map(|a| a.join("shared/meshes"))
-        .find(|p| p.is_dir())
-        .expect("shared/meshes not found; set MULTIRES_MESHES")
-}
-
-/// Nefertiti subdivided twice, built once per bench run.
+/// Nefertiti subdivided twice (from `bench-cache/`), loaded once per bench run.
 fn big_mesh() -> &'static Mesh {
     static MESH: OnceLock<Mesh> = OnceLock::new();
-    MESH.get_or_init(|| {
-        let base = halfedge::io::read(meshes_dir().join("nefertiti.obj"))
-            .expect("nefertiti.obj")
-            .0;
-        generators::subdivide(&generators::subdivide(&base))
-    })
+    MESH.get_or_init(common::nefertiti_x2)
 }
 
 /// Rounds as the bench runs them: planarity bound 90° so that rounds reach ~2,000 faces.

@@ -8,45 +8,18 @@
 //! ```
 //!
 //! The 1.6 M-face PLY is generated once into `bench-cache/` (git-ignored) at the
-//! workspace root. Builds and loads are timed without dropping the result
+//! workspace root by `benches/common` (`cargo run --release --example bench_cache` prepares
+//! it ahead). Builds and loads are timed without dropping the result
 //! (`iter_with_large_drop`), as `openmesh_reference.py` times OpenMesh.
 
 use std::hint::black_box;
-use std::path::{Path, PathBuf};
+
+mod common;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use glam::DVec3;
-use halfedge::io::{self, PlyFormat};
-use halfedge::{generators, Mesh};
-use rayon::prelude::*;
-
-fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn shared_meshes() -> PathBuf {
-    if let Some(dir) = std::env::var_os("MULTIRES_MESHES") {
-        return PathBuf::from(dir);
-    }
-    root()
-        .ancestors()
-        .map(|a| a.join("shared/meshes"))
-        .find(|d| d.is_dir())
-        .expect("no shared/meshes directory above the workspace (set MULTIRES_MESHES)")
-}
-
-/// nefertiti subdivided twice, as a binary little-endian PLY in `bench-cache/`
-/// (written on first use).
-pub fn big_ply() -> PathBuf {
-    let path = root().join("bench-cache/nefertiti-subdivided-2.ply");
-    if !path.exists() {
-        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
-        let (mesh, _) = io::read(shared_meshes().join("nefertiti.obj")).unwrap();
-        let mesh = generators::subdivide(&generators::subdivide(&mesh));
-        io::write_ply(&path, &mesh, PlyFormat::BinaryLittleEndian).unwrap();
-    }
-    path
-}
+use halfedge::io;
+use halfedge::Mesh;
 
 fn soup(mesh: &Mesh) -> (Vec<DVec3>, Vec<[u32; 3]>) {
     let index = io::file_vertex_indices(mesh);
@@ -68,22 +41,10 @@ fn one_ring_sum(mesh: &Mesh) -> usize {
         .sum()
 }
 
-fn one_ring_sum_parallel(mesh: &Mesh) -> usize {
-    (0..mesh.vertex_slots())
-        .into_par_iter()
-        .filter_map(|i| mesh.vertex_at(i))
-        .map(|v| {
-            mesh.adjacent_vertices(v)
-                .map(|w| mesh.vertex_index(w))
-                .sum::<usize>()
-        })
-        .sum()
-}
-
 fn benches(c: &mut Criterion) {
-    let bunny_path = shared_meshes().join("stanford-bunny.obj");
+    let bunny_path = common::meshes_dir().join("stanford-bunny.obj");
     let (bunny, _) = io::read(&bunny_path).unwrap();
-    let big_path = big_ply();
+    let big_path = common::NEFERTITI_X2.cached();
     let (big, _) = io::read(&big_path).unwrap();
     assert_eq!(big.n_faces(), 1_599_008);
 
@@ -113,7 +74,7 @@ fn benches(c: &mut Criterion) {
         b.iter(|| one_ring_sum(black_box(&big)))
     });
     group.bench_function("one-ring circulation, all vertices (0.8 M), rayon", |b| {
-        b.iter(|| one_ring_sum_parallel(black_box(&big)))
+        b.iter(|| common::one_ring_sum_parallel(black_box(&big)))
     });
     group.bench_function("vertex normals (0.8 M vertices)", |b| {
         b.iter(|| black_box(&big).vertex_normals())

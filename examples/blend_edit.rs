@@ -16,6 +16,9 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::Parser;
+
+#[path = "support/progress.rs"]
+mod progress;
 use edit::blend::{BlendOptions, BlendSession, DistanceKind, RefineOptions};
 use edit::regions::Regions;
 use edit::shape::ShapeFunction;
@@ -89,7 +92,8 @@ fn picks_around(mesh: &Mesh, centre: DVec3, axis: DVec3, radius: f64, n: usize) 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();
     let clock = Instant::now();
-    let (mut mesh, _) = halfedge::io::read(&args.mesh)?;
+    let (mut mesh, _) = progress::read(&args.mesh)?;
+    let large = progress::is_large(mesh.n_faces());
     println!(
         "loaded {} vertices, {} faces in {:.3} s",
         mesh.n_vertices(),
@@ -140,7 +144,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         },
         shape: ShapeFunction::Smoothstep,
     };
-    let mut session = BlendSession::new(&mesh, regions, options)?;
+    let distances = if args.euclidean {
+        "Euclidean distances (grid)"
+    } else {
+        "geodesic distances (fast marching)"
+    };
+    let mut session = progress::step(large, distances, || {
+        BlendSession::new(&mesh, regions, options)
+    })?;
     println!(
         "distance fields ({:?}) in {:.3} s",
         session.distance_kind(),
@@ -159,7 +170,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     if args.refine > 0.0 {
         let clock = Instant::now();
         let max = args.refine * mesh.mean_edge_length();
-        let report = session.refine(&mut mesh, RefineOptions::new(max))?;
+        let report = progress::step(large, "adaptive refinement", || {
+            session.refine(&mut mesh, RefineOptions::new(max))
+        })?;
         println!(
             "refinement in {:.3} s: {} new vertices in {} passes, longest edge now {:.3e}",
             clock.elapsed().as_secs_f64(),
@@ -171,7 +184,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
 
     let clock = Instant::now();
-    halfedge::io::write_obj(&args.out, &mesh)?;
+    progress::step(large, format!("writing {}", args.out.display()), || {
+        halfedge::io::write_obj(&args.out, &mesh)
+    })?;
     println!(
         "wrote {} in {:.3} s",
         args.out.display(),

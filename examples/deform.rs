@@ -10,6 +10,9 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::Parser;
+
+#[path = "support/progress.rs"]
+mod progress;
 use edit::barr::{deform, Profile, Taper, Twist};
 use edit::ffd::{AttachOptions, Ffd, Frame};
 use edit::selection::Vertices;
@@ -38,9 +41,12 @@ struct Args {
     bend: f64,
 }
 
-fn timed<T>(what: &str, f: impl FnOnce() -> T) -> T {
+/// Runs a step, under a spinner when `show` (large meshes), and prints its time.
+fn timed<T>(show: bool, what: &str, f: impl FnOnce() -> T) -> T {
+    let spinner = progress::spinner(show, what);
     let start = Instant::now();
     let result = f();
+    spinner.finish_and_clear();
     println!(
         "{what:<40} {:>10.2} ms",
         start.elapsed().as_secs_f64() * 1e3
@@ -50,7 +56,10 @@ fn timed<T>(what: &str, f: impl FnOnce() -> T) -> T {
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();
-    let (mut mesh, _) = timed("read", || halfedge::io::read(&args.mesh))?;
+    let large_file =
+        std::fs::metadata(&args.mesh).is_ok_and(|m| m.len() > progress::LARGE_FILE_BYTES);
+    let (mut mesh, _) = timed(large_file, "read", || halfedge::io::read(&args.mesh))?;
+    let large = progress::is_large(mesh.n_faces());
     println!(
         "{}: {} vertices, {} faces",
         args.mesh.display(),
@@ -71,21 +80,27 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let half = 0.5 * extent[longest];
 
     let twist = Twist::linear(centre, axis, -half, half, args.twist.to_radians())?;
-    timed("Barr twist", || deform(&mut mesh, &twist, Vertices::All))?;
+    timed(large, "Barr twist", || {
+        deform(&mut mesh, &twist, Vertices::All)
+    })?;
     let taper = Taper::new(centre, axis, Profile::local(-half, half, 1.0, args.taper)?)?;
-    timed("Barr taper", || deform(&mut mesh, &taper, Vertices::All))?;
+    timed(large, "Barr taper", || {
+        deform(&mut mesh, &taper, Vertices::All)
+    })?;
     let options = TaubinOptions {
         weights: Weights::Cotangent,
         ..TaubinOptions::default()
     };
-    timed(&format!("Taubin, {} iterations", args.smooth), || {
-        taubin(&mut mesh, Vertices::All, &options, args.smooth)
-    })?;
+    timed(
+        large,
+        &format!("Taubin, {} iterations", args.smooth),
+        || taubin(&mut mesh, Vertices::All, &options, args.smooth),
+    )?;
 
     // the FFD's shape surface lies under the mesh, its u direction along the longest axis
     let up = DVec3::AXES[(longest + 1) % 3];
     let frame = Frame::new(lo.dot(up) * up, axis, up)?;
-    let mut ffd = timed("FFD attach", || {
+    let mut ffd = timed(large, "FFD attach", || {
         Ffd::covering(
             &mesh,
             Vertices::All,
@@ -97,10 +112,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         )
     })?;
     ffd.bend(args.bend.to_radians())?;
-    timed("FFD deform (bend)", || ffd.deform(&mut mesh))?;
+    timed(large, "FFD deform (bend)", || ffd.deform(&mut mesh))?;
 
     mesh.check()?;
-    timed("write", || halfedge::io::write_obj(&args.out, &mesh))?;
+    timed(large, "write", || halfedge::io::write_obj(&args.out, &mesh))?;
     println!("wrote {}", args.out.display());
     Ok(())
 }

@@ -13,6 +13,9 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::{Parser, ValueEnum};
+
+#[path = "support/progress.rs"]
+mod progress;
 use halfedge::{generators, Hierarchy, HierarchyOptions, Mesh};
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -48,7 +51,7 @@ struct Args {
     /// Subdivide the input 1-to-4 this many times first (to make large meshes).
     #[arg(long, default_value_t = 0)]
     subdivide: usize,
-    /// Show a progress bar on stderr.
+    /// Show progress bars on stderr (on by default for meshes over 200k faces).
     #[arg(long)]
     progress: bool,
 }
@@ -108,10 +111,14 @@ fn main() {
 }
 
 fn run(args: &Args) -> Result<(), halfedge::Error> {
-    let (mut mesh, _) = halfedge::io::read(&args.file)?;
-    for _ in 0..args.subdivide {
-        mesh = generators::subdivide(&mesh);
+    let (mut mesh, _) = progress::read(&args.file)?;
+    for k in 1..=args.subdivide {
+        let show = args.progress || progress::is_large(4 * mesh.n_faces());
+        mesh = progress::step(show, format!("subdividing {k}/{}", args.subdivide), || {
+            generators::subdivide(&mesh)
+        });
     }
+    let show = args.progress || progress::is_large(mesh.n_faces());
     let mut options = match args.method {
         MethodArg::Rounds => HierarchyOptions::rounds(),
         MethodArg::Qem => HierarchyOptions::qem(),
@@ -131,27 +138,22 @@ fn run(args: &Args) -> Result<(), halfedge::Error> {
     }
     let before = snapshot(&mesh);
     let input_faces = mesh.n_faces() as u64;
-    let bar = args.progress.then(|| {
-        let bar = indicatif::ProgressBar::new(input_faces);
-        bar.set_style(
-            indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} faces removed, {msg}")
-                .expect("valid template"),
-        );
-        bar
-    });
+    let bar = progress::bar(
+        show,
+        input_faces,
+        "simplifying [{bar:40}] {pos}/{len} faces removed, {msg}",
+    );
     let start = Instant::now();
     let mut hierarchy = Hierarchy::build_with_progress(mesh, &options, &mut |p| {
-        if let Some(bar) = &bar {
-            bar.set_position((p.input_faces - p.faces) as u64);
-            bar.set_message(format!("{} levels", p.levels));
-        }
+        bar.set_position((p.input_faces - p.faces) as u64);
+        bar.set_message(format!("{} levels", p.levels));
     })?;
     let coarsen_seconds = start.elapsed().as_secs_f64();
-    if let Some(bar) = &bar {
-        bar.finish_and_clear();
-    }
+    bar.finish_and_clear();
     let start = Instant::now();
-    hierarchy.refine_to(0)?;
+    progress::step(show, "refining back to the input", || {
+        hierarchy.refine_to(0)
+    })?;
     let refine_seconds = start.elapsed().as_secs_f64();
     let roundtrip_identical = snapshot(hierarchy.mesh()) == before;
     let report = serde_json::json!({

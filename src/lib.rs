@@ -2,6 +2,10 @@
 //!
 //! Multiresolution editing of triangle meshes: the facade of the workspace, re-exporting
 //! the [`halfedge`] kernel and the [`edit`] methods.
+//!
+//! Start with the guides in [`edit::guide`]: one per method (its paper, parameters,
+//! errors and a runnable example) and the simplify → edit → refine
+//! [workflow](edit::guide::workflow).
 
 pub use edit;
 pub use halfedge;

@@ -7,6 +7,8 @@
 //! cargo run --release --example workflow -- [FILE] [--level N] [--method rounds|qem] [--out DIR]
 //! ```
 
+#[path = "../support/progress.rs"]
+mod progress;
 mod render;
 
 use std::path::{Path, PathBuf};
@@ -20,7 +22,6 @@ use edit::shape::ShapeFunction;
 use edit::submesh::{Edit, Propagation, SubMesh, Variation};
 use glam::{DMat4, DVec3};
 use halfedge::{BuildProgress, Hierarchy, HierarchyOptions, Mesh, VertexId};
-use indicatif::{ProgressBar, ProgressStyle};
 
 /// Command-line options.
 #[derive(Parser, Debug)]
@@ -71,8 +72,9 @@ fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
     let mut rows = Vec::new();
 
     let clock = Instant::now();
-    let (input, report) = halfedge::io::read(&path)?;
-    input.check()?;
+    let (input, report) = progress::read(&path)?;
+    let large = progress::is_large(input.n_faces());
+    progress::step(large, "checking the mesh", || input.check())?;
     rows.push(Row {
         step: "load",
         detail: format!(
@@ -93,10 +95,11 @@ fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
         "qem" => HierarchyOptions::qem(),
         other => return Err(format!("unknown method {other:?} (rounds or qem)").into()),
     };
-    let bar = ProgressBar::new(input.n_faces() as u64);
-    bar.set_style(ProgressStyle::with_template(
-        "simplifying {bar:40} {pos}/{len} faces removed {msg}",
-    )?);
+    let bar = progress::bar(
+        large,
+        input.n_faces() as u64,
+        "simplifying [{bar:40}] {pos}/{len} faces removed {msg}",
+    );
     let clock = Instant::now();
     let input_faces = input.n_faces();
     let mut hierarchy =
@@ -156,14 +159,13 @@ fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
     let front = extreme_vertex(mesh, DVec3::Z);
     let area_size = (mesh.n_vertices() / 12).clamp(30, 5_000);
     let area = EditingArea::disk_around(mesh, front, area_size)?;
-    let mut session = EditingSession::new(
-        mesh,
-        area,
-        &SessionOptions {
-            scale: 0.6,
-            ..SessionOptions::default()
-        },
-    )?;
+    let options = SessionOptions {
+        scale: 0.6,
+        ..SessionOptions::default()
+    };
+    let mut session = progress::step(large, "Lee: embedding the editing area", || {
+        EditingSession::new(mesh, area, &options)
+    })?;
     session.set_primitive(mesh, &[front])?;
     let pull = mesh.vertex_normal(front) * 0.15 * diagonal;
     session.drag(mesh, pull)?;
@@ -187,14 +189,13 @@ fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
     let fixed = ring_picks(mesh, centre, 0.3 * diagonal, 10);
     let regions = Regions::from_picks(mesh, &handle, &fixed)?;
     let n_deformable = regions.deformable().len();
-    let mut blend = BlendSession::new(
-        mesh,
-        regions,
-        BlendOptions {
-            distance: DistanceKind::Geodesic,
-            shape: ShapeFunction::Smoothstep,
-        },
-    )?;
+    let options = BlendOptions {
+        distance: DistanceKind::Geodesic,
+        shape: ShapeFunction::Smoothstep,
+    };
+    let mut blend = progress::step(large, "B&K: geodesic distances (fast marching)", || {
+        BlendSession::new(mesh, regions, options)
+    })?;
     let rotation = DMat4::from_translation(centre)
         * DMat4::from_axis_angle(DVec3::Z, 25f64.to_radians())
         * DMat4::from_translation(-centre)
@@ -227,9 +228,19 @@ fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
 
     // --- refine back with detail coefficients -----------------------------------
     let clock = Instant::now();
-    hierarchy.go_to_level(0)?;
+    let bar = progress::bar(
+        large,
+        level as u64,
+        "refining [{bar:40}] level {pos}/{len} back to the input {msg}",
+    );
+    for l in (0..level).rev() {
+        hierarchy.go_to_level(l)?;
+        bar.inc(1);
+        bar.set_message(format!("({} faces)", hierarchy.mesh().n_faces()));
+    }
+    bar.finish_and_clear();
     let result = hierarchy.into_mesh();
-    result.check()?;
+    progress::step(large, "checking the result", || result.check())?;
     let moved = result
         .vertices()
         .filter(|&v| result.position(v) != original.position(v))
@@ -249,7 +260,9 @@ fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
     let clock = Instant::now();
     let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("mesh");
     let out_mesh = args.out.join(format!("{stem}-edited.{}", args.format));
-    halfedge::io::write(&out_mesh, &result)?;
+    progress::step(large, format!("writing {}", out_mesh.display()), || {
+        halfedge::io::write(&out_mesh, &result)
+    })?;
     let (w, h) = (args.picture, args.picture * 3 / 4);
     let view = render::View::default();
     let before = render::render(&original, view, frame, None, w, h);

@@ -14,8 +14,12 @@
 //!   λ|μ smoothing; [`selection`]: the vertex sets they act on and exact undo snapshots.
 //! - [`ffd`]: Feng, Ma & Peng, *A new free-form deformation through the control of
 //!   parametric surfaces* (shape surface + height surface).
+//!
+//! Start with the [`guide`]: one page per method with its paper, parameters, errors and
+//! a runnable example, and the simplify → edit → refine [workflow](guide::workflow).
 
 mod error;
+pub mod guide;
 pub mod laplace;
 pub mod selection;
 

@@ -12,6 +12,23 @@ use edit::EditError;
 use glam::DVec3;
 use halfedge::Mesh;
 
+/// Degrees and control-grid sizes of a B-spline surface.
+type Grid = ([usize; 2], [usize; 2]);
+
+/// `Ffd::covering` of every vertex of `mesh` in the world frame, default attach options.
+fn world_ffd(mesh: &Mesh, shape: Grid, height: Grid, margin: f64) -> Ffd {
+    Ffd::covering(
+        mesh,
+        Vertices::All,
+        Frame::WORLD,
+        shape,
+        height,
+        margin,
+        AttachOptions::default(),
+    )
+    .unwrap()
+}
+
 fn box_mesh() -> Mesh {
     closed_box(
         DVec3::new(-1.0, 0.1, -0.5),
@@ -25,16 +42,7 @@ fn undisplaced_surfaces_reproduce_the_bunny_to_1e9() {
     let mut mesh = load("stanford-bunny.obj");
     let before = mesh.positions().to_vec();
     // S cubic 6×5, H quadratic 4×4: the two surfaces differ
-    let ffd = Ffd::covering(
-        &mesh,
-        Vertices::All,
-        Frame::WORLD,
-        ([3, 3], [6, 5]),
-        ([2, 2], [4, 4]),
-        0.05,
-        AttachOptions::default(),
-    )
-    .unwrap();
+    let ffd = world_ffd(&mesh, ([3, 3], [6, 5]), ([2, 2], [4, 4]), 0.05);
     assert_eq!(ffd.mode(), Mode::Global);
     assert_eq!(ffd.attached(), mesh.n_vertices());
     ffd.deform(&mut mesh).unwrap();
@@ -87,16 +95,7 @@ fn undisplaced_surfaces_reproduce_the_bunny_to_1e9() {
 fn translating_the_shape_surface_translates_the_object() {
     let mut mesh = load("spot.obj");
     let before = mesh.positions().to_vec();
-    let mut ffd = Ffd::covering(
-        &mesh,
-        Vertices::All,
-        Frame::WORLD,
-        ([3, 3], [5, 5]),
-        ([3, 3], [5, 5]),
-        0.1,
-        AttachOptions::default(),
-    )
-    .unwrap();
+    let mut ffd = world_ffd(&mesh, ([3, 3], [5, 5]), ([3, 3], [5, 5]), 0.1);
     let t = DVec3::new(0.3, -1.2, 0.7);
     ffd.translate(t).unwrap();
     ffd.deform(&mut mesh).unwrap();
@@ -108,16 +107,7 @@ fn translating_the_shape_surface_translates_the_object() {
 #[test]
 fn scaling_the_height_surface_scales_every_height() {
     let mut mesh = load("spot.obj");
-    let mut ffd = Ffd::covering(
-        &mesh,
-        Vertices::All,
-        Frame::WORLD,
-        ([2, 3], [4, 6]),
-        ([3, 1], [5, 3]),
-        0.1,
-        AttachOptions::default(),
-    )
-    .unwrap();
+    let mut ffd = world_ffd(&mesh, ([2, 3], [4, 6]), ([3, 1], [5, 3]), 0.1);
     let k = 2.5;
     ffd.scale_heights(k).unwrap();
     // a wavy shape surface too, so that the heights are measured along varying normals
@@ -147,16 +137,7 @@ fn a_bent_shape_surface_bends_a_box_with_every_vertex_in_its_column() {
     // the paper's Fig. 7/8: S of degree 2×1 with uniformly distributed control points
     let mut mesh = box_mesh();
     let before = mesh.positions().to_vec();
-    let mut ffd = Ffd::covering(
-        &mesh,
-        Vertices::All,
-        Frame::WORLD,
-        ([2, 1], [8, 2]),
-        ([2, 1], [8, 2]),
-        0.0,
-        AttachOptions::default(),
-    )
-    .unwrap();
+    let mut ffd = world_ffd(&mesh, ([2, 1], [8, 2]), ([2, 1], [8, 2]), 0.0);
     assert_eq!(ffd.mode(), Mode::Global);
     ffd.bend(1.5).unwrap();
     ffd.deform(&mut mesh).unwrap();
@@ -211,16 +192,7 @@ fn taper_is_barr_taper_along_u() {
     for (degree, count) in [([1, 1], [2, 2]), ([3, 2], [6, 4])] {
         let mut mesh = box_mesh();
         let before = mesh.positions().to_vec();
-        let mut ffd = Ffd::covering(
-            &mesh,
-            Vertices::All,
-            Frame::WORLD,
-            (degree, count),
-            (degree, count),
-            0.0,
-            AttachOptions::default(),
-        )
-        .unwrap();
+        let mut ffd = world_ffd(&mesh, (degree, count), (degree, count), 0.0);
         let (start, end) = (0.25, 1.0);
         ffd.taper(start, end).unwrap();
         ffd.deform(&mut mesh).unwrap();
@@ -235,16 +207,7 @@ fn taper_is_barr_taper_along_u() {
     }
     // the paper's triangle: the u = 0 border merged into its middle, heights sloped to 0
     let mut mesh = box_mesh();
-    let mut ffd = Ffd::covering(
-        &mesh,
-        Vertices::All,
-        Frame::WORLD,
-        ([1, 1], [2, 2]),
-        ([1, 1], [2, 2]),
-        0.0,
-        AttachOptions::default(),
-    )
-    .unwrap();
+    let mut ffd = world_ffd(&mesh, ([1, 1], [2, 2]), ([1, 1], [2, 2]), 0.0);
     ffd.taper(0.0, 1.0).unwrap();
     ffd.deform(&mut mesh).unwrap();
     for q in mesh.positions().iter().filter(|q| q.x == -1.0) {
@@ -256,16 +219,7 @@ fn taper_is_barr_taper_along_u() {
 fn twist_is_barr_twist_of_the_shape_surface() {
     let mut mesh = box_mesh();
     let before = mesh.positions().to_vec();
-    let mut ffd = Ffd::covering(
-        &mesh,
-        Vertices::All,
-        Frame::WORLD,
-        ([3, 1], [16, 2]),
-        ([1, 1], [2, 2]),
-        0.0,
-        AttachOptions::default(),
-    )
-    .unwrap();
+    let mut ffd = world_ffd(&mesh, ([3, 1], [16, 2]), ([1, 1], [2, 2]), 0.0);
     let angle = 1.0;
     ffd.twist(angle).unwrap();
     // the control net is twisted by Barr's twist about the u axis (x, through z = 0, y = 0)
@@ -415,16 +369,7 @@ fn local_mode_pins_the_crossed_border_and_keeps_the_object_continuous() {
 fn errors_are_typed_and_change_nothing() {
     let mut mesh = box_mesh();
     let other = load("spot.obj");
-    let ffd = Ffd::covering(
-        &mesh,
-        Vertices::All,
-        Frame::WORLD,
-        ([2, 2], [4, 4]),
-        ([2, 2], [4, 4]),
-        0.1,
-        AttachOptions::default(),
-    )
-    .unwrap();
+    let ffd = world_ffd(&mesh, ([2, 2], [4, 4]), ([2, 2], [4, 4]), 0.1);
     let mut other_mesh = other.clone();
     assert!(matches!(
         ffd.deform(&mut other_mesh),

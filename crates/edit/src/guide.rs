@@ -1,0 +1,38 @@
+//! # Guides
+//!
+//! One guide per method: what it does, the paper and section it implements, its
+//! parameters and sensible defaults, the errors a user can hit, and a runnable example on
+//! a generated mesh. The text lives in `docs/guide/*.md` at the workspace root (readable
+//! on its own) and is included here, so `cargo test --doc -p edit` compiles and runs every
+//! example.
+//!
+//! - [`hierarchy`]: the kernel, collapse / split, the progressive hierarchy (rounds or
+//!   QEM), detail coefficients and sub-mesh labels (crate `halfedge`).
+//! - [`area_editing`]: Lee 1999 area editing, harmonic map + multilevel B-splines with a
+//!   scale parameter ([`crate::area`], [`crate::mba`]).
+//! - [`bendels_klein`]: Bendels & Klein precisely specified regions, distance fields,
+//!   shape functions, `exp(α log A)` and adaptive refinement ([`crate::regions`],
+//!   [`crate::distance`], [`crate::shape`], [`crate::matrix`], [`crate::blend`]).
+//! - [`submesh_edits`]: sub-mesh edits with propagation levels, Barr's deformers and
+//!   Taubin smoothing ([`crate::submesh`], [`crate::barr`], [`crate::smoothing`]).
+//! - [`ffd`]: Feng, Ma & Peng's shape/height-surface free-form deformation
+//!   ([`crate::ffd`]).
+//! - [`workflow`]: simplify → edit → refine, the job of the `workflow` example.
+
+#[doc = include_str!("../../../docs/guide/hierarchy.md")]
+pub mod hierarchy {}
+
+#[doc = include_str!("../../../docs/guide/area-editing.md")]
+pub mod area_editing {}
+
+#[doc = include_str!("../../../docs/guide/bendels-klein.md")]
+pub mod bendels_klein {}
+
+#[doc = include_str!("../../../docs/guide/submesh-edits.md")]
+pub mod submesh_edits {}
+
+#[doc = include_str!("../../../docs/guide/ffd.md")]
+pub mod ffd {}
+
+#[doc = include_str!("../../../docs/guide/workflow.md")]
+pub mod workflow {}
