@@ -4,7 +4,7 @@
 //! `multires` workspace (multiresolution editing after Kobbelt-style hierarchies, Lee
 //! 1999, Bendels & Klein 2003 and Feng, Ma & Peng).
 //!
-//! - [`Mesh`]: connectivity, positions ([`glam::DVec3`]), typed [attributes](attributes),
+//! - [`Mesh`]: connectivity, positions ([`glam::DVec3`]), typed [attributes],
 //!   navigation and [circulators](iter) with pmp / OpenMesh names, [`Mesh::check`].
 //! - [Building](build) from indexed polygons with OpenMesh's importer policy, and
 //!   [`io`] for OBJ (`tobj`) and PLY (`ply-rs-bw`).
