@@ -38,17 +38,23 @@ pub(crate) fn generation<K: Key>(k: K) -> u32 {
 /// "No element" in the connectivity arrays.
 pub(crate) const NONE: u32 = u32::MAX;
 
-/// State of a slot, in the low two bits of its [`Slots`] entry.
-const VACANT: u32 = 0;
-const LIVE: u32 = 1;
-const TOMBSTONE: u32 = 2;
+/// State of a slot: two bits in [`Slots`].
+const VACANT: u64 = 0;
+const LIVE: u64 = 1;
+const TOMBSTONE: u64 = 2;
+/// Slots per state word.
+const PER_WORD: usize = 32;
 
-/// Generation and state of every slot of one element kind: `generation << 2 | state`,
-/// where the state is vacant (freed by garbage collection, or never used), live or a
-/// tombstone (removed by a collapse, revivable by a split).
+/// State and generation of every slot of one element kind. The state — vacant (never
+/// used, or freed by garbage collection), live, or a tombstone (removed by a collapse,
+/// revivable by a split) — is packed two bits a slot, so the states of a million-face
+/// mesh take a few hundred kilobytes and stay in cache while collapses and splits flip
+/// them. Generations (how often a slot was reused) live apart and are read only once a
+/// freed slot has been reused.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Slots {
-    meta: Vec<u32>,
+    states: Vec<u64>,
+    generations: Vec<u32>,
     /// Vacant slots, reused last-freed first.
     free: Vec<u32>,
     /// True once a freed slot has been reused: only then can a live slot have a
@@ -60,30 +66,54 @@ impl Slots {
     /// Room for `n` slots.
     pub(crate) fn with_capacity(n: usize) -> Self {
         Self {
-            meta: Vec::with_capacity(n),
+            states: Vec::with_capacity(n.div_ceil(PER_WORD)),
+            generations: Vec::with_capacity(n),
             ..Self::default()
         }
     }
     /// `n` live slots of generation 0.
     pub(crate) fn live(n: usize) -> Self {
+        let mut states = vec![0x5555_5555_5555_5555u64; n.div_ceil(PER_WORD)];
+        if n % PER_WORD != 0 {
+            if let Some(last) = states.last_mut() {
+                *last &= (1u64 << (2 * (n % PER_WORD))) - 1;
+            }
+        }
         Self {
-            meta: vec![LIVE; n],
+            states,
+            generations: vec![0; n],
             ..Self::default()
+        }
+    }
+    #[inline]
+    fn state(&self, i: usize) -> u64 {
+        (self.states[i / PER_WORD] >> (2 * (i % PER_WORD))) & 3
+    }
+    #[inline]
+    fn set_state(&mut self, i: usize, state: u64) {
+        let word = &mut self.states[i / PER_WORD];
+        let shift = 2 * (i % PER_WORD);
+        *word = (*word & !(3 << shift)) | (state << shift);
+    }
+    /// Generation of slot `i`.
+    #[inline]
+    fn generation_of(&self, i: usize) -> u32 {
+        if self.reused {
+            self.generations[i]
+        } else {
+            0
         }
     }
     /// The key of slot `i` (its current generation).
     #[inline]
     pub(crate) fn key<K: Key>(&self, i: u32) -> K {
-        if self.reused {
-            key(i, self.meta[i as usize] >> 2)
-        } else {
-            key(i, 0)
-        }
+        key(i, self.generation_of(i as usize))
     }
     #[inline]
-    fn state_of<K: Key>(&self, k: K) -> Option<u32> {
-        let m = *self.meta.get(slot(k))?;
-        (m >> 2 == generation(k)).then_some(m & 3)
+    fn state_of<K: Key>(&self, k: K) -> Option<u64> {
+        let i = slot(k);
+        (i < self.generations.len() && self.generation_of(i) == generation(k))
+            .then(|| self.state(i))
     }
     /// True when `k` names a live element.
     #[inline]
@@ -103,17 +133,27 @@ impl Slots {
     /// True when slot `i` is live.
     #[inline]
     pub(crate) fn is_live_index(&self, i: usize) -> bool {
-        self.meta.get(i).is_some_and(|m| m & 3 == LIVE)
+        i < self.generations.len() && self.state(i) == LIVE
     }
     /// Marks slot `i` a tombstone (it was live).
     #[inline]
     pub(crate) fn bury(&mut self, i: usize) {
-        self.meta[i] = (self.meta[i] & !3) | TOMBSTONE;
+        self.set_state(i, TOMBSTONE);
     }
     /// Makes tombstone `i` live again.
     #[inline]
     pub(crate) fn revive(&mut self, i: usize) {
-        self.meta[i] = (self.meta[i] & !3) | LIVE;
+        self.set_state(i, LIVE);
+    }
+    /// Appends a live slot of generation 0.
+    fn push_live(&mut self) -> u32 {
+        let i = self.generations.len();
+        if i % PER_WORD == 0 {
+            self.states.push(0);
+        }
+        self.generations.push(0);
+        self.set_state(i, LIVE);
+        i as u32
     }
     /// A slot for a new element: `(index, true)` for a reused vacant slot (next
     /// generation), `(index, false)` for a new slot at the end (the caller pushes its
@@ -121,11 +161,10 @@ impl Slots {
     pub(crate) fn allocate(&mut self) -> (u32, bool) {
         if let Some(i) = self.free.pop() {
             self.reused = true;
-            self.meta[i as usize] = (self.meta[i as usize] & !3) | LIVE;
+            self.set_state(i as usize, LIVE);
             (i, true)
         } else {
-            self.meta.push(LIVE);
-            ((self.meta.len() - 1) as u32, false)
+            (self.push_live(), false)
         }
     }
     /// Two consecutive slots `(i, i + 1)`, `i` even, for the halfedges of a new edge; the
@@ -133,22 +172,22 @@ impl Slots {
     pub(crate) fn allocate_pair(&mut self) -> (u32, bool) {
         if let Some(i) = self.free.pop() {
             self.reused = true;
-            for j in [i as usize, i as usize + 1] {
-                self.meta[j] = (self.meta[j] & !3) | LIVE;
-            }
+            self.set_state(i as usize, LIVE);
+            self.set_state(i as usize + 1, LIVE);
             (i, true)
         } else {
-            self.meta.push(LIVE);
-            self.meta.push(LIVE);
-            ((self.meta.len() - 2) as u32, false)
+            let i = self.push_live();
+            self.push_live();
+            (i, false)
         }
     }
     /// Frees every tombstone for good (vacant, next generation) and returns their indices.
     pub(crate) fn free_tombstones(&mut self) -> Vec<u32> {
         let mut freed = Vec::new();
-        for (i, m) in self.meta.iter_mut().enumerate() {
-            if *m & 3 == TOMBSTONE {
-                *m = ((*m >> 2) + 1) << 2 | VACANT;
+        for i in 0..self.generations.len() {
+            if self.state(i) == TOMBSTONE {
+                self.set_state(i, VACANT);
+                self.generations[i] += 1;
                 freed.push(i as u32);
             }
         }
@@ -161,15 +200,17 @@ impl Slots {
     /// Indices of the live slots, in order.
     #[inline]
     pub(crate) fn live_indices(&self) -> impl Iterator<Item = u32> + Clone + '_ {
-        self.meta
-            .iter()
-            .enumerate()
-            .filter(|(_, m)| *m & 3 == LIVE)
-            .map(|(i, _)| i as u32)
+        (0..self.generations.len() as u32).filter(|&i| self.state(i as usize) == LIVE)
     }
     /// Number of live slots.
     pub(crate) fn live_count(&self) -> usize {
-        self.meta.iter().filter(|m| *m & 3 == LIVE).count()
+        self.states
+            .iter()
+            .map(|&w| {
+                // Live is 0b01: the low bit set and the high bit clear.
+                (w & !(w >> 1) & 0x5555_5555_5555_5555).count_ones() as usize
+            })
+            .sum()
     }
 }
 
