@@ -535,8 +535,11 @@ impl Mesh {
                 self.face_conn[g as usize] = old;
             }
         }
-        for (v, &[old, _]) in r.record_vertices().into_iter().zip(&r.vertex_halfedges) {
-            self.vertex_conn[slot(v)] = old;
+        for (v, &[old, new]) in r.record_vertices().into_iter().zip(&r.vertex_halfedges) {
+            // Most of these did not change; not writing them saves fetching their lines.
+            if old != new {
+                self.vertex_conn[slot(v)] = old;
+            }
         }
         let (i0, i1) = (self.vertex_index(r.v0), self.vertex_index(r.v1));
         self.positions[i0] = r.p0;
