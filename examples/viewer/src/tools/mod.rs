@@ -24,10 +24,13 @@
 //!
 //! To add a method, implement [`Tool`] in a new module and list it in [`default_tools`].
 
+mod edit_support;
 mod inspect;
+mod lee;
 mod smooth_pull;
 
 pub use inspect::Inspect;
+pub use lee::{LeeAreaEdit, LeeMode};
 pub use smooth_pull::SmoothPull;
 
 use glam::DVec3;
@@ -42,6 +45,7 @@ pub fn default_tools() -> Vec<Box<dyn Tool>> {
     vec![
         Box::new(Inspect::default()),
         Box::new(SmoothPull::default()),
+        Box::new(LeeAreaEdit::new()),
     ]
 }
 
