@@ -274,3 +274,112 @@ fn lee_area_drag_moves_the_area_only_and_undoes_exactly() {
     assert_not_blank(&shot);
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn bendels_klein_transform_moves_handle_by_a_keeps_fixed_and_undoes_exactly() {
+    let Some(prefix) = display_command() else {
+        return;
+    };
+    let bunny_path = meshes_dir().join("stanford-bunny.obj");
+    let original = read(&bunny_path);
+    let diag = diagonal(&original);
+    // Handle: the nose tip, inside a small loop; fixed: outside a loop further back.
+    let nose = extreme(&original, -DVec3::X);
+    let centre = original.position(nose);
+    let handle_picks = picks_around(&original, centre, DVec3::X, 0.04 * diag, 6);
+    let fixed_picks = picks_around(&original, centre, DVec3::X, 0.14 * diag, 8);
+    let regions = Regions::from_picks(&original, &handle_picks, &fixed_picks).unwrap();
+    assert_eq!(regions.role(&original, nose), Role::Handle);
+    let handle = regions.handle();
+    let pivot = handle.iter().map(|&v| original.position(v)).sum::<DVec3>() / handle.len() as f64;
+    let translate = DVec3::new(-0.05, 0.0, 0.0) * diag;
+    let pull = DVec3::new(0.0, 0.02, 0.0) * diag;
+    let (angle, scale) = (20.0f64, 1.1);
+
+    let dir = scratch_dir("bk");
+    let (edited, refined, undone, shot) = (
+        dir.join("edited.obj"),
+        dir.join("refined.obj"),
+        dir.join("undone.obj"),
+        dir.join("bk.png"),
+    );
+    run_script(
+        prefix,
+        &bunny_path,
+        &dir,
+        serde_json::json!([
+            {"action": "select_tool", "tool": "bendels"},
+            {"action": "set", "param": "handle_loop", "value": indices(&original, &handle_picks)},
+            {"action": "set", "param": "fixed_loop", "value": indices(&original, &fixed_picks)},
+            {"action": "set", "param": "distance", "value": "geodesic"},
+            {"action": "set", "param": "shape", "value": "curve"},
+            {"action": "set", "param": "curve_points", "value": [[0.3, 0.1], [0.6, 0.7]]},
+            {"action": "set", "param": "translate", "value": translate.to_array()},
+            {"action": "set", "param": "axis", "value": [0, 0, 1]},
+            {"action": "set", "param": "angle", "value": angle},
+            {"action": "set", "param": "scale", "value": scale},
+            {"action": "set", "param": "mode", "value": "drag"},
+            {"action": "pick_vertex", "index": original.vertex_index(nose)},
+            {"action": "drag", "vector": pull.to_array(), "steps": 3},
+            {"action": "save", "path": edited},
+            {"action": "orbit", "yaw": -35, "pitch": 10},
+            {"action": "screenshot", "path": shot},
+            {"action": "set", "param": "refine_threshold", "value": 1.5},
+            {"action": "apply"},
+            {"action": "save", "path": refined},
+            {"action": "undo"}, {"action": "undo"}, {"action": "undo"},
+            {"action": "undo"}, {"action": "undo"}, {"action": "undo"},
+            {"action": "save", "path": undone}
+        ]),
+    );
+
+    let moved = read(&edited);
+    moved.check().unwrap();
+    assert_eq!(moved.vertex_slots(), original.vertex_slots());
+    let a = DMat4::from_translation(pivot + translate + pull)
+        * DMat4::from_axis_angle(DVec3::Z, angle.to_radians())
+        * DMat4::from_scale(DVec3::splat(scale))
+        * DMat4::from_translation(-pivot);
+    let mut deformable_moved = 0;
+    for v in original.vertices() {
+        let k = original.vertex_index(v);
+        let (p, q) = (original.positions()[k], moved.positions()[k]);
+        match regions.role(&original, v) {
+            Role::Handle => {
+                let expected = a.transform_point3(p);
+                assert!(
+                    (q - expected).length() < 1e-9,
+                    "handle vertex {k} at {q}, A·p = {expected}"
+                );
+            }
+            Role::Fixed => assert_eq!(
+                q.to_array().map(f64::to_bits),
+                p.to_array().map(f64::to_bits),
+                "fixed vertex {k} moved"
+            ),
+            Role::Deformable => deformable_moved += usize::from(p != q),
+        }
+    }
+    assert!(
+        deformable_moved > regions.deformable().len() / 2,
+        "{deformable_moved} of {} deformable vertices moved",
+        regions.deformable().len()
+    );
+
+    // Refinement split stretched edges and kept the mesh valid.
+    let finer = read(&refined);
+    finer.check().unwrap();
+    assert!(
+        finer.n_vertices() > moved.n_vertices(),
+        "refinement added no vertex ({} → {})",
+        moved.n_vertices(),
+        finer.n_vertices()
+    );
+
+    // Six undo steps (four fields, the drag, the refinement) restore the original.
+    let back = read(&undone);
+    assert_eq!(back.vertex_slots(), original.vertex_slots());
+    assert_eq!(back.positions(), original.positions());
+    assert_not_blank(&shot);
+    std::fs::remove_dir_all(&dir).ok();
+}

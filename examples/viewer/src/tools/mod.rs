@@ -24,11 +24,14 @@
 //!
 //! To add a method, implement [`Tool`] in a new module and list it in [`default_tools`].
 
+mod bendels_klein;
+pub mod curve_editor;
 mod edit_support;
 mod inspect;
 mod lee;
 mod smooth_pull;
 
+pub use bendels_klein::{BendelsKlein, BkMode};
 pub use inspect::Inspect;
 pub use lee::{LeeAreaEdit, LeeMode};
 pub use smooth_pull::SmoothPull;
@@ -46,6 +49,7 @@ pub fn default_tools() -> Vec<Box<dyn Tool>> {
         Box::new(Inspect::default()),
         Box::new(SmoothPull::default()),
         Box::new(LeeAreaEdit::new()),
+        Box::new(BendelsKlein::default()),
     ]
 }
 
