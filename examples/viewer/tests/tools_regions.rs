@@ -99,7 +99,11 @@ fn run_viewer(prefix: Command, args: &[&std::ffi::OsStr], limit: Duration) -> Ou
 /// Runs a script on `mesh_path`; panics with the output on failure.
 fn run_script(prefix: Command, mesh_path: &Path, dir: &Path, actions: serde_json::Value) {
     let script = dir.join("script.json");
-    std::fs::write(&script, serde_json::json!({ "actions": actions }).to_string()).unwrap();
+    std::fs::write(
+        &script,
+        serde_json::json!({ "actions": actions }).to_string(),
+    )
+    .unwrap();
     let out = run_viewer(
         prefix,
         &[
@@ -138,13 +142,21 @@ fn assert_not_blank(path: &Path) {
         .map(|p| 0.2126 * p.0[0] as f64 + 0.7152 * p.0[1] as f64 + 0.0722 * p.0[2] as f64)
         .collect();
     let mean = lum.iter().sum::<f64>() / lum.len() as f64;
-    let sigma = (lum.iter().map(|l| (l - mean) * (l - mean)).sum::<f64>() / lum.len() as f64).sqrt();
+    let sigma =
+        (lum.iter().map(|l| (l - mean) * (l - mean)).sum::<f64>() / lum.len() as f64).sqrt();
     let mut colors: Vec<[u8; 3]> = img.pixels().map(|p| p.0).collect();
     colors.sort_unstable();
     colors.dedup();
     assert_eq!(img.dimensions(), (1000, 700));
-    assert!(sigma > 10.0, "luminance deviation {sigma}: blank screenshot?");
-    assert!(colors.len() > 200, "only {} colours: blank screenshot?", colors.len());
+    assert!(
+        sigma > 10.0,
+        "luminance deviation {sigma}: blank screenshot?"
+    );
+    assert!(
+        colors.len() > 200,
+        "only {} colours: blank screenshot?",
+        colors.len()
+    );
 }
 
 /// The vertex furthest along `direction`.
@@ -243,7 +255,10 @@ fn lee_area_drag_moves_the_area_only_and_undoes_exactly() {
     // The primitive followed the drag exactly.
     let i = original.vertex_index(nose);
     let d = moved.positions()[i] - original.positions()[i];
-    assert!((d - pull).length() < 1e-9 * diag, "nose moved by {d}, dragged by {pull}");
+    assert!(
+        (d - pull).length() < 1e-9 * diag,
+        "nose moved by {d}, dragged by {pull}"
+    );
     // Outside the area (and on its boundary) nothing moved, bit for bit; inside, the
     // edit spread.
     let mut inside_moved = 0;

@@ -216,19 +216,27 @@ impl BendelsKlein {
             r.deformable().len(),
             r.n_fixed(),
             ms(t_regions),
-            if self.geodesic { "geodesic" } else { "Euclidean" },
+            if self.geodesic {
+                "geodesic"
+            } else {
+                "Euclidean"
+            },
             ms(start.elapsed() - t_regions)
         );
         ctx.info(message);
         Ok(())
     }
 
-    fn start_session(&mut self, ctx: &mut ToolContext<'_>, regions: Regions) -> Result<(), ToolError> {
+    fn start_session(
+        &mut self,
+        ctx: &mut ToolContext<'_>,
+        regions: Regions,
+    ) -> Result<(), ToolError> {
         let mesh = ctx.doc.mesh();
         let session = BlendSession::new(mesh, regions, self.options())?;
         let handle = session.regions().handle();
-        self.pivot = handle.iter().map(|&v| mesh.position(v)).sum::<DVec3>()
-            / handle.len().max(1) as f64;
+        self.pivot =
+            handle.iter().map(|&v| mesh.position(v)).sum::<DVec3>() / handle.len().max(1) as f64;
         self.session = Some(session);
         self.stale = false;
         self.reset_transform();
@@ -266,7 +274,12 @@ impl BendelsKlein {
     }
 
     /// Paints the brush ball around `v` with `value`.
-    fn paint_at(&mut self, ctx: &mut ToolContext<'_>, v: VertexId, value: u8) -> Result<(), ToolError> {
+    fn paint_at(
+        &mut self,
+        ctx: &mut ToolContext<'_>,
+        v: VertexId,
+        value: u8,
+    ) -> Result<(), ToolError> {
         let mesh = ctx.mesh();
         self.paint.resize(mesh.vertex_slots(), PAINT_NONE);
         let ball = ball_vertices(mesh, v, self.brush * diagonal(mesh));
@@ -293,7 +306,11 @@ impl BendelsKlein {
                         }
                     })
                     .collect();
-                ctx.show_scalar("α = f(d_fixed / (d_fixed + d_handle))", values, Colormap::Viridis);
+                ctx.show_scalar(
+                    "α = f(d_fixed / (d_fixed + d_handle))",
+                    values,
+                    Colormap::Viridis,
+                );
                 return;
             }
         }
@@ -329,7 +346,9 @@ impl BendelsKlein {
         session.apply(scratch, a)?;
         let t = start.elapsed();
         let roles = session.regions().roles();
-        let slots: Vec<usize> = (0..roles.len()).filter(|&i| roles[i] != Role::Fixed).collect();
+        let slots: Vec<usize> = (0..roles.len())
+            .filter(|&i| roles[i] != Role::Fixed)
+            .collect();
         let n = slots.len();
         copy_positions(ctx, label, self.scratch.mesh(), slots.into_iter());
         ctx.info(format!(
@@ -350,9 +369,16 @@ impl BendelsKlein {
             session.reapply(scratch)?;
             let t = start.elapsed();
             let roles = session.regions().roles();
-            let slots: Vec<usize> = (0..roles.len()).filter(|&i| roles[i] != Role::Fixed).collect();
+            let slots: Vec<usize> = (0..roles.len())
+                .filter(|&i| roles[i] != Role::Fixed)
+                .collect();
             if self.transform() != DMat4::IDENTITY {
-                copy_positions(ctx, "Bendels–Klein shape", self.scratch.mesh(), slots.into_iter());
+                copy_positions(
+                    ctx,
+                    "Bendels–Klein shape",
+                    self.scratch.mesh(),
+                    slots.into_iter(),
+                );
             }
             ctx.info(format!(
                 "Bendels–Klein: shape function {} (α and mesh updated in {})",
@@ -422,7 +448,11 @@ impl BendelsKlein {
             ui.label("translate");
             for c in 0..3 {
                 changed |= ui
-                    .add(egui::DragValue::new(&mut self.translate[c]).speed(speed).max_decimals(4))
+                    .add(
+                        egui::DragValue::new(&mut self.translate[c])
+                            .speed(speed)
+                            .max_decimals(4),
+                    )
                     .changed();
             }
         });
@@ -430,7 +460,11 @@ impl BendelsKlein {
             ui.label("axis");
             for c in 0..3 {
                 changed |= ui
-                    .add(egui::DragValue::new(&mut self.axis[c]).speed(0.01).range(-1.0..=1.0))
+                    .add(
+                        egui::DragValue::new(&mut self.axis[c])
+                            .speed(0.01)
+                            .range(-1.0..=1.0),
+                    )
                     .changed();
             }
         });
@@ -464,18 +498,25 @@ impl Tool for BendelsKlein {
     }
 
     fn description(&self) -> &str {
-        "Bendels & Klein, Image and 3D-object editing with precisely specified editing \
-         regions: give a handle and a fixed region (border loops or brush), shape the \
-         blend weight α = f(distance ratio), transform the handle; the deformable area \
-         follows by exp(α log A)."
+        "Bendels & Klein, precisely specified editing regions: handle and fixed region \
+         (loops or brush), blend weight α = f(distance ratio), handle transform A; the \
+         rest moves by exp(α log A)."
     }
 
     fn ui(&mut self, ui: &mut egui::Ui, ctx: &mut ToolContext<'_>) {
-        ui.horizontal_wrapped(|ui| {
+        ui.horizontal(|ui| {
             ui.label("Click:");
-            for (mode, _, label) in BkMode::ALL {
-                ui.selectable_value(&mut self.mode, mode, label);
-            }
+            let current = BkMode::ALL
+                .iter()
+                .find(|m| m.0 == self.mode)
+                .map_or("", |m| m.2);
+            egui::ComboBox::from_id_salt("bk-mode")
+                .selected_text(current)
+                .show_ui(ui, |ui| {
+                    for (mode, _, label) in BkMode::ALL {
+                        ui.selectable_value(&mut self.mode, mode, label);
+                    }
+                });
         });
         ui.add(
             egui::Slider::new(&mut self.brush, 0.005..=0.3)
@@ -667,7 +708,10 @@ impl Tool for BendelsKlein {
                     let y = xy[1].as_f64().ok_or_else(bad)?;
                     points.push((x, y));
                 }
-                self.curve.model.set_points(points).map_err(ToolError::new)?;
+                self.curve
+                    .model
+                    .set_points(points)
+                    .map_err(ToolError::new)?;
                 self.shape_changed(ctx)?;
             }
             "monotone" => {
@@ -697,7 +741,9 @@ impl Tool for BendelsKlein {
             "refine_threshold" => {
                 let t = number_param(name, value)?;
                 if !(t > 0.0 && t.is_finite()) {
-                    return Err(ToolError::new(format!("refine_threshold {t}: must be positive")));
+                    return Err(ToolError::new(format!(
+                        "refine_threshold {t}: must be positive"
+                    )));
                 }
                 self.refine_threshold = t;
             }
@@ -767,7 +813,12 @@ impl Tool for BendelsKlein {
             ("brush", self.brush.into()),
             (
                 "distance",
-                if self.geodesic { "geodesic" } else { "euclidean" }.into(),
+                if self.geodesic {
+                    "geodesic"
+                } else {
+                    "euclidean"
+                }
+                .into(),
             ),
             ("shape", self.curve.model.preset().key().into()),
             ("curve_points", points.into()),
@@ -869,7 +920,11 @@ impl BendelsKlein {
         self.show(ctx);
         ctx.info(format!(
             "Bendels–Klein: {} distances in {}",
-            if self.geodesic { "geodesic" } else { "Euclidean" },
+            if self.geodesic {
+                "geodesic"
+            } else {
+                "Euclidean"
+            },
             ms(t)
         ));
         Ok(())

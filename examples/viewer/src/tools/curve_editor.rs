@@ -134,7 +134,11 @@ impl CurveModel {
 
     /// The allowed range of point `i`'s coordinates given its neighbours.
     fn bounds(&self, i: usize) -> ((f64, f64), (f64, f64)) {
-        let (x0, y0) = if i == 0 { (0.0, 0.0) } else { self.points[i - 1] };
+        let (x0, y0) = if i == 0 {
+            (0.0, 0.0)
+        } else {
+            self.points[i - 1]
+        };
         let (x1, y1) = self.points.get(i + 1).copied().unwrap_or((1.0, 1.0));
         let x = (x0 + MIN_GAP, x1 - MIN_GAP);
         let y = if self.monotone { (y0, y1) } else { (0.0, 1.0) };
@@ -149,7 +153,11 @@ impl CurveModel {
             return None;
         }
         let i = self.points.partition_point(|p| p.0 < x);
-        let (x0, y0) = if i == 0 { (0.0, 0.0) } else { self.points[i - 1] };
+        let (x0, y0) = if i == 0 {
+            (0.0, 0.0)
+        } else {
+            self.points[i - 1]
+        };
         let (x1, y1) = self.points.get(i).copied().unwrap_or((1.0, 1.0));
         if x1 - x0 < 2.0 * MIN_GAP {
             return None;
@@ -260,7 +268,7 @@ impl CurveEditor {
 
     fn canvas(&mut self, ui: &mut egui::Ui) -> bool {
         let width = ui.available_width().clamp(120.0, 280.0);
-        let size = egui::vec2(width, (width * 0.62).max(90.0));
+        let size = egui::vec2(width, (width * 0.5).max(80.0));
         let (response, painter) = ui.allocate_painter(size, egui::Sense::click_and_drag());
         let rect = response.rect.shrink(6.0);
         let to_screen = |x: f64, y: f64| {
@@ -281,14 +289,11 @@ impl CurveEditor {
         if response.drag_started() {
             if let Some(pos) = response.interact_pointer_pos() {
                 let (x, y) = from_screen(pos);
-                self.dragging = self
-                    .model
-                    .nearest_point(x, y, pick_radius)
-                    .or_else(|| {
-                        let i = self.model.add_point(x, y);
-                        changed |= i.is_some();
-                        i
-                    });
+                self.dragging = self.model.nearest_point(x, y, pick_radius).or_else(|| {
+                    let i = self.model.add_point(x, y);
+                    changed |= i.is_some();
+                    i
+                });
             }
         }
         if response.dragged() {
@@ -417,12 +422,24 @@ mod tests {
         ends_hold(&model);
         assert!(is_monotone(&model));
         // Wild moves: below zero, above one, past the neighbours, backwards in y.
-        for &(x, y) in &[(-1.0, -1.0), (2.0, 2.0), (0.9, 0.0), (0.05, 1.0), (0.5, 0.5)] {
+        for &(x, y) in &[
+            (-1.0, -1.0),
+            (2.0, 2.0),
+            (0.9, 0.0),
+            (0.05, 1.0),
+            (0.5, 0.5),
+        ] {
             assert!(model.move_point(i.min(model.points().len() - 1), x, y));
             ends_hold(&model);
-            assert!(is_monotone(&model), "not monotone after moving to ({x}, {y})");
+            assert!(
+                is_monotone(&model),
+                "not monotone after moving to ({x}, {y})"
+            );
             let xs: Vec<f64> = model.points().iter().map(|p| p.0).collect();
-            assert!(xs.windows(2).all(|w| w[1] - w[0] >= MIN_GAP - 1e-15), "{xs:?}");
+            assert!(
+                xs.windows(2).all(|w| w[1] - w[0] >= MIN_GAP - 1e-15),
+                "{xs:?}"
+            );
             assert!(xs.iter().all(|&x| (MIN_GAP..=1.0 - MIN_GAP).contains(&x)));
         }
         for &(x, y) in &[(0.1, 0.95), (0.95, 0.02), (0.6, 0.0)] {

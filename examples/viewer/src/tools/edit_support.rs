@@ -31,8 +31,7 @@ impl Scratch {
                 if self.topology == topology
                     && mesh.vertex_slots() == doc.mesh().vertex_slots() =>
             {
-                mesh.positions_mut()
-                    .copy_from_slice(doc.mesh().positions());
+                mesh.positions_mut().copy_from_slice(doc.mesh().positions());
             }
             _ => {
                 self.mesh = Some(doc.mesh().clone());
@@ -98,7 +97,11 @@ pub fn diagonal(mesh: &Mesh) -> f64 {
 }
 
 /// Reads a vertex index parameter.
-pub fn vertex_param(mesh: &Mesh, name: &str, value: &serde_json::Value) -> Result<VertexId, ToolError> {
+pub fn vertex_param(
+    mesh: &Mesh,
+    name: &str,
+    value: &serde_json::Value,
+) -> Result<VertexId, ToolError> {
     let i = value
         .as_u64()
         .ok_or_else(|| ToolError::bad_value(name, "a vertex index", value))?;

@@ -19,8 +19,7 @@ use halfedge::{FaceId, Mesh, VertexId};
 use three_d::egui;
 
 use super::edit_support::{
-    ball_vertices, copy_positions, diagonal, ms, vertex_list_param, vertex_param,
-    Scratch,
+    ball_vertices, copy_positions, diagonal, ms, vertex_list_param, vertex_param, Scratch,
 };
 use super::{
     bool_param, number_param, string_param, Drag, DragPhase, Overlay, Pick, Tool, ToolContext,
@@ -155,9 +154,11 @@ impl LeeAreaEdit {
         );
         self.session = Some(session);
         self.primitive.retain(|&v| {
-            self.session
-                .as_ref()
-                .is_some_and(|s| s.area().local_index(mesh, v).is_some_and(|i| i < s.area().n_interior()))
+            self.session.as_ref().is_some_and(|s| {
+                s.area()
+                    .local_index(mesh, v)
+                    .is_some_and(|i| i < s.area().n_interior())
+            })
         });
         if !self.primitive.is_empty() {
             let primitive = self.primitive.clone();
@@ -246,11 +247,20 @@ impl LeeAreaEdit {
             .iter()
             .map(|&v| scratch.vertex_index(v))
             .collect();
-        copy_positions(ctx, "Lee scale / frames", self.scratch.mesh(), slots.into_iter());
+        copy_positions(
+            ctx,
+            "Lee scale / frames",
+            self.scratch.mesh(),
+            slots.into_iter(),
+        );
         ctx.info(format!(
             "Lee: re-shaped the last drag at s = {:.3}, {} frames, in {}",
             self.scale,
-            if self.normal_frames { "normal" } else { "global" },
+            if self.normal_frames {
+                "normal"
+            } else {
+                "global"
+            },
             ms(t)
         ));
         Ok(())
@@ -295,7 +305,11 @@ fn disk_area(mesh: &Mesh, seed: VertexId, radius: f64) -> Result<EditingArea, To
     }
     let faces: Vec<FaceId> = mesh
         .faces()
-        .filter(|&f| mesh.triangle(f).iter().all(|&v| inside[mesh.vertex_index(v)]))
+        .filter(|&f| {
+            mesh.triangle(f)
+                .iter()
+                .all(|&v| inside[mesh.vertex_index(v)])
+        })
         .collect();
     match EditingArea::from_faces(mesh, &faces) {
         Ok(area) if area.n_interior() > 0 => Ok(area),
@@ -631,7 +645,12 @@ impl Tool for LeeAreaEdit {
             ("scale", self.scale.into()),
             (
                 "frames",
-                if self.normal_frames { "normal" } else { "global" }.into(),
+                if self.normal_frames {
+                    "normal"
+                } else {
+                    "global"
+                }
+                .into(),
             ),
             ("boundary_picks", self.boundary_picks.len().into()),
             ("primitive_size", self.primitive.len().into()),
