@@ -473,9 +473,11 @@ impl Tool for LeeAreaEdit {
     }
 
     fn wants_drag(&self, pick: &Pick) -> bool {
-        self.session.is_some()
-            && (self.primitive.contains(&pick.vertex)
-                || (self.mode == LeeMode::Drag && self.session.is_some()))
+        // Only presses on the area's interior drag; elsewhere the press orbits.
+        self.session.as_ref().is_some_and(|s| {
+            self.primitive.contains(&pick.vertex)
+                || (self.mode == LeeMode::Drag && s.area().interior().contains(&pick.vertex))
+        })
     }
 
     fn on_drag(&mut self, drag: &Drag, ctx: &mut ToolContext<'_>) {
