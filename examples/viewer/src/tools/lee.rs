@@ -671,7 +671,7 @@ impl Tool for LeeAreaEdit {
         }
         if let Some(AreaSource::Disk(v)) = self.source {
             if mesh.is_valid_vertex(v) {
-                overlay.marker(mesh.position(v), Overlay::SECONDARY, 1.4);
+                overlay.marker(mesh.position(v), Overlay::SECONDARY, 1.0);
             }
         }
         match &self.session {
@@ -693,7 +693,7 @@ impl Tool for LeeAreaEdit {
         }
         for &v in &self.primitive {
             if mesh.is_valid_vertex(v) {
-                overlay.marker(mesh.position(v), Overlay::PICK, 1.4);
+                overlay.marker(mesh.position(v), Overlay::PICK, 1.6);
             }
         }
     }
