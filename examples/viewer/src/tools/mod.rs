@@ -24,13 +24,19 @@
 //!
 //! To add a method, implement [`Tool`] in a new module and list it in [`default_tools`].
 
+mod bendels_klein;
+pub mod curve_editor;
+mod edit_support;
 mod ffd;
 mod inspect;
+mod lee;
 mod multires;
 mod submesh;
 
+pub use bendels_klein::{BendelsKlein, BkMode};
 pub use ffd::FfdTool;
 pub use inspect::Inspect;
+pub use lee::{LeeAreaEdit, LeeMode};
 pub use multires::{Multires, SharedLabels, SubMeshLabels};
 pub use submesh::SubMeshEdit;
 
@@ -47,6 +53,8 @@ pub fn default_tools() -> Vec<Box<dyn Tool>> {
     vec![
         Box::new(Inspect::default()),
         Box::new(Multires::new(labels.clone())),
+        Box::new(LeeAreaEdit::new()),
+        Box::new(BendelsKlein::default()),
         Box::new(SubMeshEdit::new(labels.clone())),
         Box::new(FfdTool::new(labels)),
     ]

@@ -1,0 +1,932 @@
+//! *Bendels–Klein* — Bendels & Klein, *Image and 3D-object editing with precisely
+//! specified editing regions* (`edit::regions`, `edit::blend`): the user gives a
+//! **handle** and a **fixed** region (Sec. 2), either by their borders — closed loops
+//! through clicked vertices, joined by shortest edge paths — or by painting vertices
+//! with a brush of radius `r`; every other vertex is deformable. The distance of each
+//! deformable vertex to both borders (geodesic by fast marching, or Euclidean; Sec. 4)
+//! gives the blend weight `α = f(d_fixed / (d_fixed + d_handle))` with the shape function
+//! `f` (Sec. 5, edited in a curve editor), shown as a colour map. The handle transform
+//! `A` (translate, rotate about an axis through the handle's centroid, scale) is applied
+//! live as the fields change: each vertex moves to `exp(α log A) p` (Sec. 3, after Alexa
+//! 2002), the handle to `A p`, the fixed region never moves. Dragging the handle in the
+//! view plane translates it. Adaptive refinement (Sec. 6) splits stretched edges.
+//!
+//! One change gesture (a drag of a field, of the handle or of a curve point) is one undo
+//! step. After undo / redo the restored surface becomes the new rest state and the
+//! transform restarts at the identity.
+
+use std::time::Instant;
+
+use edit::blend::{BlendOptions, BlendSession, DistanceKind, RefineOptions};
+use edit::regions::{Regions, Role};
+use glam::{DMat4, DVec3};
+use halfedge::{Mesh, VertexId};
+use three_d::egui;
+
+use super::curve_editor::{CurveEditor, Preset};
+use super::edit_support::{
+    ball_vertices, copy_positions, diagonal, ms, vec3_param, vertex_list_param, vertex_param,
+    Scratch,
+};
+use super::{
+    bool_param, number_param, string_param, Drag, DragPhase, Overlay, Pick, Tool, ToolContext,
+    ToolError,
+};
+use crate::colors::{Colormap, Rgba, NO_LABEL};
+
+/// What a click on the mesh does in the Bendels–Klein tool.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum BkMode {
+    /// Adds a vertex to the handle's border loop.
+    #[default]
+    HandleLoop,
+    /// Adds a vertex to the fixed region's border loop.
+    FixedLoop,
+    /// Paints the handle with the brush.
+    PaintHandle,
+    /// Paints the fixed region with the brush.
+    PaintFixed,
+    /// Erases painted vertices with the brush.
+    Erase,
+    /// A press on the handle drags it (a translation in the view plane).
+    Drag,
+}
+
+impl BkMode {
+    const ALL: [(BkMode, &'static str, &'static str); 6] = [
+        (BkMode::HandleLoop, "handle_loop", "handle loop"),
+        (BkMode::FixedLoop, "fixed_loop", "fixed loop"),
+        (BkMode::PaintHandle, "paint_handle", "paint handle"),
+        (BkMode::PaintFixed, "paint_fixed", "paint fixed"),
+        (BkMode::Erase, "erase", "erase"),
+        (BkMode::Drag, "drag", "drag handle"),
+    ];
+
+    fn key(self) -> &'static str {
+        Self::ALL.iter().find(|m| m.0 == self).expect("listed").1
+    }
+
+    fn parse(s: &str) -> Option<Self> {
+        Self::ALL.iter().find(|m| m.1 == s).map(|m| m.0)
+    }
+}
+
+/// How the regions were given.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum RegionSource {
+    Loops,
+    Painted,
+}
+
+const PAINT_NONE: u8 = 0;
+const PAINT_HANDLE: u8 = 1;
+const PAINT_FIXED: u8 = 2;
+const HANDLE_COLOR: Rgba = [255, 120, 20, 255];
+const FIXED_COLOR: Rgba = [40, 140, 255, 255];
+
+/// Bendels & Klein editing with precisely specified regions (see the module docs).
+#[derive(Clone)]
+pub struct BendelsKlein {
+    /// What a click does.
+    pub mode: BkMode,
+    /// Brush radius as a fraction of the bounding-box diagonal.
+    pub brush: f64,
+    /// Geodesic (true) or Euclidean distances.
+    pub geodesic: bool,
+    /// The shape function and its editor.
+    pub curve: CurveEditor,
+    /// Translation of the handle (world units).
+    pub translate: DVec3,
+    /// Rotation axis (through the handle's centroid).
+    pub axis: DVec3,
+    /// Rotation angle, degrees.
+    pub angle: f64,
+    /// Uniform scale about the handle's centroid.
+    pub scale: f64,
+    /// Refinement threshold, a multiple of the mesh's mean edge length.
+    pub refine_threshold: f64,
+    handle_picks: Vec<VertexId>,
+    fixed_picks: Vec<VertexId>,
+    paint: Vec<u8>,
+    source: Option<RegionSource>,
+    regions: Option<Regions>,
+    session: Option<BlendSession>,
+    /// The session must be rebuilt on the current surface (after undo / redo).
+    stale: bool,
+    pivot: DVec3,
+    scratch: Scratch,
+    drag_base: DVec3,
+}
+
+impl Default for BendelsKlein {
+    fn default() -> Self {
+        Self {
+            mode: BkMode::HandleLoop,
+            brush: 0.04,
+            geodesic: true,
+            curve: CurveEditor::default(),
+            translate: DVec3::ZERO,
+            axis: DVec3::Z,
+            angle: 0.0,
+            scale: 1.0,
+            refine_threshold: 2.0,
+            handle_picks: Vec::new(),
+            fixed_picks: Vec::new(),
+            paint: Vec::new(),
+            source: None,
+            regions: None,
+            session: None,
+            stale: false,
+            pivot: DVec3::ZERO,
+            scratch: Scratch::default(),
+            drag_base: DVec3::ZERO,
+        }
+    }
+}
+
+impl BendelsKlein {
+    /// The handle transform `A = T(c + t) · R(axis, angle) · S(scale) · T(−c)` about the
+    /// handle's centroid `c`.
+    pub fn transform(&self) -> DMat4 {
+        let rotation = match self.axis.try_normalize() {
+            Some(axis) if self.angle != 0.0 => {
+                DMat4::from_axis_angle(axis, self.angle.to_radians())
+            }
+            _ => DMat4::IDENTITY,
+        };
+        DMat4::from_translation(self.pivot + self.translate)
+            * rotation
+            * DMat4::from_scale(DVec3::splat(self.scale))
+            * DMat4::from_translation(-self.pivot)
+    }
+
+    fn reset_transform(&mut self) {
+        self.translate = DVec3::ZERO;
+        self.angle = 0.0;
+        self.scale = 1.0;
+    }
+
+    fn options(&self) -> BlendOptions {
+        BlendOptions {
+            distance: if self.geodesic {
+                DistanceKind::Geodesic
+            } else {
+                DistanceKind::Euclidean
+            },
+            shape: self.curve.model.shape(),
+        }
+    }
+
+    /// Builds the regions from their source (when complete) and a session on the
+    /// current surface; the transform restarts at the identity.
+    fn build(&mut self, ctx: &mut ToolContext<'_>) -> Result<(), ToolError> {
+        self.session = None;
+        self.regions = None;
+        self.stale = false;
+        let mesh = ctx.doc.mesh();
+        let start = Instant::now();
+        let regions = match self.source {
+            Some(RegionSource::Loops)
+                if self.handle_picks.len() >= 3 && self.fixed_picks.len() >= 3 =>
+            {
+                Regions::from_picks(mesh, &self.handle_picks, &self.fixed_picks)?
+            }
+            Some(RegionSource::Painted) => {
+                let (handle, fixed) = self.painted_sets(mesh);
+                if handle.is_empty() || fixed.is_empty() {
+                    self.show(ctx);
+                    return Ok(());
+                }
+                Regions::from_sets(mesh, &handle, &fixed)?
+            }
+            _ => {
+                self.show(ctx);
+                return Ok(());
+            }
+        };
+        let t_regions = start.elapsed();
+        self.regions = Some(regions.clone());
+        self.start_session(ctx, regions)?;
+        let s = self.session.as_ref().expect("started");
+        let r = s.regions();
+        let message = format!(
+            "Bendels–Klein: handle {}, deformable {}, fixed {} vertices (regions in {}), \
+             {} distances in {}",
+            r.handle().len(),
+            r.deformable().len(),
+            r.n_fixed(),
+            ms(t_regions),
+            if self.geodesic {
+                "geodesic"
+            } else {
+                "Euclidean"
+            },
+            ms(start.elapsed() - t_regions)
+        );
+        ctx.info(message);
+        Ok(())
+    }
+
+    fn start_session(
+        &mut self,
+        ctx: &mut ToolContext<'_>,
+        regions: Regions,
+    ) -> Result<(), ToolError> {
+        let mesh = ctx.doc.mesh();
+        let session = BlendSession::new(mesh, regions, self.options())?;
+        let handle = session.regions().handle();
+        self.pivot =
+            handle.iter().map(|&v| mesh.position(v)).sum::<DVec3>() / handle.len().max(1) as f64;
+        self.session = Some(session);
+        self.stale = false;
+        self.reset_transform();
+        self.show(ctx);
+        Ok(())
+    }
+
+    /// Rebuilds the session on the current surface if undo / redo made it stale.
+    fn ensure_session(&mut self, ctx: &mut ToolContext<'_>) -> Result<(), ToolError> {
+        if self.stale {
+            self.stale = false;
+            match self.regions.clone() {
+                Some(r) if r.roles().len() == ctx.mesh().vertex_slots() => {
+                    self.start_session(ctx, r)?
+                }
+                _ => self.build(ctx)?,
+            }
+        }
+        Ok(())
+    }
+
+    fn painted_sets(&self, mesh: &Mesh) -> (Vec<VertexId>, Vec<VertexId>) {
+        let mut handle = Vec::new();
+        let mut fixed = Vec::new();
+        for (i, &p) in self.paint.iter().enumerate() {
+            if let Some(v) = mesh.vertex_at(i) {
+                match p {
+                    PAINT_HANDLE => handle.push(v),
+                    PAINT_FIXED => fixed.push(v),
+                    _ => {}
+                }
+            }
+        }
+        (handle, fixed)
+    }
+
+    /// Paints the brush ball around `v` with `value`.
+    fn paint_at(
+        &mut self,
+        ctx: &mut ToolContext<'_>,
+        v: VertexId,
+        value: u8,
+    ) -> Result<(), ToolError> {
+        let mesh = ctx.mesh();
+        self.paint.resize(mesh.vertex_slots(), PAINT_NONE);
+        let ball = ball_vertices(mesh, v, self.brush * diagonal(mesh));
+        for w in ball {
+            self.paint[mesh.vertex_index(w)] = value;
+        }
+        self.source = Some(RegionSource::Painted);
+        self.build(ctx)
+    }
+
+    /// Colours the mesh: α with a colour bar when a session exists (the fixed region in
+    /// the base colour), else the painted regions as labels.
+    fn show(&self, ctx: &mut ToolContext<'_>) {
+        let mesh = ctx.mesh();
+        if let Some(s) = &self.session {
+            if s.alpha().len() == mesh.vertex_slots() {
+                let roles = s.regions().roles();
+                let values = (0..mesh.vertex_slots())
+                    .map(|i| {
+                        if mesh.vertex_at(i).is_none() || roles[i] == Role::Fixed {
+                            f64::NAN
+                        } else {
+                            s.alpha()[i]
+                        }
+                    })
+                    .collect();
+                ctx.show_scalar(
+                    "α = f(d_fixed / (d_fixed + d_handle))",
+                    values,
+                    Colormap::Viridis,
+                );
+                return;
+            }
+        }
+        if self.paint.contains(&PAINT_HANDLE) || self.paint.contains(&PAINT_FIXED) {
+            let labels = (0..mesh.vertex_slots())
+                .map(|i| match self.paint.get(i) {
+                    Some(&PAINT_HANDLE) => 0,
+                    Some(&PAINT_FIXED) => 1,
+                    _ => NO_LABEL,
+                })
+                .collect();
+            ctx.show_vertex_labels(
+                "painted regions",
+                labels,
+                vec![(0, "handle".into()), (1, "fixed".into())],
+            );
+        } else {
+            ctx.clear_colors();
+        }
+    }
+
+    /// Applies the current transform live (inside the open undo step).
+    fn apply_transform(&mut self, ctx: &mut ToolContext<'_>, label: &str) -> Result<(), ToolError> {
+        self.ensure_session(ctx)?;
+        let a = self.transform();
+        let Some(session) = &mut self.session else {
+            return Err(ToolError::new(
+                "Bendels–Klein: give a handle and a fixed region first",
+            ));
+        };
+        let start = Instant::now();
+        let scratch = self.scratch.sync(ctx.doc);
+        session.apply(scratch, a)?;
+        let t = start.elapsed();
+        let roles = session.regions().roles();
+        let slots: Vec<usize> = (0..roles.len())
+            .filter(|&i| roles[i] != Role::Fixed)
+            .collect();
+        let n = slots.len();
+        copy_positions(ctx, label, self.scratch.mesh(), slots.into_iter());
+        ctx.info(format!(
+            "Bendels–Klein: handle transform applied to {n} vertices (exp(α log A)) in {}",
+            ms(t)
+        ));
+        Ok(())
+    }
+
+    /// The shape function changed: new α, and the mesh follows.
+    fn shape_changed(&mut self, ctx: &mut ToolContext<'_>) -> Result<(), ToolError> {
+        self.ensure_session(ctx)?;
+        let shape = self.curve.model.shape();
+        if let Some(session) = &mut self.session {
+            let start = Instant::now();
+            session.set_shape(shape);
+            let scratch = self.scratch.sync(ctx.doc);
+            session.reapply(scratch)?;
+            let t = start.elapsed();
+            let roles = session.regions().roles();
+            let slots: Vec<usize> = (0..roles.len())
+                .filter(|&i| roles[i] != Role::Fixed)
+                .collect();
+            if self.transform() != DMat4::IDENTITY {
+                copy_positions(
+                    ctx,
+                    "Bendels–Klein shape",
+                    self.scratch.mesh(),
+                    slots.into_iter(),
+                );
+            }
+            ctx.info(format!(
+                "Bendels–Klein: shape function {} (α and mesh updated in {})",
+                self.curve.model.preset().key(),
+                ms(t)
+            ));
+        }
+        self.show(ctx);
+        Ok(())
+    }
+
+    /// Adaptive refinement (Sec. 6) of the stretched deformable area.
+    fn refine(&mut self, ctx: &mut ToolContext<'_>) -> Result<(), ToolError> {
+        self.ensure_session(ctx)?;
+        let Some(session) = &mut self.session else {
+            return Err(ToolError::new("Bendels–Klein: no edit to refine"));
+        };
+        let max = self.refine_threshold * ctx.mesh().mean_edge_length();
+        let start = Instant::now();
+        let scratch = self.scratch.sync(ctx.doc);
+        let report = session.refine(scratch, RefineOptions::new(max))?;
+        let t = start.elapsed();
+        if report.new_vertices > 0 {
+            ctx.begin_topology_edit("Bendels–Klein refine");
+            *ctx.mesh_mut() = self.scratch.mesh().clone();
+            self.regions = Some(session.regions().clone());
+            self.paint.resize(ctx.mesh().vertex_slots(), PAINT_NONE);
+        }
+        ctx.info(format!(
+            "Bendels–Klein refine: {} new vertices in {} passes ({}), longest edge {:.3e} \
+             (threshold {max:.3e})",
+            report.new_vertices,
+            report.passes,
+            ms(t),
+            report.longest_edge
+        ));
+        self.show(ctx);
+        Ok(())
+    }
+
+    fn clear(&mut self, ctx: &mut ToolContext<'_>) {
+        self.handle_picks.clear();
+        self.fixed_picks.clear();
+        self.paint.clear();
+        self.source = None;
+        self.regions = None;
+        self.session = None;
+        self.reset_transform();
+        ctx.clear_colors();
+    }
+
+    fn report(ctx: &mut ToolContext<'_>, result: Result<(), ToolError>) {
+        if let Err(e) = result {
+            ctx.error(format!("Bendels–Klein: {e}"));
+        }
+    }
+
+    fn is_handle(&self, mesh: &Mesh, v: VertexId) -> bool {
+        self.session
+            .as_ref()
+            .is_some_and(|s| s.regions().roles().get(mesh.vertex_index(v)) == Some(&Role::Handle))
+    }
+
+    fn transform_ui(&mut self, ui: &mut egui::Ui, speed: f64) -> bool {
+        let mut changed = false;
+        ui.horizontal(|ui| {
+            ui.label("translate");
+            for c in 0..3 {
+                changed |= ui
+                    .add(
+                        egui::DragValue::new(&mut self.translate[c])
+                            .speed(speed)
+                            .max_decimals(4),
+                    )
+                    .changed();
+            }
+        });
+        ui.horizontal(|ui| {
+            ui.label("axis");
+            for c in 0..3 {
+                changed |= ui
+                    .add(
+                        egui::DragValue::new(&mut self.axis[c])
+                            .speed(0.01)
+                            .range(-1.0..=1.0),
+                    )
+                    .changed();
+            }
+        });
+        ui.horizontal(|ui| {
+            changed |= ui
+                .add(
+                    egui::DragValue::new(&mut self.angle)
+                        .speed(0.5)
+                        .range(-179.0..=179.0)
+                        .suffix("°"),
+                )
+                .changed();
+            ui.label("angle");
+            changed |= ui
+                .add(
+                    egui::DragValue::new(&mut self.scale)
+                        .speed(0.005)
+                        .range(0.05..=20.0)
+                        .prefix("×"),
+                )
+                .changed();
+            ui.label("scale");
+        });
+        changed
+    }
+}
+
+impl Tool for BendelsKlein {
+    fn name(&self) -> &str {
+        "Bendels–Klein"
+    }
+
+    fn description(&self) -> &str {
+        "Bendels & Klein, precisely specified editing regions: handle and fixed region \
+         (loops or brush), blend weight α = f(distance ratio), handle transform A; the \
+         rest moves by exp(α log A)."
+    }
+
+    fn ui(&mut self, ui: &mut egui::Ui, ctx: &mut ToolContext<'_>) {
+        ui.horizontal(|ui| {
+            ui.label("Click:");
+            let current = BkMode::ALL
+                .iter()
+                .find(|m| m.0 == self.mode)
+                .map_or("", |m| m.2);
+            egui::ComboBox::from_id_salt("bk-mode")
+                .selected_text(current)
+                .show_ui(ui, |ui| {
+                    for (mode, _, label) in BkMode::ALL {
+                        ui.selectable_value(&mut self.mode, mode, label);
+                    }
+                });
+        });
+        ui.add(
+            egui::Slider::new(&mut self.brush, 0.005..=0.3)
+                .text("brush radius")
+                .logarithmic(true)
+                .custom_formatter(|x, _| format!("{:.1} %", 100.0 * x)),
+        );
+        ui.horizontal(|ui| {
+            ui.label(format!(
+                "loops: handle {}, fixed {} picks",
+                self.handle_picks.len(),
+                self.fixed_picks.len()
+            ));
+            if ui.button("Clear regions").clicked() {
+                self.clear(ctx);
+            }
+        });
+        match &self.session {
+            Some(s) => {
+                let r = s.regions();
+                ui.label(format!(
+                    "handle {} · deformable {} · fixed {}",
+                    r.handle().len(),
+                    r.deformable().len(),
+                    r.n_fixed()
+                ));
+            }
+            None => {
+                ui.weak("Give a handle and a fixed region (3 loop picks each, or paint).");
+            }
+        }
+        let mut geodesic = self.geodesic;
+        ui.horizontal(|ui| {
+            ui.label("Distance:");
+            ui.radio_value(&mut geodesic, true, "geodesic");
+            ui.radio_value(&mut geodesic, false, "Euclidean");
+        });
+        if geodesic != self.geodesic {
+            self.geodesic = geodesic;
+            let result = self.rebuild_keep_transform(ctx);
+            Self::report(ctx, result);
+        }
+        ui.separator();
+        if self.curve.ui(ui) {
+            let result = self.shape_changed(ctx);
+            Self::report(ctx, result);
+        }
+        ui.separator();
+        let speed = 0.002 * diagonal(ctx.mesh());
+        if self.transform_ui(ui, speed) {
+            let result = self.apply_transform(ctx, "Bendels–Klein transform");
+            Self::report(ctx, result);
+        }
+        if ui.button("Reset transform").clicked() && self.session.is_some() {
+            self.reset_transform();
+            let result = self.apply_transform(ctx, "Bendels–Klein reset");
+            Self::report(ctx, result);
+        }
+        ui.separator();
+        ui.horizontal(|ui| {
+            ui.add(
+                egui::DragValue::new(&mut self.refine_threshold)
+                    .speed(0.05)
+                    .range(0.5..=20.0)
+                    .prefix("edges > ")
+                    .suffix(" × mean"),
+            );
+            if ui
+                .add_enabled(self.session.is_some(), egui::Button::new("Refine"))
+                .on_hover_text("Adaptive refinement (Sec. 6): split stretched edges")
+                .clicked()
+            {
+                let result = self.refine(ctx);
+                Self::report(ctx, result);
+            }
+        });
+    }
+
+    fn on_pick(&mut self, pick: Option<&Pick>, ctx: &mut ToolContext<'_>) {
+        let Some(pick) = pick else {
+            return;
+        };
+        let v = pick.vertex;
+        let result = match self.mode {
+            BkMode::HandleLoop | BkMode::FixedLoop => {
+                let list = if self.mode == BkMode::HandleLoop {
+                    &mut self.handle_picks
+                } else {
+                    &mut self.fixed_picks
+                };
+                if list.last() == Some(&v) {
+                    return;
+                }
+                list.push(v);
+                self.source = Some(RegionSource::Loops);
+                self.build(ctx)
+            }
+            BkMode::PaintHandle => self.paint_at(ctx, v, PAINT_HANDLE),
+            BkMode::PaintFixed => self.paint_at(ctx, v, PAINT_FIXED),
+            BkMode::Erase => self.paint_at(ctx, v, PAINT_NONE),
+            BkMode::Drag => Ok(()),
+        };
+        Self::report(ctx, result);
+    }
+
+    fn wants_drag(&self, pick: &Pick) -> bool {
+        self.mode == BkMode::Drag && self.session.is_some() && {
+            // The roles are by slot; `pick.vertex` is live (the viewer just picked it).
+            self.session
+                .as_ref()
+                .is_some_and(|s| s.regions().handle().contains(&pick.vertex))
+        }
+    }
+
+    fn on_drag(&mut self, drag: &Drag, ctx: &mut ToolContext<'_>) {
+        let result = match drag.phase {
+            DragPhase::Start => {
+                self.drag_base = self.translate;
+                Ok(())
+            }
+            DragPhase::Move | DragPhase::End => {
+                if !self.is_handle(ctx.mesh(), drag.pick.vertex) {
+                    return;
+                }
+                let t = self.drag_base + drag.delta();
+                if t == self.translate {
+                    Ok(())
+                } else {
+                    self.translate = t;
+                    self.apply_transform(ctx, "Bendels–Klein drag")
+                }
+            }
+        };
+        Self::report(ctx, result);
+    }
+
+    fn apply(&mut self, ctx: &mut ToolContext<'_>) -> Result<(), ToolError> {
+        self.refine(ctx)
+    }
+
+    fn set_parameter(
+        &mut self,
+        name: &str,
+        value: &serde_json::Value,
+        ctx: &mut ToolContext<'_>,
+    ) -> Result<(), ToolError> {
+        match name {
+            "mode" => {
+                let s = string_param(name, value)?;
+                self.mode = BkMode::parse(s).ok_or_else(|| {
+                    ToolError::bad_value(
+                        name,
+                        "handle_loop, fixed_loop, paint_handle, paint_fixed, erase or drag",
+                        value,
+                    )
+                })?;
+            }
+            "brush" => {
+                let r = number_param(name, value)?;
+                if !(r > 0.0 && r <= 1.0) {
+                    return Err(ToolError::new(format!(
+                        "brush {r} out of range: a fraction of the diagonal in (0, 1]"
+                    )));
+                }
+                self.brush = r;
+            }
+            "distance" => {
+                self.geodesic = match string_param(name, value)? {
+                    "geodesic" => true,
+                    "euclidean" => false,
+                    _ => return Err(ToolError::bad_value(name, "geodesic or euclidean", value)),
+                };
+                self.rebuild_keep_transform(ctx)?;
+            }
+            "shape" => {
+                let s = string_param(name, value)?;
+                let preset = Preset::parse(s)
+                    .ok_or_else(|| ToolError::bad_value(name, "linear, c1, c2 or curve", value))?;
+                self.curve.model.set_preset(preset);
+                self.shape_changed(ctx)?;
+            }
+            "curve_points" => {
+                let bad = || ToolError::bad_value(name, "[[x, y], ...]", value);
+                let list = value.as_array().ok_or_else(bad)?;
+                let mut points = Vec::with_capacity(list.len());
+                for p in list {
+                    let xy = p.as_array().filter(|a| a.len() == 2).ok_or_else(bad)?;
+                    let x = xy[0].as_f64().ok_or_else(bad)?;
+                    let y = xy[1].as_f64().ok_or_else(bad)?;
+                    points.push((x, y));
+                }
+                self.curve
+                    .model
+                    .set_points(points)
+                    .map_err(ToolError::new)?;
+                self.shape_changed(ctx)?;
+            }
+            "monotone" => {
+                self.curve.model.set_monotone(bool_param(name, value)?);
+                self.shape_changed(ctx)?;
+            }
+            "translate" => {
+                self.translate = vec3_param(name, value)?;
+                self.apply_transform(ctx, "Bendels–Klein transform")?;
+            }
+            "axis" => {
+                self.axis = vec3_param(name, value)?;
+                self.apply_transform(ctx, "Bendels–Klein transform")?;
+            }
+            "angle" => {
+                self.angle = number_param(name, value)?;
+                self.apply_transform(ctx, "Bendels–Klein transform")?;
+            }
+            "scale" => {
+                let s = number_param(name, value)?;
+                if !(s > 0.0 && s.is_finite()) {
+                    return Err(ToolError::new(format!("scale {s}: must be positive")));
+                }
+                self.scale = s;
+                self.apply_transform(ctx, "Bendels–Klein transform")?;
+            }
+            "refine_threshold" => {
+                let t = number_param(name, value)?;
+                if !(t > 0.0 && t.is_finite()) {
+                    return Err(ToolError::new(format!(
+                        "refine_threshold {t}: must be positive"
+                    )));
+                }
+                self.refine_threshold = t;
+            }
+            "handle_loop" | "fixed_loop" => {
+                let picks = vertex_list_param(ctx.mesh(), name, value)?;
+                if name == "handle_loop" {
+                    self.handle_picks = picks;
+                } else {
+                    self.fixed_picks = picks;
+                }
+                self.source = Some(RegionSource::Loops);
+                self.build(ctx)?;
+            }
+            "paint_handle" | "paint_fixed" | "erase" => {
+                let v = vertex_param(ctx.mesh(), name, value)?;
+                let p = match name {
+                    "paint_handle" => PAINT_HANDLE,
+                    "paint_fixed" => PAINT_FIXED,
+                    _ => PAINT_NONE,
+                };
+                self.paint_at(ctx, v, p)?;
+            }
+            "clear" => {
+                if bool_param(name, value)? {
+                    self.clear(ctx);
+                }
+            }
+            _ => {
+                return Err(ToolError::unknown_parameter(
+                    self.name(),
+                    name,
+                    &[
+                        "mode",
+                        "brush",
+                        "distance",
+                        "shape",
+                        "curve_points",
+                        "monotone",
+                        "translate",
+                        "axis",
+                        "angle",
+                        "scale",
+                        "refine_threshold",
+                        "handle_loop",
+                        "fixed_loop",
+                        "paint_handle",
+                        "paint_fixed",
+                        "erase",
+                        "clear",
+                    ],
+                ))
+            }
+        }
+        Ok(())
+    }
+
+    fn parameters(&self) -> Vec<(&'static str, serde_json::Value)> {
+        let points: Vec<serde_json::Value> = self
+            .curve
+            .model
+            .points()
+            .iter()
+            .map(|&(x, y)| serde_json::json!([x, y]))
+            .collect();
+        vec![
+            ("mode", self.mode.key().into()),
+            ("brush", self.brush.into()),
+            (
+                "distance",
+                if self.geodesic {
+                    "geodesic"
+                } else {
+                    "euclidean"
+                }
+                .into(),
+            ),
+            ("shape", self.curve.model.preset().key().into()),
+            ("curve_points", points.into()),
+            ("monotone", self.curve.model.monotone().into()),
+            ("translate", self.translate.to_array().to_vec().into()),
+            ("axis", self.axis.to_array().to_vec().into()),
+            ("angle", self.angle.into()),
+            ("scale", self.scale.into()),
+            ("refine_threshold", self.refine_threshold.into()),
+            ("pivot", self.pivot.to_array().to_vec().into()),
+        ]
+    }
+
+    fn overlay(&self, mesh: &Mesh, overlay: &mut Overlay) {
+        let live = |v: VertexId| mesh.is_valid_vertex(v);
+        for (picks, color) in [
+            (&self.handle_picks, HANDLE_COLOR),
+            (&self.fixed_picks, FIXED_COLOR),
+        ] {
+            for &v in picks.iter().filter(|&&v| live(v)) {
+                overlay.marker(mesh.position(v), color, 1.2);
+            }
+        }
+        match &self.session {
+            Some(s) if s.regions().roles().len() == mesh.vertex_slots() => {
+                for (border, color) in [
+                    (s.regions().handle_border(), HANDLE_COLOR),
+                    (s.regions().fixed_border(), FIXED_COLOR),
+                ] {
+                    for &(a, b) in &border.edges {
+                        if a != b && live(a) && live(b) {
+                            overlay.segment(mesh.position(a), mesh.position(b), color);
+                        }
+                    }
+                }
+            }
+            _ => {
+                for (picks, color) in [
+                    (&self.handle_picks, HANDLE_COLOR),
+                    (&self.fixed_picks, FIXED_COLOR),
+                ] {
+                    for w in picks.windows(2) {
+                        if live(w[0]) && live(w[1]) {
+                            overlay.segment(mesh.position(w[0]), mesh.position(w[1]), color);
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    fn on_mesh_replaced(&mut self, mesh: &Mesh) {
+        self.scratch.clear();
+        self.handle_picks.retain(|&v| mesh.is_valid_vertex(v));
+        self.fixed_picks.retain(|&v| mesh.is_valid_vertex(v));
+        self.paint.resize(mesh.vertex_slots(), PAINT_NONE);
+        if self.session.is_some() {
+            // Rebuilt on the restored surface at the next use; the transform restarts.
+            self.stale = true;
+            self.reset_transform();
+        }
+    }
+
+    fn activate(&mut self, ctx: &mut ToolContext<'_>) {
+        if self.session.is_some() {
+            // Another tool may have changed the surface meanwhile.
+            self.stale = true;
+            let result = self.ensure_session(ctx);
+            Self::report(ctx, result);
+        }
+        self.show(ctx);
+    }
+}
+
+impl BendelsKlein {
+    /// A new distance kind: new fields on the current regions, the transform re-applied
+    /// from the session's rest state.
+    fn rebuild_keep_transform(&mut self, ctx: &mut ToolContext<'_>) -> Result<(), ToolError> {
+        let Some(session) = &self.session else {
+            return Ok(());
+        };
+        let start = Instant::now();
+        let regions = session.regions().clone();
+        let mut rest = ctx.mesh().clone();
+        if session.original_positions().len() == rest.vertex_slots() {
+            rest.positions_mut()
+                .copy_from_slice(session.original_positions());
+        }
+        let (translate, angle, scale) = (self.translate, self.angle, self.scale);
+        let new = BlendSession::new(&rest, regions, self.options())?;
+        self.session = Some(new);
+        self.translate = translate;
+        self.angle = angle;
+        self.scale = scale;
+        let t = start.elapsed();
+        if self.transform() != DMat4::IDENTITY {
+            self.apply_transform(ctx, "Bendels–Klein distance")?;
+        }
+        self.show(ctx);
+        ctx.info(format!(
+            "Bendels–Klein: {} distances in {}",
+            if self.geodesic {
+                "geodesic"
+            } else {
+                "Euclidean"
+            },
+            ms(t)
+        ));
+        Ok(())
+    }
+}

@@ -1,0 +1,400 @@
+//! Scripted runs of the region-based editing tools on the Stanford bunny: *Lee area
+//! editing* (Lee 1999) and *Bendels–Klein* (precisely specified editing regions).
+//!
+//! Each test selects the tool, sets its parameters, picks, drags or changes the
+//! transform, saves the mesh, undoes, saves again and takes a screenshot; then checks
+//! that the PNG is not blank, that the saved meshes pass `check()`, that the edit moved
+//! what it should and nothing else, and that undo restored the original bit for bit.
+//! Like `tests/scripted.rs`, they run the viewer under `xvfb-run` (or on `$DISPLAY`);
+//! without either they fail when `CI` is set and are skipped otherwise.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+use edit::area::{AreaSide, EditingArea};
+use edit::regions::{Regions, Role};
+use glam::{DMat4, DVec3};
+use halfedge::{Mesh, VertexId};
+
+const PACKAGES: &str = "xvfb xauth libgl1-mesa-dri libegl1 libxkbcommon-x11-0";
+
+/// Serialises the tests that start a display.
+static DISPLAY_LOCK: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
+fn display_command() -> Option<Command> {
+    let has_xvfb_run = Command::new("sh")
+        .args(["-c", "command -v xvfb-run"])
+        .stdout(Stdio::null())
+        .status()
+        .is_ok_and(|s| s.success());
+    if has_xvfb_run {
+        let mut cmd = Command::new("xvfb-run");
+        cmd.args(["-a", "-s", "-screen 0 1280x1024x24"]);
+        return Some(cmd);
+    }
+    if std::env::var_os("DISPLAY").is_some() {
+        return Some(Command::new("env"));
+    }
+    if std::env::var_os("CI").is_some() {
+        panic!(
+            "the viewer tests need an X display: install Xvfb and software OpenGL \
+             (apt-get install {PACKAGES}) so that `xvfb-run` exists"
+        );
+    }
+    eprintln!(
+        "skipping the viewer test: neither xvfb-run nor DISPLAY (apt-get install {PACKAGES})"
+    );
+    None
+}
+
+/// `shared/meshes` found by walking up from the crate (or `MULTIRES_MESHES`).
+fn meshes_dir() -> PathBuf {
+    if let Ok(dir) = std::env::var("MULTIRES_MESHES") {
+        return PathBuf::from(dir);
+    }
+    let mut dir = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    loop {
+        let candidate = dir.join("shared").join("meshes");
+        if candidate.is_dir() {
+            return candidate;
+        }
+        assert!(dir.pop(), "no shared/meshes above the crate");
+    }
+}
+
+fn scratch_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("viewer-regions-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn run_viewer(prefix: Command, args: &[&std::ffi::OsStr], limit: Duration) -> Output {
+    let _guard = DISPLAY_LOCK.lock().unwrap_or_else(|e| e.into_inner());
+    let mut cmd = prefix;
+    cmd.arg(env!("CARGO_BIN_EXE_viewer"))
+        .args(args)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped());
+    let mut child = cmd.spawn().expect("the viewer starts");
+    let start = Instant::now();
+    loop {
+        if child.try_wait().unwrap().is_some() {
+            break;
+        }
+        if start.elapsed() > limit {
+            child.kill().ok();
+            let out = child.wait_with_output().unwrap();
+            panic!(
+                "the viewer did not finish within {limit:?}\nstdout:\n{}\nstderr:\n{}",
+                String::from_utf8_lossy(&out.stdout),
+                String::from_utf8_lossy(&out.stderr)
+            );
+        }
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    child.wait_with_output().unwrap()
+}
+
+/// Runs a script on `mesh_path`; panics with the output on failure.
+fn run_script(prefix: Command, mesh_path: &Path, dir: &Path, actions: serde_json::Value) {
+    let script = dir.join("script.json");
+    std::fs::write(
+        &script,
+        serde_json::json!({ "actions": actions }).to_string(),
+    )
+    .unwrap();
+    let out = run_viewer(
+        prefix,
+        &[
+            mesh_path.as_os_str(),
+            "--script".as_ref(),
+            script.as_os_str(),
+            "--size".as_ref(),
+            "1000x700".as_ref(),
+            "--msaa".as_ref(),
+            "0".as_ref(),
+        ],
+        Duration::from_secs(300),
+    );
+    assert!(
+        out.status.success(),
+        "status {:?}\nstdout:\n{}\nstderr:\n{}",
+        out.status,
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+fn read(path: &Path) -> Mesh {
+    halfedge::io::read(path)
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+        .0
+}
+
+/// Asserts the PNG is not blank: luminance spread and many colours.
+fn assert_not_blank(path: &Path) {
+    let img = image::open(path)
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+        .to_rgb8();
+    let lum: Vec<f64> = img
+        .pixels()
+        .map(|p| 0.2126 * p.0[0] as f64 + 0.7152 * p.0[1] as f64 + 0.0722 * p.0[2] as f64)
+        .collect();
+    let mean = lum.iter().sum::<f64>() / lum.len() as f64;
+    let sigma =
+        (lum.iter().map(|l| (l - mean) * (l - mean)).sum::<f64>() / lum.len() as f64).sqrt();
+    let mut colors: Vec<[u8; 3]> = img.pixels().map(|p| p.0).collect();
+    colors.sort_unstable();
+    colors.dedup();
+    assert_eq!(img.dimensions(), (1000, 700));
+    assert!(
+        sigma > 10.0,
+        "luminance deviation {sigma}: blank screenshot?"
+    );
+    assert!(
+        colors.len() > 200,
+        "only {} colours: blank screenshot?",
+        colors.len()
+    );
+}
+
+/// The vertex furthest along `direction`.
+fn extreme(mesh: &Mesh, direction: DVec3) -> VertexId {
+    mesh.vertices()
+        .filter(|&v| !mesh.is_isolated(v))
+        .max_by(|&a, &b| {
+            mesh.position(a)
+                .dot(direction)
+                .total_cmp(&mesh.position(b).dot(direction))
+        })
+        .unwrap()
+}
+
+/// Vertices at distance ≈ `radius` from `centre` at `n` even angles around `axis`: the
+/// clicks that draw a loop around `centre`.
+fn picks_around(mesh: &Mesh, centre: DVec3, axis: DVec3, radius: f64, n: usize) -> Vec<VertexId> {
+    let u = axis.any_orthonormal_vector();
+    let w = axis.cross(u);
+    let candidates: Vec<VertexId> = mesh
+        .vertices()
+        .filter(|&v| !mesh.is_isolated(v))
+        .filter(|&v| (mesh.position(v).distance(centre) - radius).abs() < 0.15 * radius)
+        .collect();
+    let mut picks: Vec<VertexId> = (0..n)
+        .filter_map(|k| {
+            let t = k as f64 / n as f64 * std::f64::consts::TAU;
+            let target = u * t.cos() + w * t.sin();
+            candidates.iter().copied().max_by(|&a, &b| {
+                let da = (mesh.position(a) - centre).normalize().dot(target);
+                let db = (mesh.position(b) - centre).normalize().dot(target);
+                da.total_cmp(&db)
+            })
+        })
+        .collect();
+    picks.dedup();
+    picks
+}
+
+fn indices(mesh: &Mesh, vertices: &[VertexId]) -> Vec<usize> {
+    vertices.iter().map(|&v| mesh.vertex_index(v)).collect()
+}
+
+fn diagonal(mesh: &Mesh) -> f64 {
+    let (lo, hi) = mesh.bounding_box().unwrap();
+    (hi - lo).length()
+}
+
+#[test]
+fn lee_area_drag_moves_the_area_only_and_undoes_exactly() {
+    let Some(prefix) = display_command() else {
+        return;
+    };
+    let bunny_path = meshes_dir().join("stanford-bunny.obj");
+    let original = read(&bunny_path);
+    let diag = diagonal(&original);
+    // The bunny looks along −x: an area around its nose, bounded by six clicks.
+    let nose = extreme(&original, -DVec3::X);
+    let centre = original.position(nose);
+    let picks = picks_around(&original, centre, DVec3::X, 0.1 * diag, 6);
+    let area = EditingArea::from_picks(&original, &picks, AreaSide::Smaller).unwrap();
+    assert!(area.local_index(&original, nose).unwrap() < area.n_interior());
+    let pull = DVec3::new(-0.04, 0.015, 0.0) * diag / 0.2;
+
+    let dir = scratch_dir("lee");
+    let (edited, undone, shot) = (
+        dir.join("edited.obj"),
+        dir.join("undone.obj"),
+        dir.join("lee.png"),
+    );
+    run_script(
+        prefix,
+        &bunny_path,
+        &dir,
+        serde_json::json!([
+            {"action": "select_tool", "tool": "lee area editing"},
+            {"action": "set", "param": "boundary", "value": indices(&original, &picks)},
+            {"action": "set", "param": "scale", "value": 0.6},
+            {"action": "set", "param": "frames", "value": "global"},
+            {"action": "set", "param": "primitive", "value": [original.vertex_index(nose)]},
+            {"action": "set", "param": "mode", "value": "drag"},
+            {"action": "pick_vertex", "index": original.vertex_index(nose)},
+            {"action": "drag", "vector": pull.to_array(), "steps": 4},
+            {"action": "apply"},
+            {"action": "save", "path": edited},
+            {"action": "orbit", "yaw": -35, "pitch": 10},
+            {"action": "screenshot", "path": shot},
+            {"action": "undo"},
+            {"action": "save", "path": undone}
+        ]),
+    );
+
+    let moved = read(&edited);
+    moved.check().unwrap();
+    assert_eq!(moved.vertex_slots(), original.vertex_slots());
+    // The primitive followed the drag exactly.
+    let i = original.vertex_index(nose);
+    let d = moved.positions()[i] - original.positions()[i];
+    assert!(
+        (d - pull).length() < 1e-9 * diag,
+        "nose moved by {d}, dragged by {pull}"
+    );
+    // Outside the area (and on its boundary) nothing moved, bit for bit; inside, the
+    // edit spread.
+    let mut inside_moved = 0;
+    for v in original.vertices() {
+        let k = original.vertex_index(v);
+        let interior = area
+            .local_index(&original, v)
+            .is_some_and(|l| l < area.n_interior());
+        if interior {
+            inside_moved += usize::from(moved.positions()[k] != original.positions()[k]);
+        } else {
+            assert_eq!(
+                moved.positions()[k].to_array().map(f64::to_bits),
+                original.positions()[k].to_array().map(f64::to_bits),
+                "vertex {k} outside the editing area moved"
+            );
+        }
+    }
+    assert!(
+        inside_moved > area.n_interior() / 4,
+        "only {inside_moved} of {} interior vertices moved",
+        area.n_interior()
+    );
+
+    // Undo restored the original bit for bit.
+    let back = read(&undone);
+    assert_eq!(back.positions(), original.positions());
+    assert_not_blank(&shot);
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn bendels_klein_transform_moves_handle_by_a_keeps_fixed_and_undoes_exactly() {
+    let Some(prefix) = display_command() else {
+        return;
+    };
+    let bunny_path = meshes_dir().join("stanford-bunny.obj");
+    let original = read(&bunny_path);
+    let diag = diagonal(&original);
+    // Handle: the nose tip, inside a small loop; fixed: outside a loop further back.
+    let nose = extreme(&original, -DVec3::X);
+    let centre = original.position(nose);
+    let handle_picks = picks_around(&original, centre, DVec3::X, 0.04 * diag, 6);
+    let fixed_picks = picks_around(&original, centre, DVec3::X, 0.14 * diag, 8);
+    let regions = Regions::from_picks(&original, &handle_picks, &fixed_picks).unwrap();
+    assert_eq!(regions.role(&original, nose), Role::Handle);
+    let handle = regions.handle();
+    let pivot = handle.iter().map(|&v| original.position(v)).sum::<DVec3>() / handle.len() as f64;
+    let translate = DVec3::new(-0.05, 0.0, 0.0) * diag;
+    let pull = DVec3::new(0.0, 0.02, 0.0) * diag;
+    let (angle, scale) = (20.0f64, 1.1);
+
+    let dir = scratch_dir("bk");
+    let (edited, refined, undone, shot) = (
+        dir.join("edited.obj"),
+        dir.join("refined.obj"),
+        dir.join("undone.obj"),
+        dir.join("bk.png"),
+    );
+    run_script(
+        prefix,
+        &bunny_path,
+        &dir,
+        serde_json::json!([
+            {"action": "select_tool", "tool": "bendels"},
+            {"action": "set", "param": "handle_loop", "value": indices(&original, &handle_picks)},
+            {"action": "set", "param": "fixed_loop", "value": indices(&original, &fixed_picks)},
+            {"action": "set", "param": "distance", "value": "geodesic"},
+            {"action": "set", "param": "shape", "value": "curve"},
+            {"action": "set", "param": "curve_points", "value": [[0.3, 0.1], [0.6, 0.7]]},
+            {"action": "set", "param": "translate", "value": translate.to_array()},
+            {"action": "set", "param": "axis", "value": [0, 0, 1]},
+            {"action": "set", "param": "angle", "value": angle},
+            {"action": "set", "param": "scale", "value": scale},
+            {"action": "set", "param": "mode", "value": "drag"},
+            {"action": "pick_vertex", "index": original.vertex_index(nose)},
+            {"action": "drag", "vector": pull.to_array(), "steps": 3},
+            {"action": "save", "path": edited},
+            {"action": "orbit", "yaw": -35, "pitch": 10},
+            {"action": "screenshot", "path": shot},
+            {"action": "set", "param": "refine_threshold", "value": 1.5},
+            {"action": "apply"},
+            {"action": "save", "path": refined},
+            {"action": "undo"}, {"action": "undo"}, {"action": "undo"},
+            {"action": "undo"}, {"action": "undo"}, {"action": "undo"},
+            {"action": "save", "path": undone}
+        ]),
+    );
+
+    let moved = read(&edited);
+    moved.check().unwrap();
+    assert_eq!(moved.vertex_slots(), original.vertex_slots());
+    let a = DMat4::from_translation(pivot + translate + pull)
+        * DMat4::from_axis_angle(DVec3::Z, angle.to_radians())
+        * DMat4::from_scale(DVec3::splat(scale))
+        * DMat4::from_translation(-pivot);
+    let mut deformable_moved = 0;
+    for v in original.vertices() {
+        let k = original.vertex_index(v);
+        let (p, q) = (original.positions()[k], moved.positions()[k]);
+        match regions.role(&original, v) {
+            Role::Handle => {
+                let expected = a.transform_point3(p);
+                assert!(
+                    (q - expected).length() < 1e-9,
+                    "handle vertex {k} at {q}, A·p = {expected}"
+                );
+            }
+            Role::Fixed => assert_eq!(
+                q.to_array().map(f64::to_bits),
+                p.to_array().map(f64::to_bits),
+                "fixed vertex {k} moved"
+            ),
+            Role::Deformable => deformable_moved += usize::from(p != q),
+        }
+    }
+    assert!(
+        deformable_moved > regions.deformable().len() / 2,
+        "{deformable_moved} of {} deformable vertices moved",
+        regions.deformable().len()
+    );
+
+    // Refinement split stretched edges and kept the mesh valid.
+    let finer = read(&refined);
+    finer.check().unwrap();
+    assert!(
+        finer.n_vertices() > moved.n_vertices(),
+        "refinement added no vertex ({} → {})",
+        moved.n_vertices(),
+        finer.n_vertices()
+    );
+
+    // Six undo steps (four fields, the drag, the refinement) restore the original.
+    let back = read(&undone);
+    assert_eq!(back.vertex_slots(), original.vertex_slots());
+    assert_eq!(back.positions(), original.positions());
+    assert_not_blank(&shot);
+    std::fs::remove_dir_all(&dir).ok();
+}
