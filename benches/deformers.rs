@@ -1,6 +1,7 @@
-//! Speed of the deformers of issue 6 on a mesh of about a million vertices (nefertiti
-//! subdivided twice, 0.8 M vertices): Barr taper / twist / bend, Taubin steps, FFD attach
-//! and deform. Run with `cargo bench --bench deformers`.
+//! Speed of the deformers of issue 6 on a million vertices: Barr taper / twist / bend,
+//! Taubin steps, FFD attach and deform, on nefertiti subdivided twice (0.8 M vertices,
+//! a real scan) and on a waved 1001² grid (1.002 M vertices). Run with
+//! `cargo bench --bench deformers`.
 
 mod common;
 
@@ -14,25 +15,36 @@ use edit::smoothing::{Smoother, Weights};
 use glam::DVec3;
 use halfedge::Mesh;
 
-/// Nefertiti subdivided twice (≈ 0.8 M vertices, 1.6 M faces).
-fn big_mesh() -> Mesh {
-    let mesh = common::nefertiti_x2();
-    eprintln!(
-        "bench mesh: {} vertices, {} faces",
-        mesh.n_vertices(),
-        mesh.n_faces()
-    );
+/// A 1001 × 1001 grid over the unit square, waved so that normals vary.
+fn waved_grid() -> Mesh {
+    let mut mesh = halfedge::generators::grid(1000, 1000, 1.0, 1.0);
+    for p in mesh.positions_mut() {
+        p.z = 0.05 * (6.0 * p.x).sin() * (4.0 * p.y).cos();
+    }
     mesh
 }
 
 fn deformers(c: &mut Criterion) {
-    let mut mesh = big_mesh();
+    for (name, mesh) in [
+        ("nefertiti_x2", common::nefertiti_x2()),
+        ("grid_1001", waved_grid()),
+    ] {
+        eprintln!(
+            "bench mesh {name}: {} vertices, {} faces",
+            mesh.n_vertices(),
+            mesh.n_faces()
+        );
+        deformers_on(c, name, mesh);
+    }
+}
+
+fn deformers_on(c: &mut Criterion, name: &str, mut mesh: Mesh) {
     let (lo, hi) = mesh.bounding_box().unwrap();
     let centre = 0.5 * (lo + hi);
     let axis = DVec3::Y;
     let half = 0.5 * (hi.y - lo.y);
 
-    let mut group = c.benchmark_group("barr");
+    let mut group = c.benchmark_group(format!("barr/{name}"));
     group.sample_size(20);
     group.measurement_time(Duration::from_secs(4));
     let taper = Taper::new(
@@ -58,7 +70,7 @@ fn deformers(c: &mut Criterion) {
     });
     group.finish();
 
-    let mut group = c.benchmark_group("taubin");
+    let mut group = c.benchmark_group(format!("taubin/{name}"));
     group.sample_size(10);
     group.measurement_time(Duration::from_secs(4));
     group.bench_function("setup uniform (CSR)", |b| {
@@ -81,7 +93,7 @@ fn deformers(c: &mut Criterion) {
     }
     group.finish();
 
-    let mut group = c.benchmark_group("ffd");
+    let mut group = c.benchmark_group(format!("ffd/{name}"));
     group.sample_size(10);
     group.measurement_time(Duration::from_secs(10));
     let attach = || {
