@@ -37,7 +37,9 @@ pub use bendels_klein::{BendelsKlein, BkMode};
 pub use ffd::FfdTool;
 pub use inspect::Inspect;
 pub use lee::{LeeAreaEdit, LeeMode};
-pub use multires::{Multires, SharedLabels, SubMeshLabels};
+pub use multires::{
+    connectivity_fingerprint, Multires, SharedLabels, SubMeshLabels, HOST, SUBMESH,
+};
 pub use submesh::SubMeshEdit;
 
 use glam::DVec3;
