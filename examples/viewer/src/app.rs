@@ -601,26 +601,28 @@ impl App {
         egui::Panel::bottom("status")
             .resizable(false)
             .show_inside(ui, |ui| {
-                ui.horizontal(|ui| {
-                    let text = egui::RichText::new(&self.status.message);
-                    if self.status.is_error {
-                        ui.colored_label(egui::Color32::from_rgb(255, 110, 100), text);
-                    } else {
-                        ui.label(text);
+                // Right-hand figures first; the message gets the rest of the line and is
+                // cut short (full text on hover) rather than running under them.
+                ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
+                    let mesh = self.doc.mesh();
+                    ui.weak(format!(
+                        "{} V · {} F",
+                        group(mesh.n_vertices()),
+                        group(mesh.n_faces())
+                    ));
+                    if let Some(ms) = frame_ms {
+                        ui.weak(format!("frame {ms:.0} ms ·"));
                     }
-                    ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
-                        let mesh = self.doc.mesh();
-                        ui.weak(format!(
-                            "{} V · {} F",
-                            group(mesh.n_vertices()),
-                            group(mesh.n_faces())
-                        ));
-                        if let Some(ms) = frame_ms {
-                            ui.weak(format!("frame {ms:.0} ms ·"));
+                    if let Some((label, d)) = &self.last_op {
+                        ui.label(format!("{label}: {} ·", format_duration(*d)));
+                    }
+                    ui.with_layout(egui::Layout::left_to_right(egui::Align::Center), |ui| {
+                        let mut text = egui::RichText::new(&self.status.message);
+                        if self.status.is_error {
+                            text = text.color(egui::Color32::from_rgb(255, 110, 100));
                         }
-                        if let Some((label, d)) = &self.last_op {
-                            ui.label(format!("{label}: {} ·", format_duration(*d)));
-                        }
+                        ui.add(egui::Label::new(text).truncate())
+                            .on_hover_text(&self.status.message);
                     });
                 });
             });
