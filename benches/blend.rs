@@ -226,11 +226,11 @@ fn euclidean(c: &mut Criterion) {
     group.bench_function("two_fields_10k_edges_1M_points", |b| {
         cpu_report("Euclidean fields, 10k edges, 1 M points", 5, || {
             let queries = QueryPoints::new(&points, cell);
-            (fixed.distances_to(&queries), handle.distances_to(&queries))
+            fixed.distances_to_pair(&handle, &queries)
         });
         b.iter(|| {
             let queries = QueryPoints::new(black_box(&points), cell);
-            black_box((fixed.distances_to(&queries), handle.distances_to(&queries)))
+            black_box(fixed.distances_to_pair(&handle, &queries))
         })
     });
     let queries = QueryPoints::new(&points, cell);

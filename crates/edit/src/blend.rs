@@ -161,8 +161,7 @@ impl BlendSession {
                 let indices: Vec<usize> = (0..slots).filter(|&i| wanted[i]).collect();
                 let points: Vec<DVec3> = indices.iter().map(|&i| original[i]).collect();
                 let queries = QueryPoints::new(&points, cell);
-                let dh = handle_grid.distances_to(&queries);
-                let df = fixed_grid.distances_to(&queries);
+                let (dh, df) = handle_grid.distances_to_pair(&fixed_grid, &queries);
                 let mut d_handle = vec![f64::INFINITY; slots];
                 let mut d_fixed = vec![f64::INFINITY; slots];
                 for (k, &i) in indices.iter().enumerate() {

@@ -305,22 +305,47 @@ impl BorderGrid {
         out
     }
 
-    fn descend(&self, q: &QueryPoints, node: Node, candidates: &[u32], out: &mut [f64]) {
-        let range = node.start..node.start + out.len();
-        let points = &q.sorted_points[range.clone()];
-        // Centre and radius: the exact ball of the points for small nodes, the octree
-        // cell's ball for large ones (no pass over the points).
-        let (centre, radius) = if points.len() <= 512 || node.level == 0 {
-            let (lo, hi) = points.iter().fold(
-                (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
-                |(lo, hi), &p| (lo.min(p), hi.max(p)),
-            );
-            let c = 0.5 * (lo + hi);
-            let r = points.iter().map(|p| p.distance(c)).fold(0.0, f64::max);
-            (c, r)
-        } else {
-            q.node_ball(node)
+    /// The fields of two borders over the same prepared points, in one walk of the
+    /// query octree: `(distances to self, distances to other)`, each equal bit for bit to
+    /// [`distances_to`](Self::distances_to). Bendels & Klein need both the handle and
+    /// the fixed border's field; sharing the walk shares the node bounds and the memory
+    /// traffic over the points.
+    #[must_use]
+    pub fn distances_to_pair(
+        &self,
+        other: &BorderGrid,
+        queries: &QueryPoints,
+    ) -> (Vec<f64>, Vec<f64>) {
+        let n = queries.order.len();
+        if self.segments.is_empty() || other.segments.is_empty() || n == 0 {
+            return (self.distances_to(queries), other.distances_to(queries));
+        }
+        let mut sorted = vec![[0.0; 2]; n];
+        let all = |g: &BorderGrid| (0..g.segments.len() as u32).collect::<Vec<u32>>();
+        let node = Node {
+            level: 0,
+            prefix: 0,
+            start: 0,
         };
+        descend_pair(
+            [self, other],
+            queries,
+            node,
+            [&all(self), &all(other)],
+            &mut sorted,
+        );
+        let mut first = vec![0.0; n];
+        let mut second = vec![0.0; n];
+        for (&i, &[a, b]) in queries.order.iter().zip(&sorted) {
+            first[i as usize] = a;
+            second[i as usize] = b;
+        }
+        (first, second)
+    }
+
+    fn descend(&self, q: &QueryPoints, node: Node, candidates: &[u32], out: &mut [f64]) {
+        let points = &q.sorted_points[node.start..node.start + out.len()];
+        let (centre, radius) = node_bounds(q, node, points);
         let kept = self.filter(candidates, centre, radius);
         let leaf = points.len() <= 32 || kept.len() <= 2 || node.level == q.depth;
         if leaf {
@@ -333,29 +358,7 @@ impl BorderGrid {
             }
             return;
         }
-        // Children: the 8 octants, contiguous in Morton order.
-        let shift = 3 * (q.depth - node.level - 1);
-        let codes = &q.codes[range];
-        let mut children = Vec::with_capacity(8);
-        let mut rest = out;
-        let mut offset = 0;
-        for octant in 0..8u64 {
-            let prefix = (node.prefix << 3) | octant;
-            let end = codes.partition_point(|&c| (c >> shift) <= prefix);
-            let (mine, tail) = rest.split_at_mut(end - offset);
-            if !mine.is_empty() {
-                children.push((
-                    Node {
-                        level: node.level + 1,
-                        prefix,
-                        start: node.start + offset,
-                    },
-                    mine,
-                ));
-            }
-            rest = tail;
-            offset = end;
-        }
+        let children = split_children(q, node, out);
         if out_len(&children) > 8192 {
             children
                 .into_par_iter()
@@ -414,8 +417,107 @@ impl BorderGrid {
     }
 }
 
-fn out_len(children: &[(Node, &mut [f64])]) -> usize {
+fn out_len<T>(children: &[(Node, &mut [T])]) -> usize {
     children.iter().map(|(_, s)| s.len()).sum()
+}
+
+/// Centre and radius of a node's points: the exact ball for small nodes (and the root),
+/// the octree cell's ball for large ones (no pass over the points).
+fn node_bounds(q: &QueryPoints, node: Node, points: &[DVec3]) -> (DVec3, f64) {
+    if points.len() <= 512 || node.level == 0 {
+        let (lo, hi) = points.iter().fold(
+            (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+            |(lo, hi), &p| (lo.min(p), hi.max(p)),
+        );
+        let c = 0.5 * (lo + hi);
+        let r = points.iter().map(|p| p.distance(c)).fold(0.0, f64::max);
+        (c, r)
+    } else {
+        q.node_ball(node)
+    }
+}
+
+/// The children of `node` (the 8 octants, contiguous in Morton order) with their parts
+/// of `out`.
+fn split_children<'a, T>(
+    q: &QueryPoints,
+    node: Node,
+    out: &'a mut [T],
+) -> Vec<(Node, &'a mut [T])> {
+    let shift = 3 * (q.depth - node.level - 1);
+    let codes = &q.codes[node.start..node.start + out.len()];
+    let mut children = Vec::with_capacity(8);
+    let mut rest = out;
+    let mut offset = 0;
+    for octant in 0..8u64 {
+        let prefix = (node.prefix << 3) | octant;
+        let end = codes.partition_point(|&c| (c >> shift) <= prefix);
+        let (mine, tail) = rest.split_at_mut(end - offset);
+        if !mine.is_empty() {
+            children.push((
+                Node {
+                    level: node.level + 1,
+                    prefix,
+                    start: node.start + offset,
+                },
+                mine,
+            ));
+        }
+        rest = tail;
+        offset = end;
+    }
+    children
+}
+
+/// [`BorderGrid::descend`] for two borders at once (see
+/// [`BorderGrid::distances_to_pair`]): the same bounds, filters and leaf rule per border,
+/// so each field equals its single walk bit for bit.
+fn descend_pair(
+    grids: [&BorderGrid; 2],
+    q: &QueryPoints,
+    node: Node,
+    candidates: [&[u32]; 2],
+    out: &mut [[f64; 2]],
+) {
+    let points = &q.sorted_points[node.start..node.start + out.len()];
+    let (centre, radius) = node_bounds(q, node, points);
+    let kept = [0, 1].map(|k| grids[k].filter(candidates[k], centre, radius));
+    let end = points.len() <= 32 || node.level == q.depth;
+    let leaf = [0, 1].map(|k| end || kept[k].len() <= 2);
+    if leaf[0] || leaf[1] {
+        for k in (0..2).filter(|&k| leaf[k]) {
+            let segments = &grids[k].segments;
+            for (p, d) in points.iter().zip(out.iter_mut()) {
+                let mut best = f64::INFINITY;
+                for &s in &kept[k] {
+                    best = best.min(segments[s as usize].distance_squared(*p));
+                }
+                d[k] = best.sqrt();
+            }
+        }
+        if leaf[0] && leaf[1] {
+            return;
+        }
+        // One border is done here; the other goes on down alone (filtering its kept
+        // segments again with the same bounds keeps them all: the filter is idempotent).
+        let k = usize::from(leaf[0]);
+        let mut single = vec![0.0; out.len()];
+        grids[k].descend(q, node, &kept[k], &mut single);
+        for (d, v) in out.iter_mut().zip(single) {
+            d[k] = v;
+        }
+        return;
+    }
+    let children = split_children(q, node, out);
+    if out_len(&children) > 8192 {
+        children
+            .into_par_iter()
+            .for_each(|(child, slice)| descend_pair(grids, q, child, [&kept[0], &kept[1]], slice));
+    } else {
+        for (child, slice) in children {
+            descend_pair(grids, q, child, [&kept[0], &kept[1]], slice);
+        }
+    }
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -615,6 +717,23 @@ mod tests {
         points.extend((0..2000).map(|_| random_point(&mut rng, 30.0)));
         points.extend((0..n).map(ring));
         let field = grid.distances(&points);
+        // The pair walk gives both fields bit for bit, with borders of different reach
+        // (one small loop, so that one border bottoms out before the other).
+        let small: Vec<(DVec3, DVec3)> = segments[..40].to_vec();
+        let other = BorderGrid::from_segments(0.03, small.iter().copied()).unwrap();
+        let queries = QueryPoints::new(&points, 0.03);
+        let (first, second) = grid.distances_to_pair(&other, &queries);
+        assert!(first
+            .iter()
+            .zip(&field)
+            .all(|(a, b)| a.to_bits() == b.to_bits()));
+        let alone = other.distances_to(&queries);
+        assert!(second
+            .iter()
+            .zip(&alone)
+            .all(|(a, b)| a.to_bits() == b.to_bits()));
+        let (second_first, first_second) = other.distances_to_pair(&grid, &queries);
+        assert_eq!((second_first, first_second), (alone, field.clone()));
         for (p, d) in points.iter().zip(&field) {
             let brute = segments
                 .iter()
