@@ -242,6 +242,17 @@ fn euclidean(c: &mut Criterion) {
     group.bench_function("bucket_1M_points", |b| {
         b.iter(|| black_box(QueryPoints::new(black_box(&points), cell)))
     });
+    group.bench_function("two_fields_prepared_two_walks", |b| {
+        b.iter(|| {
+            black_box((
+                fixed.distances_to(&queries),
+                handle.distances_to(&queries),
+            ))
+        })
+    });
+    group.bench_function("two_fields_prepared_one_walk", |b| {
+        b.iter(|| black_box(fixed.distances_to_pair(&handle, &queries)))
+    });
     group.bench_function("one_field_6k_edges_prepared", |b| {
         b.iter(|| black_box(fixed.distances_to(&queries)))
     });
