@@ -243,12 +243,7 @@ fn euclidean(c: &mut Criterion) {
         b.iter(|| black_box(QueryPoints::new(black_box(&points), cell)))
     });
     group.bench_function("two_fields_prepared_two_walks", |b| {
-        b.iter(|| {
-            black_box((
-                fixed.distances_to(&queries),
-                handle.distances_to(&queries),
-            ))
-        })
+        b.iter(|| black_box((fixed.distances_to(&queries), handle.distances_to(&queries))))
     });
     group.bench_function("two_fields_prepared_one_walk", |b| {
         b.iter(|| black_box(fixed.distances_to_pair(&handle, &queries)))

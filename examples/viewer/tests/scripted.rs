@@ -6,112 +6,15 @@
 //! must run them: install the packages named in the message) and are skipped with a
 //! note otherwise, so that a developer without Xvfb can still run `cargo test`.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
-use std::time::{Duration, Instant};
+mod common;
+
+use common::{display, display_command, image_stats, read, run_viewer, scratch_dir};
+
+use std::process::Command;
+use std::time::Duration;
 
 use glam::DVec3;
-use halfedge::{generators, Mesh};
-
-const PACKAGES: &str = "xvfb xauth libgl1-mesa-dri libegl1 libxkbcommon-x11-0";
-
-/// Serialises the tests that start a display: `xvfb-run -a` races when started in
-/// parallel, and llvmpipe gains nothing from sharing two cores.
-static DISPLAY_LOCK: std::sync::Mutex<()> = std::sync::Mutex::new(());
-
-/// A command prefix that gives the viewer a display, or `None` (after failing in CI).
-fn display_command() -> Option<Command> {
-    let has_xvfb_run = Command::new("sh")
-        .args(["-c", "command -v xvfb-run"])
-        .stdout(Stdio::null())
-        .status()
-        .is_ok_and(|s| s.success());
-    if has_xvfb_run {
-        let mut cmd = Command::new("xvfb-run");
-        cmd.args(["-a", "-s", "-screen 0 1280x1024x24"]);
-        return Some(cmd);
-    }
-    if std::env::var_os("DISPLAY").is_some() {
-        // `env` runs the viewer directly on the current display.
-        return Some(Command::new("env"));
-    }
-    if std::env::var_os("CI").is_some() {
-        panic!(
-            "the viewer tests need an X display: install Xvfb and software OpenGL \
-             (apt-get install {PACKAGES}) so that `xvfb-run` exists"
-        );
-    }
-    eprintln!(
-        "skipping the viewer test: neither xvfb-run nor DISPLAY (apt-get install {PACKAGES})"
-    );
-    None
-}
-
-fn scratch_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("viewer-test-{name}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-/// Runs the viewer with `args` on a display, killing it after `limit`.
-fn run_viewer(prefix: Command, args: &[&std::ffi::OsStr], limit: Duration) -> Output {
-    let _guard = DISPLAY_LOCK.lock().unwrap_or_else(|e| e.into_inner());
-    let mut cmd = prefix;
-    cmd.arg(env!("CARGO_BIN_EXE_viewer"))
-        .args(args)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped());
-    let mut child = cmd.spawn().expect("the viewer starts");
-    let start = Instant::now();
-    loop {
-        if child.try_wait().unwrap().is_some() {
-            break;
-        }
-        if start.elapsed() > limit {
-            child.kill().ok();
-            let out = child.wait_with_output().unwrap();
-            panic!(
-                "the viewer did not finish within {limit:?}\nstdout:\n{}\nstderr:\n{}",
-                String::from_utf8_lossy(&out.stdout),
-                String::from_utf8_lossy(&out.stderr)
-            );
-        }
-        std::thread::sleep(Duration::from_millis(100));
-    }
-    child.wait_with_output().unwrap()
-}
-
-fn read(path: &Path) -> Mesh {
-    halfedge::io::read(path)
-        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
-        .0
-}
-
-/// Standard deviation of the luminance and number of distinct colours of a PNG.
-fn image_stats(path: &Path) -> (f64, usize, (u32, u32)) {
-    let img = image::open(path)
-        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
-        .to_rgb8();
-    let lum: Vec<f64> = img
-        .pixels()
-        .map(|p| 0.2126 * p.0[0] as f64 + 0.7152 * p.0[1] as f64 + 0.0722 * p.0[2] as f64)
-        .collect();
-    let mean = lum.iter().sum::<f64>() / lum.len() as f64;
-    let var = lum.iter().map(|l| (l - mean) * (l - mean)).sum::<f64>() / lum.len() as f64;
-    let mut colors: Vec<[u8; 3]> = img.pixels().map(|p| p.0).collect();
-    colors.sort_unstable();
-    colors.dedup();
-    (var.sqrt(), colors.len(), img.dimensions())
-}
-
-fn display(out: &Output) -> String {
-    format!(
-        "status {:?}\nstdout:\n{}\nstderr:\n{}",
-        out.status,
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    )
-}
+use halfedge::generators;
 
 #[test]
 fn scripted_drag_undo_redo_save_and_screenshot() {

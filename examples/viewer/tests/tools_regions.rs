@@ -8,93 +8,18 @@
 //! Like `tests/scripted.rs`, they run the viewer under `xvfb-run` (or on `$DISPLAY`);
 //! without either they fail when `CI` is set and are skipped otherwise.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
-use std::time::{Duration, Instant};
+mod common;
+
+use common::{display_command, meshes_dir, read, run_viewer, scratch_dir};
+
+use std::path::Path;
+use std::process::Command;
+use std::time::Duration;
 
 use edit::area::{AreaSide, EditingArea};
 use edit::regions::{Regions, Role};
 use glam::{DMat4, DVec3};
 use halfedge::{Mesh, VertexId};
-
-const PACKAGES: &str = "xvfb xauth libgl1-mesa-dri libegl1 libxkbcommon-x11-0";
-
-/// Serialises the tests that start a display.
-static DISPLAY_LOCK: std::sync::Mutex<()> = std::sync::Mutex::new(());
-
-fn display_command() -> Option<Command> {
-    let has_xvfb_run = Command::new("sh")
-        .args(["-c", "command -v xvfb-run"])
-        .stdout(Stdio::null())
-        .status()
-        .is_ok_and(|s| s.success());
-    if has_xvfb_run {
-        let mut cmd = Command::new("xvfb-run");
-        cmd.args(["-a", "-s", "-screen 0 1280x1024x24"]);
-        return Some(cmd);
-    }
-    if std::env::var_os("DISPLAY").is_some() {
-        return Some(Command::new("env"));
-    }
-    if std::env::var_os("CI").is_some() {
-        panic!(
-            "the viewer tests need an X display: install Xvfb and software OpenGL \
-             (apt-get install {PACKAGES}) so that `xvfb-run` exists"
-        );
-    }
-    eprintln!(
-        "skipping the viewer test: neither xvfb-run nor DISPLAY (apt-get install {PACKAGES})"
-    );
-    None
-}
-
-/// `shared/meshes` found by walking up from the crate (or `MULTIRES_MESHES`).
-fn meshes_dir() -> PathBuf {
-    if let Ok(dir) = std::env::var("MULTIRES_MESHES") {
-        return PathBuf::from(dir);
-    }
-    let mut dir = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
-    loop {
-        let candidate = dir.join("shared").join("meshes");
-        if candidate.is_dir() {
-            return candidate;
-        }
-        assert!(dir.pop(), "no shared/meshes above the crate");
-    }
-}
-
-fn scratch_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("viewer-regions-{name}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-fn run_viewer(prefix: Command, args: &[&std::ffi::OsStr], limit: Duration) -> Output {
-    let _guard = DISPLAY_LOCK.lock().unwrap_or_else(|e| e.into_inner());
-    let mut cmd = prefix;
-    cmd.arg(env!("CARGO_BIN_EXE_viewer"))
-        .args(args)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped());
-    let mut child = cmd.spawn().expect("the viewer starts");
-    let start = Instant::now();
-    loop {
-        if child.try_wait().unwrap().is_some() {
-            break;
-        }
-        if start.elapsed() > limit {
-            child.kill().ok();
-            let out = child.wait_with_output().unwrap();
-            panic!(
-                "the viewer did not finish within {limit:?}\nstdout:\n{}\nstderr:\n{}",
-                String::from_utf8_lossy(&out.stdout),
-                String::from_utf8_lossy(&out.stderr)
-            );
-        }
-        std::thread::sleep(Duration::from_millis(100));
-    }
-    child.wait_with_output().unwrap()
-}
 
 /// Runs a script on `mesh_path`; panics with the output on failure.
 fn run_script(prefix: Command, mesh_path: &Path, dir: &Path, actions: serde_json::Value) {
@@ -124,12 +49,6 @@ fn run_script(prefix: Command, mesh_path: &Path, dir: &Path, actions: serde_json
         String::from_utf8_lossy(&out.stdout),
         String::from_utf8_lossy(&out.stderr)
     );
-}
-
-fn read(path: &Path) -> Mesh {
-    halfedge::io::read(path)
-        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
-        .0
 }
 
 /// Asserts the PNG is not blank: luminance spread and many colours.
