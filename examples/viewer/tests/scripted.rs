@@ -8,7 +8,7 @@
 
 mod common;
 
-use common::{display, display_command, image_stats, read, run_viewer, scratch_dir};
+use common::{display, display_command, image_stats, read, run_script, run_viewer, scratch_dir};
 
 use std::process::Command;
 use std::time::Duration;
@@ -50,21 +50,7 @@ fn scripted_drag_undo_redo_save_and_screenshot() {
         {"action": "view", "wireframe": true},
         {"action": "screenshot", "path": shot}
     ]});
-    std::fs::write(&script, text.to_string()).unwrap();
-    let out = run_viewer(
-        prefix,
-        &[
-            input.as_os_str(),
-            "--script".as_ref(),
-            script.as_os_str(),
-            "--size".as_ref(),
-            "800x600".as_ref(),
-            "--msaa".as_ref(),
-            "0".as_ref(),
-        ],
-        Duration::from_secs(240),
-    );
-    assert!(out.status.success(), "{}", display(&out));
+    run_script(prefix, &input, &script, &text, "800x600");
 
     // The drag pulled the two rings around vertex 0 by the vector (no propagation) and
     // nothing else.

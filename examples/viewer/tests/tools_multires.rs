@@ -6,37 +6,24 @@
 
 mod common;
 
-use common::{display, display_command, image_stats, read, run_viewer, scratch_dir};
+use common::{display_command, image_stats, read, scratch_dir};
 
 use std::path::Path;
 use std::process::Command;
-use std::time::Duration;
 
 use glam::DVec3;
 use halfedge::{generators, Mesh};
 
 /// Runs a script on `input` and asserts success.
 fn run_script(prefix: Command, name: &str, dir: &Path, input: &Path, actions: serde_json::Value) {
-    let script = dir.join(format!("{name}.json"));
-    std::fs::write(
-        &script,
-        serde_json::json!({ "actions": actions }).to_string(),
-    )
-    .unwrap();
-    let out = run_viewer(
+    let script = serde_json::json!({ "actions": actions });
+    common::run_script(
         prefix,
-        &[
-            input.as_os_str(),
-            "--script".as_ref(),
-            script.as_os_str(),
-            "--size".as_ref(),
-            "900x640".as_ref(),
-            "--msaa".as_ref(),
-            "0".as_ref(),
-        ],
-        Duration::from_secs(240),
+        input,
+        &dir.join(format!("{name}.json")),
+        &script,
+        "900x640",
     );
-    assert!(out.status.success(), "{}", display(&out));
 }
 
 fn assert_screenshot(path: &Path) {

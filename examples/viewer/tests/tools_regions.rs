@@ -10,11 +10,10 @@
 
 mod common;
 
-use common::{display_command, meshes_dir, read, run_viewer, scratch_dir};
+use common::{display_command, meshes_dir, read, scratch_dir};
 
 use std::path::Path;
 use std::process::Command;
-use std::time::Duration;
 
 use edit::area::{AreaSide, EditingArea};
 use edit::regions::{Regions, Role};
@@ -23,31 +22,13 @@ use halfedge::{Mesh, VertexId};
 
 /// Runs a script on `mesh_path`; panics with the output on failure.
 fn run_script(prefix: Command, mesh_path: &Path, dir: &Path, actions: serde_json::Value) {
-    let script = dir.join("script.json");
-    std::fs::write(
-        &script,
-        serde_json::json!({ "actions": actions }).to_string(),
-    )
-    .unwrap();
-    let out = run_viewer(
+    let script = serde_json::json!({ "actions": actions });
+    common::run_script(
         prefix,
-        &[
-            mesh_path.as_os_str(),
-            "--script".as_ref(),
-            script.as_os_str(),
-            "--size".as_ref(),
-            "1000x700".as_ref(),
-            "--msaa".as_ref(),
-            "0".as_ref(),
-        ],
-        Duration::from_secs(300),
-    );
-    assert!(
-        out.status.success(),
-        "status {:?}\nstdout:\n{}\nstderr:\n{}",
-        out.status,
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
+        mesh_path,
+        &dir.join("script.json"),
+        &script,
+        "1000x700",
     );
 }
 

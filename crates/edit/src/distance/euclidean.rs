@@ -350,11 +350,7 @@ impl BorderGrid {
         let leaf = points.len() <= 32 || kept.len() <= 2 || node.level == q.depth;
         if leaf {
             for (p, d) in points.iter().zip(out.iter_mut()) {
-                let mut best = f64::INFINITY;
-                for &s in &kept {
-                    best = best.min(self.segments[s as usize].distance_squared(*p));
-                }
-                *d = best.sqrt();
+                *d = self.nearest(&kept, *p);
             }
             return;
         }
@@ -368,6 +364,15 @@ impl BorderGrid {
                 self.descend(q, child, &kept, slice);
             }
         }
+    }
+
+    /// Distance from `p` to the nearest of the `kept` segments (a leaf of the walk).
+    #[inline]
+    fn nearest(&self, kept: &[u32], p: DVec3) -> f64 {
+        kept.iter()
+            .map(|&s| self.segments[s as usize].distance_squared(p))
+            .fold(f64::INFINITY, f64::min)
+            .sqrt()
     }
 
     /// The candidates that can be nearest to some point of the ball (centre, radius).
@@ -486,13 +491,8 @@ fn descend_pair(
     let leaf = [0, 1].map(|k| end || kept[k].len() <= 2);
     if leaf[0] || leaf[1] {
         for k in (0..2).filter(|&k| leaf[k]) {
-            let segments = &grids[k].segments;
             for (p, d) in points.iter().zip(out.iter_mut()) {
-                let mut best = f64::INFINITY;
-                for &s in &kept[k] {
-                    best = best.min(segments[s as usize].distance_squared(*p));
-                }
-                d[k] = best.sqrt();
+                d[k] = grids[k].nearest(&kept[k], *p);
             }
         }
         if leaf[0] && leaf[1] {

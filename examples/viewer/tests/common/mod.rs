@@ -123,3 +123,29 @@ pub fn meshes_dir() -> PathBuf {
         assert!(dir.pop(), "no shared/meshes above the crate");
     }
 }
+
+/// Writes `script` (the JSON of a viewer script) to `path`, runs the viewer on `input`
+/// with it (window `size`, no multisampling) and asserts that it succeeded.
+pub fn run_script(
+    prefix: Command,
+    input: &Path,
+    path: &Path,
+    script: &serde_json::Value,
+    size: &str,
+) {
+    std::fs::write(path, script.to_string()).unwrap();
+    let out = run_viewer(
+        prefix,
+        &[
+            input.as_os_str(),
+            "--script".as_ref(),
+            path.as_os_str(),
+            "--size".as_ref(),
+            size.as_ref(),
+            "--msaa".as_ref(),
+            "0".as_ref(),
+        ],
+        Duration::from_secs(300),
+    );
+    assert!(out.status.success(), "{}", display(&out));
+}
