@@ -482,6 +482,65 @@ impl Mesh {
         Ok(())
     }
 
+    /// Prefetches what [`vertex_split_unchecked`](Self::vertex_split_unchecked) of `r`
+    /// will touch first: the halfedges it revives and relinks, the slot states it flips,
+    /// the face and vertex halfedges it restores and the two positions it writes. A
+    /// hierarchy calls this a few splits ahead (see [`crate::prefetch`]).
+    #[inline]
+    pub(crate) fn prefetch_split(&self, r: &CollapseRecord) {
+        use crate::prefetch::prefetch;
+        let he = &self.he;
+        prefetch(he, r.start as usize);
+        for x in [Some(r.v0v1), r.vlv0, r.v0vr].into_iter().flatten() {
+            // Both halfedges of the edge: a pair may straddle two cache lines.
+            prefetch(he, slot(x));
+            prefetch(he, slot(x) ^ 1);
+            self.halfedge_slots_.prefetch_state(slot(x));
+        }
+        for x in [r.v1vl, r.vrv1].into_iter().flatten() {
+            prefetch(he, slot(x));
+        }
+        for &[x, _, new] in &r.links[..usize::from(r.n_links)] {
+            prefetch(he, x as usize);
+            prefetch(he, new as usize);
+        }
+        self.vertex_slots_.prefetch_state(slot(r.v0));
+        for f in [r.fl, r.fr].into_iter().flatten() {
+            self.face_slots_.prefetch_state(slot(f));
+        }
+        for &[g, _, _] in &r.face_halfedges {
+            prefetch(&self.face_conn, g as usize);
+        }
+        for (v, &[old, new]) in r.record_vertices().into_iter().zip(&r.vertex_halfedges) {
+            if old != new {
+                prefetch(&self.vertex_conn, slot(v));
+            }
+        }
+        prefetch(&self.positions, slot(r.v0));
+        prefetch(&self.positions, slot(r.v1));
+    }
+
+    /// Prefetches the `step`-th halfedge the split of `r` moves back to `v0` (the walk
+    /// around `v1` from `r.start`), reading the earlier ones of the walk, which an earlier
+    /// call should have brought into cache: the walk is a chain of dependent loads, so a
+    /// hierarchy pipelines it over several splits ahead. The mesh may not yet be as the
+    /// split will find it (the splits in between have not run), so the walk may go astray;
+    /// that only costs a useless prefetch.
+    #[inline]
+    pub(crate) fn prefetch_moved(&self, r: &CollapseRecord, step: u32) {
+        if step >= r.moved {
+            return;
+        }
+        let mut k = r.start as usize;
+        for _ in 0..=step {
+            match self.he.get(k) {
+                Some(rec) => k = (rec.prev ^ 1) as usize,
+                None => return,
+            }
+        }
+        crate::prefetch::prefetch(&self.he, k);
+    }
+
     /// [`vertex_split`](Self::vertex_split) without its checks, for a caller that knows
     /// the connectivity is what the collapse left (a hierarchy whose mesh kept its
     /// [`topology_stamp`](Self::topology_stamp) since its own last step).

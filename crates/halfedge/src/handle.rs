@@ -95,6 +95,11 @@ impl Slots {
         let shift = 2 * (i % PER_WORD);
         *word = (*word & !(3 << shift)) | (state << shift);
     }
+    /// Prefetches the state word of slot `i` (see [`crate::prefetch`]).
+    #[inline(always)]
+    pub(crate) fn prefetch_state(&self, i: usize) {
+        crate::prefetch::prefetch(&self.states, i / PER_WORD);
+    }
     /// Generation of slot `i`.
     #[inline]
     fn generation_of(&self, i: usize) -> u32 {

@@ -38,6 +38,7 @@ pub mod iter;
 pub mod labels;
 mod mesh;
 mod paths;
+mod prefetch;
 mod split;
 mod topology;
 

@@ -72,6 +72,21 @@ fn trusted_and_checked_refinement_agree() {
     let mut swapped = built.clone();
     *swapped.mesh_mut() = load("spot.obj");
     assert!(matches!(swapped.split_next(), Err(Error::SplitRefused(_))));
+    // So is a mesh too small for the records' indices (the splits prefetch and read
+    // centroids ahead of their checks; none of that may index out of bounds).
+    let mut tiny = built.clone();
+    *tiny.mesh_mut() = halfedge::generators::icosphere(0);
+    assert!(matches!(tiny.split_next(), Err(Error::SplitRefused(_))));
+    assert!(matches!(tiny.refine_to(0), Err(Error::SplitRefused(_))));
+    tiny.mesh().check().unwrap();
+    let mut tiny = built.clone();
+    tiny.refine_to(tiny.coarsest_level() - 1).unwrap();
+    *tiny.mesh_mut() = halfedge::generators::icosphere(0);
+    assert!(matches!(
+        tiny.collapse_next(),
+        Err(Error::CollapseRefused { .. })
+    ));
+    tiny.mesh().check().unwrap();
 }
 
 #[test]

@@ -105,6 +105,15 @@ impl Details {
         (&self.neighbours[a..b], &self.neighbours[b..c])
     }
 
+    /// True when every neighbour of record `r` is an index into `positions` of length
+    /// `len`: always so on the hierarchy's own mesh, checked before using a mesh the
+    /// hierarchy cannot vouch for.
+    pub(crate) fn in_bounds(&self, r: usize, len: usize) -> bool {
+        let a = self.offsets[2 * r] as usize;
+        let c = self.offsets[2 * r + 2] as usize;
+        self.neighbours[a..c].iter().all(|&i| (i as usize) < len)
+    }
+
     /// Recomputes `C_i` of record `r` from the current positions (when the record is
     /// collapsed again after an edit at a finer level).
     pub(crate) fn refresh(&mut self, r: usize, positions: &[DVec3]) {
@@ -119,6 +128,17 @@ impl Details {
         let (l0, l1) = self.lists(r);
         let [c0, c1] = self.centroids[r];
         [centroid(positions, l0) - c0, centroid(positions, l1) - c1]
+    }
+
+    /// Prefetches the current positions of record `r`'s neighbours, which
+    /// [`translations`](Self::translations) will read (see [`crate::prefetch`]).
+    #[inline]
+    pub(crate) fn prefetch(&self, r: usize, positions: &[DVec3]) {
+        let a = self.offsets[2 * r] as usize;
+        let c = self.offsets[2 * r + 2] as usize;
+        for &i in &self.neighbours[a..c] {
+            crate::prefetch::prefetch(positions, i as usize);
+        }
     }
 
     /// Bytes used (for reports).

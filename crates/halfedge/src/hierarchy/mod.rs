@@ -47,6 +47,13 @@ use crate::labels::{self, Label};
 use crate::{CollapseRecord, Error, HalfedgeId, Mesh, Result, VertexId};
 use detail::{translate_exact, Details};
 
+/// How many splits ahead [`Hierarchy::split_next`] prefetches the memory of the record it
+/// will split (see [`crate::prefetch`]).
+const SPLIT_PREFETCH_DISTANCE: usize = 8;
+/// How many splits ahead [`Hierarchy::split_next`] prefetches the first, second and third
+/// halfedge of the walk around `v1` of the record it will split.
+const MOVED_PREFETCH_DISTANCES: [usize; 3] = [6, 4, 2];
+
 /// The simplification method of a [`Hierarchy`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Method {
@@ -515,6 +522,8 @@ impl Hierarchy {
     /// behind the hierarchy's back; nothing is changed then.
     pub fn collapse_next(&mut self) -> Result<bool> {
         let r = self.applied;
+        // Decided before the collapse changes the mesh's topology stamp.
+        let clean = self.positions_are_clean();
         let Some(old) = self.records.get(r) else {
             return Ok(false);
         };
@@ -525,6 +534,7 @@ impl Hierarchy {
         if !self.mesh.is_valid_halfedge(h)
             || self.mesh.from_vertex(h) != v0
             || self.mesh.to_vertex(h) != v1
+            || (self.stamp.is_none() && !self.details.in_bounds(r, self.mesh.positions().len()))
         {
             return Err(Error::CollapseRefused {
                 halfedge: h,
@@ -541,7 +551,7 @@ impl Hierarchy {
             p1 + t * (p0 - p1) + residual
         };
         let record = self.mesh.collapse(h)?;
-        if !self.positions_are_clean() {
+        if !clean {
             self.details.refresh(r, self.mesh.positions());
         }
         let i1 = self.mesh.vertex_index(v1);
@@ -576,17 +586,38 @@ impl Hierarchy {
             return Ok(false);
         }
         let r = self.applied - 1;
+        let trusted = self.stamp == Some(self.mesh.topology_stamp());
+        if !trusted {
+            self.stamp = None;
+            if !self.details.in_bounds(r, self.mesh.positions().len()) {
+                return Err(Error::SplitRefused(format!(
+                    "a neighbour recorded for {} → {} is not a vertex of this mesh",
+                    self.records[r].v0, self.records[r].v1
+                )));
+            }
+        }
         let clean = self.positions_are_clean();
         let [d0, d1] = if clean {
             [DVec3::ZERO; 2]
         } else {
             self.details.translations(r, self.mesh.positions())
         };
+        if let Some(ahead) = r.checked_sub(SPLIT_PREFETCH_DISTANCE) {
+            self.mesh.prefetch_split(&self.records[ahead]);
+            if !clean {
+                self.details.prefetch(ahead, self.mesh.positions());
+            }
+        }
+        // The walk around v1 is a chain of loads: one more link of it per stage.
+        for (step, distance) in MOVED_PREFETCH_DISTANCES.into_iter().enumerate() {
+            if let Some(ahead) = r.checked_sub(distance) {
+                self.mesh.prefetch_moved(&self.records[ahead], step as u32);
+            }
+        }
         let record = &self.records[r];
-        if self.stamp == Some(self.mesh.topology_stamp()) {
+        if trusted {
             self.mesh.vertex_split_unchecked(record);
         } else {
-            self.stamp = None;
             self.mesh.vertex_split(record)?;
         }
         let (i0, i1) = (
