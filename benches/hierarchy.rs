@@ -1,8 +1,9 @@
 //! Hierarchy speed (issue 3): the full hierarchy of nefertiti subdivided twice
 //! (1.6 M faces) down to about 2,000 faces with every record kept, by rounds and by QEM,
 //! coarsening and refining all the way back (as built, and after an edit of the
-//! coarsest mesh, which makes every split compute its centroid translations), against meshoptimizer's `simplify` to
-//! 2,000 faces on the same mesh, in one group.
+//! coarsest mesh, which makes every split compute its centroid translations), walking
+//! back down to the coarsest level again, against meshoptimizer's `simplify` to 2,000
+//! faces on the same mesh, in one group.
 //!
 //! Run: `cargo bench --bench hierarchy`.
 
@@ -88,6 +89,22 @@ fn bench(c: &mut Criterion) {
                 || built.clone(),
                 |mut h| {
                     h.refine_to(0).unwrap();
+                    h
+                },
+                BatchSize::LargeInput,
+            )
+        });
+        // Walking back to the coarsest level of a built hierarchy (what a level slider
+        // does): the records are collapsed again, without the build's decisions.
+        group.bench_function(format!("{name}_coarsen_again"), |b| {
+            b.iter_batched(
+                || {
+                    let mut h = built.clone();
+                    h.refine_to(0).unwrap();
+                    h
+                },
+                |mut h| {
+                    h.go_to_level(h.coarsest_level()).unwrap();
                     h
                 },
                 BatchSize::LargeInput,

@@ -488,6 +488,28 @@ impl Mesh {
     /// hierarchy calls this a few splits ahead (see [`crate::prefetch`]).
     #[inline]
     pub(crate) fn prefetch_split(&self, r: &CollapseRecord) {
+        self.prefetch_record(r);
+        for (v, &[old, new]) in r.record_vertices().into_iter().zip(&r.vertex_halfedges) {
+            if old != new {
+                crate::prefetch::prefetch(&self.vertex_conn, slot(v));
+            }
+        }
+    }
+
+    /// Prefetches what collapsing the edge of `r` again will touch first (as
+    /// [`prefetch_split`](Self::prefetch_split), and the outgoing halfedges of all four
+    /// record vertices, which the collapse reads).
+    #[inline]
+    pub(crate) fn prefetch_collapse(&self, r: &CollapseRecord) {
+        self.prefetch_record(r);
+        for v in r.record_vertices() {
+            crate::prefetch::prefetch(&self.vertex_conn, slot(v));
+        }
+    }
+
+    /// The elements both a collapse and a split of `r` touch.
+    #[inline]
+    fn prefetch_record(&self, r: &CollapseRecord) {
         use crate::prefetch::prefetch;
         let he = &self.he;
         prefetch(he, r.start as usize);
@@ -511,11 +533,6 @@ impl Mesh {
         for &[g, _, _] in &r.face_halfedges {
             prefetch(&self.face_conn, g as usize);
         }
-        for (v, &[old, new]) in r.record_vertices().into_iter().zip(&r.vertex_halfedges) {
-            if old != new {
-                prefetch(&self.vertex_conn, slot(v));
-            }
-        }
         prefetch(&self.positions, slot(r.v0));
         prefetch(&self.positions, slot(r.v1));
     }
@@ -528,10 +545,40 @@ impl Mesh {
     /// that only costs a useless prefetch.
     #[inline]
     pub(crate) fn prefetch_moved(&self, r: &CollapseRecord, step: u32) {
-        if step >= r.moved {
-            return;
+        if step < r.moved {
+            self.prefetch_ring(r.start as usize, step);
         }
-        let mut k = r.start as usize;
+    }
+
+    /// Prefetches, for collapsing `r` again, the `step`-th outgoing halfedge after the
+    /// one `v0` had when `r` was collapsed (the collapse walks `v0`'s whole ring, a chain
+    /// of dependent loads like the split's walk: see
+    /// [`prefetch_moved`](Self::prefetch_moved)). Step 0 also brings in the line that
+    /// tells whether each record vertex is on the boundary.
+    #[inline]
+    pub(crate) fn prefetch_collapse_ring(&self, r: &CollapseRecord, step: u32) {
+        if step == 0 {
+            for v in r.record_vertices() {
+                if let Some(&h) = self.vertex_conn.get(slot(v)) {
+                    crate::prefetch::prefetch(&self.he, h as usize);
+                }
+            }
+            // The faces beyond the two removed edges, whose halfedge may be re-chosen.
+            for x in [r.vlv0, r.v0vr].into_iter().flatten() {
+                if let Some(rec) = self.he.get(slot(x) ^ 1) {
+                    crate::prefetch::prefetch(&self.face_conn, rec.face as usize);
+                }
+            }
+        }
+        if step <= r.moved + 1 {
+            self.prefetch_ring(r.vertex_halfedges[0][0] as usize, step);
+        }
+    }
+
+    /// Walks `step + 1` counter-clockwise rotations (`opposite(prev(k))`) from halfedge
+    /// `k` and prefetches the halfedge reached; stops at an index out of range.
+    #[inline]
+    fn prefetch_ring(&self, mut k: usize, step: u32) {
         for _ in 0..=step {
             match self.he.get(k) {
                 Some(rec) => k = (rec.prev ^ 1) as usize,

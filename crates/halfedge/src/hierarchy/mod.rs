@@ -53,6 +53,10 @@ const SPLIT_PREFETCH_DISTANCE: usize = 8;
 /// How many splits ahead [`Hierarchy::split_next`] prefetches the first, second and third
 /// halfedge of the walk around `v1` of the record it will split.
 const MOVED_PREFETCH_DISTANCES: [usize; 3] = [6, 4, 2];
+/// How many collapses ahead [`Hierarchy::collapse_next`] prefetches the first, second, …
+/// halfedge of the walk around `v0` (the whole ring: one more than the split's walk and
+/// the removed edges).
+const RING_PREFETCH_DISTANCES: [usize; 6] = [7, 6, 5, 4, 3, 2];
 
 /// The simplification method of a [`Hierarchy`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -541,6 +545,14 @@ impl Hierarchy {
                 reason: crate::CollapseVeto::EdgeDeleted,
             });
         }
+        if let Some(ahead) = self.records.get(r + SPLIT_PREFETCH_DISTANCE) {
+            self.mesh.prefetch_collapse(ahead);
+        }
+        for (step, distance) in RING_PREFETCH_DISTANCES.into_iter().enumerate() {
+            if let Some(ahead) = self.records.get(r + distance) {
+                self.mesh.prefetch_collapse_ring(ahead, step as u32);
+            }
+        }
         let p0 = self.mesh.position(v0);
         let p1 = self.mesh.position(v1);
         let (placed, t) = self.placements[r];
@@ -550,7 +562,14 @@ impl Hierarchy {
             let residual = placed - (old.p1 + t * (old.p0 - old.p1));
             p1 + t * (p0 - p1) + residual
         };
-        let record = self.mesh.collapse(h)?;
+        // While the hierarchy trusts its mesh, the topology is exactly the one the build
+        // collapsed this record in (every step since was its own, and splits are exact
+        // inverses), so the collapse is as legal as it was then.
+        let record = if self.stamp.is_some() {
+            self.mesh.collapse_unchecked(h)
+        } else {
+            self.mesh.collapse(h)?
+        };
         if !clean {
             self.details.refresh(r, self.mesh.positions());
         }
