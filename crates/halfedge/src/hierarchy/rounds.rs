@@ -104,7 +104,15 @@ pub(crate) fn build(
     {
         round += 1;
         let faces_before = h.mesh.n_faces();
-        for &i in &edges {
+        for (j, &i) in edges.iter().enumerate() {
+            // The edges' data is scattered over arrays larger than the caches: ask for
+            // it a few edges ahead, in two stages (where the rings start, then the rings).
+            if let Some(&ahead) = edges.get(j + 12) {
+                prefetch_endpoints(&h.mesh, &lock, ahead as usize);
+            }
+            if let Some(&ahead) = edges.get(j + 6) {
+                prefetch_rings(&h.mesh, &normals, ahead as usize);
+            }
             let (g, p, t) = {
                 let mesh = &h.mesh;
                 let Some(e) = mesh.halfedge_at(i as usize) else {
@@ -169,6 +177,39 @@ pub(crate) fn build(
         }
     }
     Ok(())
+}
+
+/// Prefetches, for the edge of halfedge slot `i` (visited a few edges later), what tells
+/// whether it is locked and where its endpoints' rings start (see [`crate::prefetch`]).
+#[inline]
+fn prefetch_endpoints(mesh: &Mesh, lock: &[u32], i: usize) {
+    use crate::prefetch::prefetch;
+    for k in [i, i ^ 1] {
+        if let Some(rec) = mesh.he.get(k) {
+            let v = rec.to as usize;
+            prefetch(&mesh.vertex_conn, v);
+            prefetch(lock, v);
+            prefetch(&mesh.positions, v);
+        }
+    }
+}
+
+/// Prefetches the first halfedge of each endpoint's ring and the normal of its face, for
+/// the edge of halfedge slot `i` (after [`prefetch_endpoints`] brought in where they are).
+#[inline]
+fn prefetch_rings(mesh: &Mesh, normals: &[Vec3], i: usize) {
+    use crate::prefetch::prefetch;
+    for k in [i, i ^ 1] {
+        let Some(rec) = mesh.he.get(k) else {
+            continue;
+        };
+        if let Some(&out) = mesh.vertex_conn.get(rec.to as usize) {
+            prefetch(&mesh.he, out as usize);
+            if let Some(first) = mesh.he.get(out as usize) {
+                prefetch(normals, first.face as usize);
+            }
+        }
+    }
 }
 
 /// The direction of edge `e`/`o` to collapse: the first of `e`, `o` that is
