@@ -30,3 +30,17 @@ fn prefetch_line<T>(item: &T) {
 #[cfg(not(target_arch = "x86_64"))]
 #[inline(always)]
 fn prefetch_line<T>(_item: &T) {}
+
+#[cfg(test)]
+mod tests {
+    use super::prefetch;
+
+    #[test]
+    fn out_of_range_indices_are_ignored() {
+        let empty: [u64; 0] = [];
+        prefetch(&empty, 0);
+        prefetch(&[1u32, 2, 3], 3);
+        prefetch(&[1u32, 2, 3], usize::MAX);
+        prefetch(&[1u32, 2, 3], 2);
+    }
+}
