@@ -648,7 +648,8 @@ impl App {
                         Key::R if !command => self.frame_mesh(true),
                         Key::W if !command => self.settings.wireframe = !self.settings.wireframe,
                         Key::L if !command => self.settings.flat = !self.settings.flat,
-                        Key::P | Key::F12 if !command => {
+                        // (Not over a screenshot that a script is waiting for.)
+                        Key::P | Key::F12 if !command && self.screenshot.is_none() => {
                             self.screenshots_taken += 1;
                             let path = PathBuf::from(format!(
                                 "viewer-screenshot-{}.png",
