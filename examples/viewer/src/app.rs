@@ -2,10 +2,12 @@
 //! the scene, and runs one frame at a time (GUI, input, script step, rendering,
 //! screenshot).
 //!
-//! Mouse in the 3D view: a left press on the mesh goes to the active tool when it
-//! [wants a drag](crate::tools::Tool::wants_drag), otherwise a left drag orbits and a
-//! left click picks; right or middle drag (or shift + left) pans; the wheel zooms;
-//! ctrl/alt + left always orbits. Keys: `F` frame, `R` reset the view, `W` wireframe,
+//! Mouse in the 3D view: a left press goes to the active tool when it
+//! [grabs something](crate::tools::Tool::grab) along the mouse ray (by default: a vertex
+//! of the mesh it [wants to drag](crate::tools::Tool::wants_drag)), otherwise a left drag
+//! orbits and a left click picks; right or middle drag (or shift + left) pans; the wheel
+//! zooms; ctrl/alt + left always orbits. While a tool works in the background
+//! ([`Tool::poll`]) the view still orbits, pans and zooms, but nothing picks or edits. Keys: `F` frame, `R` reset the view, `W` wireframe,
 //! `L` flat / smooth, `P` or F12 screenshot (`viewer-screenshot-N.png` in the current
 //! directory), ctrl+Z undo, ctrl+Y or ctrl+shift+Z redo.
 
@@ -18,18 +20,23 @@ use halfedge::{generators, Mesh};
 use three_d::egui;
 use three_d::{ClearState, Event, FrameInput, FrameOutput, Key, MouseButton, GUI};
 
-use crate::camera::{OrbitCamera, UpAxis, Viewport};
+use crate::camera::{OrbitCamera, Ray, UpAxis, Viewport};
 use crate::colors::{legend_ui, ColorLayer, Colormap, Display};
 use crate::document::{Document, Revision};
 use crate::pick::Bvh;
 use crate::render::{RenderSettings, SceneRenderer};
 use crate::script::{Action, DragTarget, Shading, Step};
 use crate::tools::{
-    default_tools, Drag, DragPhase, Overlay, Pick, Status, Tool, ToolContext, ViewInfo,
+    default_tools, Background, Drag, DragPhase, Overlay, Pick, Press, Status, Tool, ToolContext,
+    ViewInfo,
 };
 
 /// Frames rendered before a script starts (egui lays out its panels on the first ones).
 const WARMUP_FRAMES: u64 = 3;
+
+/// Shortest frame while only background work keeps the viewer repainting, so that the
+/// repaints leave the worker most of the CPU.
+const BACKGROUND_FRAME: Duration = Duration::from_millis(50);
 
 /// How the application was started.
 #[derive(Clone, Debug, Default)]
@@ -53,9 +60,9 @@ enum Gesture {
     },
     Orbit,
     Pan,
-    /// A tool drag: the picked point moves in the plane through `start` facing the camera.
+    /// A tool drag: the grabbed point moves in the plane through `start` facing the camera.
     ToolDrag {
-        pick: Pick,
+        pick: Option<Pick>,
         start: DVec3,
         normal: DVec3,
         current: DVec3,
@@ -110,6 +117,10 @@ pub struct App {
     last_frame_polled: bool,
     script: Option<VecDeque<Step>>,
     script_failed: bool,
+    /// The script step run last, for messages.
+    last_step: String,
+    /// True while a tool works in the background (see [`Tool::poll`]).
+    background: bool,
     keep_open: bool,
     final_screenshot: Option<PathBuf>,
     screenshot: Option<PendingScreenshot>,
@@ -145,6 +156,8 @@ impl App {
             last_frame_polled: false,
             script: options.script,
             script_failed: false,
+            last_step: String::new(),
+            background: false,
             keep_open: options.keep_open,
             final_screenshot: options.screenshot,
             screenshot: None,
@@ -253,6 +266,15 @@ impl App {
 
     /// Runs `f` on the active tool with a context; times it when it changes the mesh.
     fn with_tool<R>(&mut self, f: impl FnOnce(&mut dyn Tool, &mut ToolContext<'_>) -> R) -> R {
+        self.with_tool_at(self.active, f)
+    }
+
+    /// Runs `f` on tool `index` with a context; times it when it changes the mesh.
+    fn with_tool_at<R>(
+        &mut self,
+        index: usize,
+        f: impl FnOnce(&mut dyn Tool, &mut ToolContext<'_>) -> R,
+    ) -> R {
         let before = self.doc.revision();
         let start = Instant::now();
         let view = self.view_info();
@@ -263,16 +285,41 @@ impl App {
             view,
             pick: self.pick,
         };
-        let tool = self.tools[self.active].as_mut();
+        let tool = self.tools[index].as_mut();
         let result = f(tool, &mut ctx);
         if self.doc.revision() != before {
             let label = self
                 .doc
                 .open_edit()
-                .map_or_else(|| self.tools[self.active].name().to_owned(), str::to_owned);
+                .map_or_else(|| self.tools[index].name().to_owned(), str::to_owned);
             self.last_op = Some((label, start.elapsed()));
         }
         result
+    }
+
+    /// Polls every tool's background work (see [`Tool::poll`]); a failure shows in the
+    /// status line and fails a running script.
+    fn poll_tools(&mut self) {
+        let mut running = false;
+        for i in 0..self.tools.len() {
+            match self.with_tool_at(i, |tool, ctx| tool.poll(ctx)) {
+                Background::Idle => {}
+                Background::Running => running = true,
+                Background::Failed(e) => {
+                    let message = format!("{}: {e}", self.tools[i].name());
+                    if self.script.is_some() {
+                        let what = self.last_step.clone();
+                        self.fail_script(&what, &message);
+                    } else {
+                        self.status = Status {
+                            message,
+                            is_error: true,
+                        };
+                    }
+                }
+            }
+        }
+        self.background = running;
     }
 
     fn select_tool(&mut self, index: usize) {
@@ -358,9 +405,14 @@ impl App {
     /// Ray-casts at a pixel of the window.
     fn pick_at(&mut self, px: f64, py: f64) -> Option<Pick> {
         let ray = self.camera.ray(px, py, &self.viewport);
+        self.cast(&ray)
+    }
+
+    /// What `ray` hits on the mesh.
+    fn cast(&mut self, ray: &Ray) -> Option<Pick> {
         self.bvh();
         let bvh = &self.bvh.as_ref().expect("built by bvh()").0;
-        let hit = bvh.intersect(self.doc.mesh(), &ray)?;
+        let hit = bvh.intersect(self.doc.mesh(), ray)?;
         Some(Pick {
             vertex: hit.nearest_vertex,
             face: Some(hit.face),
@@ -374,13 +426,29 @@ impl App {
         self.with_tool(|tool, ctx| tool.on_pick(pick.as_ref(), ctx));
     }
 
-    /// Starts a tool drag on `pick` if the active tool wants it.
-    fn begin_tool_drag(&mut self, pick: Pick) -> bool {
-        if !self.tools[self.active].wants_drag(&pick) {
+    /// The press at a pixel of the window: the mouse ray and what it hits.
+    fn press_at(&mut self, px: f64, py: f64) -> Press {
+        let ray = self.camera.ray(px, py, &self.viewport);
+        let hit = self.cast(&ray);
+        Press { ray, hit }
+    }
+
+    /// The window pixel (origin bottom-left) of a script's screen fraction (origin
+    /// top-left of the 3D view).
+    fn script_pixel(&self, x: f64, y: f64) -> (f64, f64) {
+        let vp = self.viewport;
+        (vp.x + x * vp.width, vp.y + (1.0 - y) * vp.height)
+    }
+
+    /// Starts a tool drag if the active tool grabs something at `press`.
+    fn begin_tool_drag(&mut self, press: Press) -> bool {
+        let Some(start) = self.tools[self.active].grab(&press, self.doc.mesh()) else {
             return false;
+        };
+        let pick = press.hit;
+        if pick.is_some() {
+            self.click(pick);
         }
-        self.click(Some(pick));
-        let start = self.doc.mesh().position(pick.vertex);
         let normal = self.camera.forward();
         self.gesture = Gesture::ToolDrag {
             pick,
@@ -471,14 +539,16 @@ impl App {
                     self.gesture = match button {
                         MouseButton::Left if modifiers.shift => Gesture::Pan,
                         MouseButton::Left if modifiers.ctrl || modifiers.alt => Gesture::Orbit,
+                        // Nothing may change the mesh while a tool works in the background.
+                        MouseButton::Left if self.background => Gesture::Orbit,
                         MouseButton::Left => {
-                            let hit = self.pick_at(px, py);
-                            match hit {
-                                Some(pick) if self.begin_tool_drag(pick) => continue,
-                                _ => Gesture::Pending {
-                                    press: (px, py),
-                                    hit,
-                                },
+                            let press = self.press_at(px, py);
+                            if self.begin_tool_drag(press) {
+                                continue;
+                            }
+                            Gesture::Pending {
+                                press: (px, py),
+                                hit: press.hit,
                             }
                         }
                         MouseButton::Right | MouseButton::Middle => Gesture::Pan,
@@ -555,6 +625,15 @@ impl App {
                         continue;
                     }
                     let command = modifiers.ctrl || modifiers.command;
+                    if command && matches!(kind, Key::Z | Key::Y) && self.background {
+                        self.status = Status {
+                            message: "Busy: undo and redo wait for the tool's work to finish"
+                                .into(),
+                            is_error: true,
+                        };
+                        *handled = true;
+                        continue;
+                    }
                     match kind {
                         Key::Z if command && modifiers.shift => {
                             self.redo();
@@ -569,7 +648,8 @@ impl App {
                         Key::R if !command => self.frame_mesh(true),
                         Key::W if !command => self.settings.wireframe = !self.settings.wireframe,
                         Key::L if !command => self.settings.flat = !self.settings.flat,
-                        Key::P | Key::F12 if !command => {
+                        // (Not over a screenshot that a script is waiting for.)
+                        Key::P | Key::F12 if !command && self.screenshot.is_none() => {
                             self.screenshots_taken += 1;
                             let path = PathBuf::from(format!(
                                 "viewer-screenshot-{}.png",
@@ -653,9 +733,14 @@ impl App {
         ui.weak(self.describe_mesh());
         ui.add_space(4.0);
 
+        // Nothing may change the mesh or the history while a tool works in the background.
+        let busy = self.background;
         egui::CollapsingHeader::new("File")
             .default_open(true)
             .show(ui, |ui| {
+                if busy {
+                    ui.disable();
+                }
                 let open = ui.horizontal(|ui| {
                     let field = ui.add(
                         egui::TextEdit::singleline(&mut self.open_path)
@@ -736,9 +821,11 @@ impl App {
             .default_open(true)
             .show(ui, |ui| {
                 let mut chosen = self.active;
-                for (i, tool) in self.tools.iter().enumerate() {
-                    ui.radio_value(&mut chosen, i, tool.name());
-                }
+                ui.add_enabled_ui(!busy, |ui| {
+                    for (i, tool) in self.tools.iter().enumerate() {
+                        ui.radio_value(&mut chosen, i, tool.name());
+                    }
+                });
                 if chosen != self.active {
                     self.select_tool(chosen);
                 }
@@ -785,6 +872,9 @@ impl App {
         egui::CollapsingHeader::new("History")
             .default_open(true)
             .show(ui, |ui| {
+                if busy {
+                    ui.disable();
+                }
                 ui.horizontal(|ui| {
                     let undo = ui.add_enabled(self.doc.undo_len() > 0, egui::Button::new("⟲ Undo"));
                     let redo = ui.add_enabled(self.doc.redo_len() > 0, egui::Button::new("⟳ Redo"));
@@ -839,11 +929,34 @@ impl App {
                 }
                 Ok(())
             }
-            Step::DragBegin { .. } => {
+            Step::DragBegin {
+                at: Some((x, y)), ..
+            } => {
+                let (px, py) = self.script_pixel(x, y);
+                let press = self.press_at(px, py);
+                if self.begin_tool_drag(press) {
+                    Ok(())
+                } else {
+                    Err(format!(
+                        "drag: tool {:?} grabs nothing at ({x}, {y})",
+                        self.tools[self.active].name()
+                    ))
+                }
+            }
+            Step::DragBegin { at: None, .. } => {
                 let pick = self
                     .pick
                     .ok_or("drag: nothing is picked (use pick_vertex, pick_face or pick_screen)")?;
-                if self.begin_tool_drag(pick) {
+                // The press a click on the picked point would make.
+                let origin = self.camera.eye();
+                let direction = (pick.point - origin)
+                    .try_normalize()
+                    .ok_or("drag: the picked point is at the eye")?;
+                let press = Press {
+                    ray: Ray { origin, direction },
+                    hit: Some(pick),
+                };
+                if self.begin_tool_drag(press) {
                     Ok(())
                 } else {
                     Err(format!(
@@ -977,9 +1090,7 @@ impl App {
                 Ok(())
             }
             Action::PickScreen { x, y } => {
-                let vp = self.viewport;
-                let px = vp.x + x * vp.width;
-                let py = vp.y + (1.0 - y) * vp.height;
+                let (px, py) = self.script_pixel(x, y);
                 let hit = self.pick_at(px, py);
                 self.click(hit);
                 if hit.is_none() {
@@ -1020,9 +1131,14 @@ impl App {
         }
     }
 
-    /// Advances the script by one step (when it is its turn).
+    /// Advances the script by one step (when it is its turn: after the warm-up, the
+    /// screenshot of the previous step, and the background work it started).
     fn script_tick(&mut self, frame: &FrameInput) {
-        if self.frame_index <= WARMUP_FRAMES || self.screenshot.is_some() || self.script_failed {
+        if self.frame_index <= WARMUP_FRAMES
+            || self.screenshot.is_some()
+            || self.script_failed
+            || self.background
+        {
             return;
         }
         let Some(script) = &mut self.script else {
@@ -1035,19 +1151,27 @@ impl App {
         };
         let what = match &step {
             Step::Action { index, action } => format!("action {index} ({})", action.name()),
-            Step::DragBegin { index } => format!("action {index} (drag)"),
+            Step::DragBegin { index, .. } => format!("action {index} (drag)"),
             _ => "drag".into(),
         };
         if let Err(e) = self.run_step(step, frame) {
-            eprintln!("viewer: script failed at {what}: {e}");
-            self.script_failed = true;
-            self.status = Status {
-                message: format!("Script failed at {what}: {e}"),
-                is_error: true,
-            };
-            if !self.keep_open {
-                std::process::exit(1);
-            }
+            self.fail_script(&what, &e);
+        }
+        self.last_step = what;
+        // Work the step started in the background holds the next step back.
+        self.poll_tools();
+    }
+
+    /// Stops the script at `what` (exits with status 1 unless kept open).
+    fn fail_script(&mut self, what: &str, error: &str) {
+        eprintln!("viewer: script failed at {what}: {error}");
+        self.script_failed = true;
+        self.status = Status {
+            message: format!("Script failed at {what}: {error}"),
+            is_error: true,
+        };
+        if !self.keep_open {
+            std::process::exit(1);
         }
     }
 
@@ -1066,6 +1190,7 @@ impl App {
     /// True while something needs frames without user input.
     fn busy(&self) -> bool {
         self.frame_index <= WARMUP_FRAMES
+            || self.background
             || self.script.is_some()
             || self.screenshot.is_some()
             || !matches!(self.gesture, Gesture::Idle)
@@ -1073,7 +1198,9 @@ impl App {
 
     /// One frame: script step, GUI, input, scene update, rendering, screenshot.
     pub fn frame(&mut self, mut input: FrameInput, gui: &mut GUI) -> FrameOutput {
+        let frame_start = Instant::now();
         self.frame_index += 1;
+        self.poll_tools();
         if self.last_frame_polled && self.frame_index > WARMUP_FRAMES {
             let ms = input.elapsed_time;
             self.frame_ms = Some(self.frame_ms.map_or(ms, |f| 0.8 * f + 0.2 * ms));
@@ -1095,6 +1222,8 @@ impl App {
             input.device_pixel_ratio,
             |ui| central = self.ui(ui),
         );
+        // A build started from the panel holds the mouse back from this frame on.
+        self.poll_tools();
         let window_height = input.viewport.height as f64;
         if central.is_positive() {
             self.viewport = Viewport {
@@ -1162,6 +1291,12 @@ impl App {
         }
 
         let busy = self.busy();
+        if self.background && !matches!(self.gesture, Gesture::Orbit | Gesture::Pan) {
+            // Repaint for the progress, but leave the worker the CPU.
+            if let Some(rest) = BACKGROUND_FRAME.checked_sub(frame_start.elapsed()) {
+                std::thread::sleep(rest);
+            }
+        }
         self.last_frame_polled = busy;
         FrameOutput {
             exit: false,

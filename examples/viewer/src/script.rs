@@ -23,14 +23,19 @@
 //! | `pick_vertex` | `index` | pick vertex `index` (its `vertex_index`, = its number in the file) |
 //! | `pick_face` | `index` | pick face `index` (at its centroid) |
 //! | `pick_screen` | `x`, `y` | ray-cast at a point of the view, like a click |
-//! | `drag` | `vector` `[x, y, z]`, `steps` (default 8) | drag the picked vertex by a world-space vector |
-//! | `drag_screen` | `dx`, `dy` (pixels), `steps` (default 8) | drag the picked vertex in the view plane, like the mouse |
+//! | `drag` | `vector` `[x, y, z]`, `steps` (default 8), `x`, `y` (optional) | drag the picked vertex (or what a press at `x`, `y` grabs) by a world-space vector |
+//! | `drag_screen` | `dx`, `dy` (pixels), `steps` (default 8), `x`, `y` (optional) | drag the picked vertex (or what a press at `x`, `y` grabs) in the view plane, like the mouse |
 //! | `apply` | — | the active tool's main action |
 //! | `undo` / `redo` | — | one step of the history |
 //! | `clear_colors` | — | back to the base colour |
 //! | `wait` | `frames` | render frames without doing anything |
 //! | `measure` | `frames` (default 60) | render frames while orbiting slowly, print frame-time statistics |
 //! | `quit` | — | stop the script here |
+//!
+//! A drag starts with a press: at `x`, `y` when given (the mouse ray there goes to the
+//! active tool, which may grab something off the mesh, such as an FFD control point),
+//! else on the picked point. An action whose tool keeps working in the background (the
+//! hierarchy build) holds the next action back until that work is done.
 //!
 //! The viewer exits when the script ends (with status 1 and a message if an action
 //! failed), unless started with `--keep-open`.
@@ -148,15 +153,22 @@ pub enum Action {
         /// 0 top … 1 bottom.
         y: f64,
     },
-    /// Drag the picked vertex by a world vector.
+    /// Drag the picked vertex (or what a press at `x`, `y` grabs) by a world vector.
     Drag {
         /// Displacement.
         vector: [f64; 3],
         /// Frames over which the drag is spread.
         #[serde(default = "default_steps")]
         steps: usize,
+        /// Press here (0 left … 1 right) instead of on the picked point.
+        #[serde(default)]
+        x: Option<f64>,
+        /// Press here (0 top … 1 bottom) instead of on the picked point.
+        #[serde(default)]
+        y: Option<f64>,
     },
-    /// Drag the picked vertex by pixels in the view plane.
+    /// Drag the picked vertex (or what a press at `x`, `y` grabs) by pixels in the view
+    /// plane.
     DragScreen {
         /// Pixels right.
         dx: f64,
@@ -165,6 +177,12 @@ pub enum Action {
         /// Frames over which the drag is spread.
         #[serde(default = "default_steps")]
         steps: usize,
+        /// Press here (0 left … 1 right) instead of on the picked point.
+        #[serde(default)]
+        x: Option<f64>,
+        /// Press here (0 top … 1 bottom) instead of on the picked point.
+        #[serde(default)]
+        y: Option<f64>,
     },
     /// The active tool's main action.
     Apply,
@@ -239,10 +257,12 @@ pub enum Step {
         /// The action.
         action: Action,
     },
-    /// Press on the picked vertex.
+    /// Press on the picked vertex, or at a point of the view.
     DragBegin {
         /// Index of the action in the script.
         index: usize,
+        /// Screen fractions `(x, y)` of the press (`None`: on the picked point).
+        at: Option<(f64, f64)>,
     },
     /// Move the dragged point.
     DragTo(DragTarget),
@@ -313,10 +333,19 @@ pub fn parse(text: &str) -> Result<Vec<Action>, ScriptError> {
     list.into_iter()
         .enumerate()
         .map(|(index, v)| {
-            serde_json::from_value::<Action>(v).map_err(|e| ScriptError::Action {
+            let action = serde_json::from_value::<Action>(v).map_err(|e| ScriptError::Action {
                 index,
                 message: e.to_string(),
-            })
+            })?;
+            if let Action::Drag { x, y, .. } | Action::DragScreen { x, y, .. } = &action {
+                if x.is_some() != y.is_some() {
+                    return Err(ScriptError::Action {
+                        index,
+                        message: format!("{}: give both x and y, or neither", action.name()),
+                    });
+                }
+            }
+            Ok(action)
         })
         .collect()
 }
@@ -326,18 +355,31 @@ pub fn expand(actions: Vec<Action>) -> VecDeque<Step> {
     let mut steps = VecDeque::new();
     for (index, action) in actions.into_iter().enumerate() {
         match action {
-            Action::Drag { vector, steps: n } => {
+            Action::Drag {
+                vector,
+                steps: n,
+                x,
+                y,
+            } => {
                 let n = n.max(1);
                 let v = DVec3::from_array(vector);
-                steps.push_back(Step::DragBegin { index });
+                let at = x.zip(y);
+                steps.push_back(Step::DragBegin { index, at });
                 for k in 1..=n {
                     steps.push_back(Step::DragTo(DragTarget::World(v * (k as f64 / n as f64))));
                 }
                 steps.push_back(Step::DragEnd);
             }
-            Action::DragScreen { dx, dy, steps: n } => {
+            Action::DragScreen {
+                dx,
+                dy,
+                steps: n,
+                x,
+                y,
+            } => {
                 let n = n.max(1);
-                steps.push_back(Step::DragBegin { index });
+                let at = x.zip(y);
+                steps.push_back(Step::DragBegin { index, at });
                 for k in 1..=n {
                     let f = k as f64 / n as f64;
                     steps.push_back(Step::DragTo(DragTarget::Screen(dx * f, dy * f)));
@@ -405,18 +447,39 @@ mod tests {
             Action::DragScreen {
                 dx: 10.0,
                 dy: -5.0,
-                steps: 8
+                steps: 8,
+                x: None,
+                y: None
             }
         );
         let steps = expand(actions);
         // load, orbit, zoom, view, select, set, pick = 7; drag = 1 + 2 + 1; drag_screen =
         // 1 + 8 + 1; undo, save, screenshot = 3; measure = 2 + 3; quit = 1.
         assert_eq!(steps.len(), 7 + 4 + 10 + 3 + 5 + 1);
-        assert_eq!(steps[7], Step::DragBegin { index: 7 });
+        assert_eq!(steps[7], Step::DragBegin { index: 7, at: None });
         assert_eq!(
             steps[9],
             Step::DragTo(DragTarget::World(DVec3::new(0.0, 0.1, 0.0)))
         );
+    }
+
+    #[test]
+    fn drags_may_press_at_a_point_of_the_view() {
+        let actions = parse(
+            r#"[{"action": "drag_screen", "x": 0.9, "y": 0.25, "dx": 0, "dy": -20, "steps": 2}]"#,
+        )
+        .unwrap();
+        let steps = expand(actions);
+        assert_eq!(
+            steps[0],
+            Step::DragBegin {
+                index: 0,
+                at: Some((0.9, 0.25))
+            }
+        );
+        assert_eq!(steps.len(), 4);
+        let err = parse(r#"[{"action": "drag", "vector": [0, 0, 1], "x": 0.5}]"#).unwrap_err();
+        assert!(err.to_string().contains("both x and y"), "{err}");
     }
 
     #[test]

@@ -12,7 +12,9 @@ use std::path::Path;
 use std::process::Command;
 
 use glam::DVec3;
-use halfedge::{generators, Mesh};
+use halfedge::{generators, Hierarchy, HierarchyOptions, Mesh};
+use viewer::camera::{OrbitCamera, UpAxis, Viewport};
+use viewer::pick::Bvh;
 
 /// Runs a script on `input` and asserts success.
 fn run_script(prefix: Command, name: &str, dir: &Path, input: &Path, actions: serde_json::Value) {
@@ -327,6 +329,228 @@ fn ffd_identity_drag_footprint_and_undo() {
     let twisted = read(&p("twisted.obj"));
     twisted.check().unwrap();
     assert_ne!(twisted.positions(), dragged.positions());
+    assert_screenshot(&p("shot.png"));
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// The live positions of `mesh`, sorted (a saved level is compacted: compare as sets).
+fn sorted_positions(mesh: &Mesh) -> Vec<[u64; 3]> {
+    let mut p: Vec<[u64; 3]> = mesh
+        .vertices()
+        .map(|v| mesh.position(v).to_array().map(f64::to_bits))
+        .collect();
+    p.sort_unstable();
+    p
+}
+
+#[test]
+fn multires_builds_in_the_background_and_scripts_wait_for_the_levels() {
+    let Some(prefix) = display_command() else {
+        return;
+    };
+    let dir = scratch_dir("multires-build");
+    let input = dir.join("sphere.obj");
+    let original = generators::icosphere(4);
+    halfedge::io::write_obj(&input, &original).unwrap();
+    let p = |name: &str| dir.join(name);
+    // What the builds give when run directly, as before they moved to a thread.
+    let rounds = HierarchyOptions::rounds()
+        .with_max_normal_deviation(90f64.to_radians())
+        .with_target_faces(200);
+    let mut direct = Hierarchy::build(original.clone(), &rounds).unwrap();
+    let coarsest = direct.coarsest_level();
+    assert!(coarsest >= 2);
+    let qem = HierarchyOptions::qem().with_target_faces(300);
+    let direct_qem = Hierarchy::build(original.clone(), &qem).unwrap();
+    assert!(direct_qem.coarsest_level() >= 2);
+
+    let mut actions = vec![
+        serde_json::json!({"action": "select_tool", "tool": "multiresolution"}),
+        serde_json::json!({"action": "set", "param": "method", "value": "rounds"}),
+        serde_json::json!({"action": "set", "param": "target_faces", "value": 200}),
+        // The build runs on a thread; the next action waits for it.
+        serde_json::json!({"action": "apply"}),
+    ];
+    for level in 1..=coarsest {
+        actions.push(serde_json::json!({"action": "set", "param": "level", "value": level}));
+        actions
+            .push(serde_json::json!({"action": "save", "path": p(&format!("rounds-{level}.obj"))}));
+    }
+    actions.push(serde_json::json!({"action": "screenshot", "path": p("shot.png")}));
+    for _ in 1..=coarsest {
+        actions.push(serde_json::json!({"action": "undo"}));
+    }
+    actions.extend([
+        serde_json::json!({"action": "save", "path": p("undone.obj")}),
+        serde_json::json!({"action": "set", "param": "method", "value": "qem"}),
+        serde_json::json!({"action": "set", "param": "target_faces", "value": 300}),
+        serde_json::json!({"action": "apply"}),
+        serde_json::json!({"action": "set", "param": "level", "value": 2}),
+        serde_json::json!({"action": "save", "path": p("qem-2.obj")}),
+    ]);
+    run_script(
+        prefix,
+        "multires-build",
+        &dir,
+        &input,
+        serde_json::Value::Array(actions),
+    );
+    for level in 1..=coarsest {
+        let saved = read(&p(&format!("rounds-{level}.obj")));
+        saved.check().unwrap();
+        direct.go_to_level(level).unwrap();
+        assert_eq!(
+            saved.n_faces(),
+            direct.level_face_counts()[level],
+            "level {level}"
+        );
+        assert_eq!(saved.n_vertices(), direct.mesh().n_vertices());
+        assert_eq!(
+            sorted_positions(&saved),
+            sorted_positions(direct.mesh()),
+            "level {level}: other positions than the direct build's"
+        );
+    }
+    let undone = read(&p("undone.obj"));
+    assert_eq!(undone.positions(), original.positions());
+    assert_eq!(undone.n_faces(), original.n_faces());
+    let qem2 = read(&p("qem-2.obj"));
+    qem2.check().unwrap();
+    assert_eq!(qem2.n_faces(), direct_qem.level_face_counts()[2]);
+    assert_screenshot(&p("shot.png"));
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// The size in pixels of the 3D view of a `size` window, as the viewer's `measure` prints it.
+fn view_size(prefix: Command, dir: &Path, input: &Path, size: &str) -> (f64, f64) {
+    let script = dir.join("measure.json");
+    std::fs::write(
+        &script,
+        serde_json::json!([{"action": "measure", "frames": 1}]).to_string(),
+    )
+    .unwrap();
+    let out = common::run_viewer(
+        prefix,
+        &[
+            input.as_os_str(),
+            "--script".as_ref(),
+            script.as_os_str(),
+            "--size".as_ref(),
+            size.as_ref(),
+            "--msaa".as_ref(),
+            "0".as_ref(),
+        ],
+        std::time::Duration::from_secs(120),
+    );
+    assert!(out.status.success(), "{}", common::display(&out));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let view = stdout
+        .split("view ")
+        .nth(1)
+        .and_then(|s| s.split(':').next())
+        .unwrap_or_else(|| panic!("no view size in {stdout}"));
+    let (w, h) = view.split_once('x').expect("WxH");
+    (w.trim().parse().unwrap(), h.trim().parse().unwrap())
+}
+
+#[test]
+fn ffd_press_beyond_the_silhouette_grabs_a_control_point() {
+    let Some(prefix) = display_command() else {
+        return;
+    };
+    let dir = scratch_dir("ffd-ray");
+    let input = dir.join("terrain.obj");
+    let mut original = generators::grid(30, 20, 3.0, 2.0);
+    for p in original.positions_mut() {
+        p.z = 0.1 * (2.0 * p.x).sin() * (3.0 * p.y).cos();
+    }
+    halfedge::io::write_obj(&input, &original).unwrap();
+    let size = "900x640";
+    let (width, height) = view_size(display_command().unwrap(), &dir, &input, size);
+    // The FFD as the tool attaches it (global, 6 × 6 bicubic): its corner control point
+    // S(0, 0) lies 5 % beyond the corner of the sheet.
+    let (lo, hi) = original.bounding_box().unwrap();
+    let frame = edit::ffd::Frame::new(lo, DVec3::X, DVec3::Z).unwrap();
+    let ffd = edit::ffd::Ffd::covering(
+        &original,
+        edit::selection::Vertices::All,
+        frame,
+        ([3, 3], [6, 6]),
+        ([3, 3], [6, 6]),
+        0.05,
+        edit::ffd::AttachOptions::default(),
+    )
+    .unwrap();
+    let corner = ffd.shape().control_point(0, 0).unwrap();
+    // Where the viewer's freshly framed camera shows it.
+    let camera = OrbitCamera::framing(lo, hi, UpAxis::Y);
+    let viewport = Viewport {
+        x: 0.0,
+        y: 0.0,
+        width,
+        height,
+    };
+    let (px, py, _) = camera.project(corner, &viewport).expect("in front");
+    let (x, y) = (px / width, 1.0 - py / height);
+    assert!(
+        (0.05..0.95).contains(&x) && (0.05..0.95).contains(&y),
+        "({x}, {y})"
+    );
+    let ray = camera.ray(px, py, &viewport);
+    assert!(
+        Bvh::build(&original).intersect(&original, &ray).is_none(),
+        "the press at ({x}, {y}) should miss the sheet"
+    );
+    let p = |name: &str| dir.join(name);
+    run_script(
+        prefix,
+        "ffd-ray",
+        &dir,
+        &input,
+        serde_json::json!([
+            {"action": "select_tool", "tool": "ffd"},
+            {"action": "set", "param": "grid_u", "value": 6},
+            {"action": "set", "param": "grid_v", "value": 6},
+            {"action": "set", "param": "mode", "value": "global"},
+            {"action": "set", "param": "attach", "value": true},
+            {"action": "set", "param": "operation", "value": "bend"},
+            {"action": "set", "param": "bend", "value": 0},
+            {"action": "apply"},
+            {"action": "save", "path": p("identity.obj")},
+            {"action": "drag", "x": x, "y": y, "vector": [0.0, 0.0, 0.5], "steps": 3},
+            {"action": "save", "path": p("dragged.obj")},
+            {"action": "screenshot", "path": p("shot.png")},
+            {"action": "undo"},
+            {"action": "undo"},
+            {"action": "save", "path": p("undone.obj")}
+        ]),
+    );
+    let identity = read(&p("identity.obj"));
+    let dragged = read(&p("dragged.obj"));
+    dragged.check().unwrap();
+    // S(0, 0) (or H(0, 0) drawn over it) only reaches u, v < 1/3 (knots 0,0,0,0,1/3,…):
+    // the corner at low x and high y (the frame's v runs along −y).
+    let limit = ffd.shape().evaluate(1.0 / 3.0, 1.0 / 3.0);
+    assert!(limit.x < 0.5 * (lo.x + hi.x) && limit.y > 0.5 * (lo.y + hi.y));
+    let eps = 1e-9;
+    let mut moved = 0;
+    for (i, (a, b)) in identity
+        .positions()
+        .iter()
+        .zip(dragged.positions())
+        .enumerate()
+    {
+        if a != b {
+            let q = original.positions()[i];
+            assert!(
+                q.x < limit.x + eps && q.y > limit.y - eps,
+                "vertex {i} at {q} moved, away from the grabbed corner"
+            );
+            moved += 1;
+        }
+    }
+    assert!(moved > 10, "only {moved} vertices moved: nothing grabbed?");
+    assert_eq!(read(&p("undone.obj")).positions(), original.positions());
     assert_screenshot(&p("shot.png"));
     std::fs::remove_dir_all(&dir).ok();
 }

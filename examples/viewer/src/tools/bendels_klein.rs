@@ -638,7 +638,10 @@ impl Tool for BendelsKlein {
                 Ok(())
             }
             DragPhase::Move | DragPhase::End => {
-                if !self.is_handle(ctx.mesh(), drag.pick.vertex) {
+                if !drag
+                    .pick
+                    .is_some_and(|p| self.is_handle(ctx.mesh(), p.vertex))
+                {
                     return;
                 }
                 let t = self.drag_base + drag.delta();

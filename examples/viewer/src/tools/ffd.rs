@@ -11,9 +11,10 @@
 //!
 //! The control nets are drawn over the mesh: `S` in orange at its place under the object,
 //! `H` in blue on top of it (its frame height is drawn scaled by the object's height;
-//! pinned points are grey). Press near a control point (along the mouse ray) and drag:
-//! the mesh follows live, one undo step per drag; for `H` only the height counts (`h ↦
-//! H_y h`). The ready operations *bend*, *taper* and *twist* act on the current surfaces.
+//! pinned points are grey). Press near a control point and drag: the press grabs the
+//! unpinned control point nearest to the mouse ray (within about 2°), whether or not the
+//! ray meets the mesh, so points beyond the silhouette can be grabbed too; the mesh
+//! follows live, one undo step per drag; for `H` only the height counts (`h ↦ H_y h`). The ready operations *bend*, *taper* and *twist* act on the current surfaces.
 //! Undo and redo bring the surfaces back with the positions they produced.
 
 use std::cell::Cell;
@@ -25,10 +26,11 @@ use halfedge::Mesh;
 use three_d::egui;
 
 use super::{
-    bool_param, number_param, string_param, Drag, DragPhase, Overlay, Pick, SharedLabels, Tool,
-    ToolContext, ToolError, ViewInfo,
+    bool_param, number_param, string_param, Drag, DragPhase, Overlay, Pick, Press, SharedLabels,
+    Tool, ToolContext, ToolError,
 };
 use crate::app::group;
+use crate::camera::Ray;
 use crate::colors::Rgba;
 
 /// Which control net.
@@ -61,6 +63,33 @@ const SHAPE_COLOR: Rgba = [255, 140, 30, 255];
 const HEIGHT_COLOR: Rgba = [60, 150, 255, 255];
 const PINNED_COLOR: Rgba = [140, 140, 140, 255];
 const SELECTED_COLOR: Rgba = [230, 30, 60, 255];
+
+/// Largest angle (radians, about 2°) between the mouse ray and the direction from the eye
+/// to a control point for a press to grab it.
+pub const GRAB_ANGLE: f64 = 0.035;
+
+/// The key of the point nearest to `ray` by the angle seen from its origin, among the
+/// points in front of the origin within `max_angle` radians (`None` if there is none).
+/// Used to grab control points with the mouse ray, on the mesh or beyond it.
+pub fn nearest_to_ray<K>(
+    ray: &Ray,
+    points: impl IntoIterator<Item = (K, DVec3)>,
+    max_angle: f64,
+) -> Option<K> {
+    let mut best: Option<(f64, K)> = None;
+    for (key, p) in points {
+        let d = p - ray.origin;
+        let along = d.dot(ray.direction);
+        if along <= 0.0 {
+            continue;
+        }
+        let angle = (d - along * ray.direction).length().atan2(along);
+        if angle <= max_angle && best.as_ref().is_none_or(|(b, _)| angle < *b) {
+            best = Some((angle, key));
+        }
+    }
+    best.map(|(_, key)| key)
+}
 
 /// An attached FFD with what the tool needs around it.
 struct Attached {
@@ -109,7 +138,6 @@ pub struct FfdTool {
     armed: bool,
     selected: Option<(Net, usize, usize)>,
     drag: Option<ControlDrag>,
-    view: Option<ViewInfo>,
     note: Option<String>,
 }
 
@@ -130,7 +158,6 @@ impl FfdTool {
             armed: false,
             selected: None,
             drag: None,
-            view: None,
             note: None,
         }
     }
@@ -315,36 +342,25 @@ impl FfdTool {
         }
     }
 
-    /// The unpinned control point nearest to the ray from the eye through `point`, within
-    /// about 2° of it.
-    fn nearest(&self, point: DVec3) -> Option<(Net, usize, usize)> {
-        let st = self.state.as_ref()?;
-        let view = self.view?;
-        let dir = (point - view.eye).try_normalize()?;
-        let mut best: Option<(f64, (Net, usize, usize))> = None;
-        for net in [Net::Shape, Net::Height] {
-            let [cu, cv] = st.ffd.shape().count();
-            for i in 0..cu {
-                for j in 0..cv {
+    /// The unpinned control points with where they are drawn.
+    fn grabbable(st: &Attached) -> impl Iterator<Item = ((Net, usize, usize), DVec3)> + '_ {
+        let [cu, cv] = st.ffd.shape().count();
+        [Net::Shape, Net::Height].into_iter().flat_map(move |net| {
+            (0..cu).flat_map(move |i| {
+                (0..cv).filter_map(move |j| {
                     if Self::is_pinned(st, net, i, j) {
-                        continue;
+                        return None;
                     }
-                    let Some(p) = Self::displayed(st, net, i, j) else {
-                        continue;
-                    };
-                    let d = p - view.eye;
-                    let along = d.dot(dir);
-                    if along <= 0.0 {
-                        continue;
-                    }
-                    let angle = (d - along * dir).length() / along;
-                    if angle < 0.035 && best.is_none_or(|(b, _)| angle < b) {
-                        best = Some((angle, (net, i, j)));
-                    }
-                }
-            }
-        }
-        best.map(|(_, c)| c)
+                    Some(((net, i, j), Self::displayed(st, net, i, j)?))
+                })
+            })
+        })
+    }
+
+    /// The unpinned control point nearest to `ray`, within [`GRAB_ANGLE`] of it.
+    fn nearest(&self, ray: &Ray) -> Option<(Net, usize, usize)> {
+        let st = self.state.as_ref()?;
+        nearest_to_ray(ray, Self::grabbable(st), GRAB_ANGLE)
     }
 
     /// Moves control point `c` so that it is drawn at `target`.
@@ -417,7 +433,6 @@ impl Tool for FfdTool {
     }
 
     fn ui(&mut self, ui: &mut egui::Ui, ctx: &mut ToolContext<'_>) {
-        self.view = Some(ctx.view);
         if let Some(note) = self.note.take() {
             ctx.info(note);
         }
@@ -495,30 +510,28 @@ impl Tool for FfdTool {
         }
     }
 
-    fn on_pick(&mut self, pick: Option<&Pick>, _ctx: &mut ToolContext<'_>) {
-        if let Some(p) = pick {
-            if !self.armed {
-                if let Some(c) = self.nearest(p.point) {
-                    self.selected = Some(c);
-                }
-            }
+    fn on_pick(&mut self, pick: Option<&Pick>, ctx: &mut ToolContext<'_>) {
+        let (Some(p), false) = (pick, self.armed) else {
+            return;
+        };
+        let origin = ctx.view.eye;
+        let Some(direction) = (p.point - origin).try_normalize() else {
+            return;
+        };
+        if let Some(c) = self.nearest(&Ray { origin, direction }) {
+            self.selected = Some(c);
         }
     }
 
-    fn wants_drag(&self, pick: &Pick) -> bool {
-        if self.state.is_none() {
-            return false;
-        }
-        if self.armed {
-            return true;
-        }
-        match self.nearest(pick.point) {
-            Some(c) => {
-                self.pending.set(Some(c));
-                true
-            }
-            None => false,
-        }
+    fn grab(&self, press: &Press, _mesh: &Mesh) -> Option<DVec3> {
+        let st = self.state.as_ref()?;
+        // A control point chosen by a script goes wherever the press is.
+        let c = match self.pending.get() {
+            Some(c) if self.armed => c,
+            _ => self.nearest(&press.ray)?,
+        };
+        self.pending.set(Some(c));
+        Self::displayed(st, c.0, c.1, c.2)
     }
 
     fn on_drag(&mut self, drag: &Drag, ctx: &mut ToolContext<'_>) {
@@ -743,5 +756,139 @@ impl Tool for FfdTool {
                 self.note = Some("FFD detached: the positions are not ones it made".into());
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::colors::Display;
+    use crate::document::Document;
+    use crate::pick::Bvh;
+    use crate::tools::{Status, ViewInfo};
+    use halfedge::generators;
+
+    fn ray_towards(origin: DVec3, target: DVec3) -> Ray {
+        Ray {
+            origin,
+            direction: (target - origin).normalize(),
+        }
+    }
+
+    #[test]
+    fn nearest_to_ray_takes_the_smallest_angle_in_front_within_the_limit() {
+        let eye = DVec3::new(0.0, 0.0, 10.0);
+        let ray = ray_towards(eye, DVec3::ZERO);
+        let points = [
+            ("far off", DVec3::new(3.0, 0.0, 0.0)),
+            // Angle 0.2 / 10 = 0.02 rad.
+            ("near", DVec3::new(0.2, 0.0, 0.0)),
+            // Angle 0.1 / 5 = 0.02 rad as well, but 0.15 / 5 = 0.03 rad here.
+            ("closer to the eye", DVec3::new(0.0, 0.15, 5.0)),
+            // On the line but behind the eye.
+            ("behind", DVec3::new(0.0, 0.0, 20.0)),
+        ];
+        assert_eq!(nearest_to_ray(&ray, points, GRAB_ANGLE), Some("near"));
+        // The angle, not the distance, decides: 0.1 at depth 9 beats 0.2 at depth 10.
+        let closer = [
+            ("a", DVec3::new(0.2, 0.0, 0.0)),
+            ("b", DVec3::new(0.0, 0.1, 1.0)),
+        ];
+        assert_eq!(nearest_to_ray(&ray, closer, GRAB_ANGLE), Some("b"));
+        assert_eq!(
+            nearest_to_ray(&ray, [("x", DVec3::new(0.5, 0.0, 0.0))], GRAB_ANGLE),
+            None
+        );
+        assert_eq!(
+            nearest_to_ray(&ray, [("behind", DVec3::new(0.0, 0.0, 11.0))], 1.0),
+            None
+        );
+        assert_eq!(nearest_to_ray::<u8>(&ray, [], GRAB_ANGLE), None);
+    }
+
+    #[test]
+    fn a_press_grabs_a_control_point_beyond_the_silhouette() {
+        // A flat 3 × 2 sheet in the xy plane: the FFD's shape surface is grown by 5 %, so
+        // its corner control points lie outside the sheet.
+        let mesh = generators::grid(12, 8, 3.0, 2.0);
+        let mut doc = Document::new(mesh.clone(), None, None);
+        let (mut display, mut status) = (Display::default(), Status::default());
+        let eye = DVec3::new(0.4, -0.3, 8.0);
+        let mut ctx = ToolContext {
+            doc: &mut doc,
+            display: &mut display,
+            status: &mut status,
+            view: ViewInfo {
+                eye,
+                forward: DVec3::NEG_Z,
+                right: DVec3::X,
+                up: DVec3::Y,
+                scene_radius: 2.0,
+            },
+            pick: None,
+        };
+        let mut tool = FfdTool::new(SharedLabels::default());
+        tool.grid = [6, 6];
+        tool.attach(&mut ctx).unwrap();
+        let st = tool.state.as_ref().unwrap();
+        let corner = FfdTool::displayed(st, Net::Shape, 0, 0).unwrap();
+        let ray = ray_towards(eye, corner);
+        let bvh = Bvh::build(&mesh);
+        assert!(
+            bvh.intersect(&mesh, &ray).is_none(),
+            "the ray towards the corner control point {corner} should miss the sheet"
+        );
+        let press = Press { ray, hit: None };
+        let grabbed = tool
+            .grab(&press, &mesh)
+            .expect("the corner control point is grabbed");
+        // S(0, 0) or H(0, 0), drawn over it: both sit on the ray through the corner.
+        let c = tool.pending.get().unwrap();
+        assert_eq!((c.1, c.2), (0, 0));
+        assert!(FfdTool::displayed(st, c.0, 0, 0) == Some(grabbed));
+        // Dragging it moves the mesh near that corner only.
+        let start = grabbed;
+        for (phase, t) in [
+            (DragPhase::Start, 0.0),
+            (DragPhase::Move, 0.3),
+            (DragPhase::End, 0.5),
+        ] {
+            let drag = Drag {
+                phase,
+                pick: None,
+                start,
+                current: start + DVec3::new(0.0, 0.0, t),
+            };
+            tool.on_drag(&drag, &mut ctx);
+        }
+        ctx.doc.end_edit();
+        // (Vertices outside the support are evaluated again too: allow for rounding.)
+        let moved: Vec<usize> = (0..mesh.vertex_slots())
+            .filter(|&i| (ctx.mesh().positions()[i] - mesh.positions()[i]).length() > 1e-9)
+            .collect();
+        assert!(!moved.is_empty(), "{}", ctx.status.message);
+        let (lo, hi) = mesh.bounding_box().unwrap();
+        let centre = 0.5 * (lo + hi);
+        let near_corner = |p: DVec3| (p.x - corner.x).abs() < (centre.x - corner.x).abs();
+        for &i in &moved {
+            assert!(
+                near_corner(mesh.positions()[i]),
+                "vertex {i} far from the corner moved"
+            );
+        }
+        // One undo step for the drag gives the sheet back.
+        assert_eq!(ctx.doc.undo().as_deref(), Some("FFD drag"));
+        assert_eq!(ctx.mesh().positions(), mesh.positions());
+        // A ray well away from every control point grabs nothing.
+        let away = ray_towards(eye, DVec3::new(20.0, 20.0, 0.0));
+        assert!(tool
+            .grab(
+                &Press {
+                    ray: away,
+                    hit: None
+                },
+                &mesh
+            )
+            .is_none());
     }
 }

@@ -484,12 +484,12 @@ impl Tool for LeeAreaEdit {
         let result = (|| -> Result<(), ToolError> {
             match drag.phase {
                 DragPhase::Start => {
-                    let v = drag.pick.vertex;
-                    if !self.is_interior(ctx.mesh(), v) {
+                    let v = drag.pick.map(|p| p.vertex);
+                    let Some(v) = v.filter(|&v| self.is_interior(ctx.mesh(), v)) else {
                         return Err(ToolError::new(
                             "press on an interior vertex of the editing area to drag",
                         ));
-                    }
+                    };
                     let scratch = self.scratch.sync(ctx.doc);
                     let session = self.session.as_mut().expect("checked by is_interior");
                     if !self.primitive.contains(&v) {
@@ -505,7 +505,10 @@ impl Tool for LeeAreaEdit {
                     let Some(session) = &mut self.session else {
                         return Ok(());
                     };
-                    if session.primitive().is_empty() || !self.primitive.contains(&drag.pick.vertex)
+                    if session.primitive().is_empty()
+                        || !drag
+                            .pick
+                            .is_some_and(|p| self.primitive.contains(&p.vertex))
                     {
                         return Ok(());
                     }

@@ -6,14 +6,21 @@
 //! - [`Tool::ui`] draws its parameters and buttons in the side panel, every frame;
 //! - [`Tool::on_pick`] hears about clicks on the mesh (the viewer ray-casts: the face hit,
 //!   the nearest corner, the point) or on empty space;
-//! - [`Tool::wants_drag`] decides whether a press on the mesh starts a drag for the tool
-//!   (otherwise the left button orbits), and [`Tool::on_drag`] then receives the picked
-//!   point moved in the view plane (start, every move, end);
+//! - [`Tool::grab`] hears about every left press in the 3D view (the mouse ray and what
+//!   it hit) and decides whether it starts a drag for the tool (otherwise the left button
+//!   orbits); by default it grabs the picked vertex when [`Tool::wants_drag`] accepts the
+//!   hit, and tools with handles off the mesh (FFD control points) grab along the ray.
+//!   [`Tool::on_drag`] then receives the grabbed point moved in the view plane (start,
+//!   every move, end);
 //! - [`Tool::apply`] is the tool's main action (its *Apply* button, the script's `apply`);
 //! - [`Tool::set_parameter`] / [`Tool::parameters`] expose the parameters to scripts;
 //! - [`Tool::overlay`] adds markers and segments drawn over the mesh;
 //! - [`Tool::on_mesh_replaced`] drops state that refers to a mesh that is gone (after
-//!   loading a file, undo or redo).
+//!   loading a file, undo or redo);
+//! - [`Tool::poll`] reports work running on another thread (the hierarchy build of
+//!   *Multiresolution*): while it runs the viewer keeps repainting, keeps the mesh and
+//!   the history from changing (no picks, tool switches, undo or loading), and a script
+//!   waits for it before its next action.
 //!
 //! Every callback receives a [`ToolContext`]: the document (edits go through
 //! [`ToolContext::begin_edit`] / [`ToolContext::positions_mut`] / [`ToolContext::mesh_mut`],
@@ -46,6 +53,7 @@ use glam::DVec3;
 use halfedge::{FaceId, Mesh, VertexId};
 use three_d::egui;
 
+use crate::camera::Ray;
 use crate::colors::{ColorLayer, Colormap, Display, LabelField, LabelTarget, Rgba, ScalarField};
 use crate::document::Document;
 
@@ -74,10 +82,30 @@ pub struct Pick {
     pub point: DVec3,
 }
 
+/// A left-button press in the 3D view (or the start of a scripted drag).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Press {
+    /// The ray from the eye through the pressed pixel (unit direction).
+    pub ray: Ray,
+    /// What the ray hit on the mesh, if anything.
+    pub hit: Option<Pick>,
+}
+
+/// What a tool's background work is doing (see [`Tool::poll`]).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Background {
+    /// Nothing runs (or it just finished well: the tool has updated the status line).
+    Idle,
+    /// Work is running on another thread.
+    Running,
+    /// The work just failed: the viewer shows the error and fails a running script.
+    Failed(ToolError),
+}
+
 /// Phase of a drag gesture.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum DragPhase {
-    /// The button went down on the mesh (`current == start`).
+    /// The button went down on what the tool grabbed (`current == start`).
     Start,
     /// The mouse moved.
     Move,
@@ -85,15 +113,17 @@ pub enum DragPhase {
     End,
 }
 
-/// A drag of a picked point in the view plane: the plane through the picked point facing
-/// the camera, so the point stays under the mouse.
+/// A drag of a grabbed point in the view plane: the plane through the point facing the
+/// camera, so the point stays under the mouse.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Drag {
     /// Start, move or end.
     pub phase: DragPhase,
-    /// What was picked when the drag started.
-    pub pick: Pick,
-    /// Where the dragged point started (the picked vertex's position).
+    /// What was picked on the mesh when the drag started (`None` when the tool grabbed
+    /// something off the mesh, see [`Tool::grab`]).
+    pub pick: Option<Pick>,
+    /// Where the dragged point started (what [`Tool::grab`] returned: by default the
+    /// picked vertex's position).
     pub start: DVec3,
     /// Where it is now.
     pub current: DVec3,
@@ -349,10 +379,21 @@ pub trait Tool {
 
     /// True when a left-button press on `pick` starts a drag for this tool (then
     /// [`on_pick`](Tool::on_pick) and [`on_drag`](Tool::on_drag) follow); false lets the
-    /// press orbit the camera.
+    /// press orbit the camera. Only asked by the default [`grab`](Tool::grab).
     fn wants_drag(&self, pick: &Pick) -> bool {
         let _ = pick;
         false
+    }
+
+    /// A left-button press: returns the point a drag for this tool starts from (the drag
+    /// moves it in the plane through it facing the camera), or `None` to let the press
+    /// orbit the camera (and click when released in place). The default grabs the picked
+    /// vertex when the ray hit the mesh and [`wants_drag`](Tool::wants_drag) accepts the
+    /// hit; tools with handles off the surface look along `press.ray` instead.
+    fn grab(&self, press: &Press, mesh: &Mesh) -> Option<DVec3> {
+        let pick = press.hit.as_ref()?;
+        (mesh.is_valid_vertex(pick.vertex) && self.wants_drag(pick))
+            .then(|| mesh.position(pick.vertex))
     }
 
     /// A drag in the view plane (start, moves, end).
@@ -403,5 +444,14 @@ pub trait Tool {
     /// Another tool became the active one.
     fn deactivate(&mut self, ctx: &mut ToolContext<'_>) {
         let _ = ctx;
+    }
+
+    /// Called every frame (for every tool, active or not): checks on work running on
+    /// another thread and takes in its result when it is done. While it returns
+    /// [`Background::Running`], the viewer keeps the mesh, the history and the active tool
+    /// as they are and a script waits before its next action.
+    fn poll(&mut self, ctx: &mut ToolContext<'_>) -> Background {
+        let _ = ctx;
+        Background::Idle
     }
 }

@@ -3,6 +3,10 @@
 //!
 //! - **Build** a [`Hierarchy`] of the current mesh with the paper's rounds or a QEM
 //!   decimation, down to a target face count; the document stays at the finest level.
+//!   The build runs on its own thread (a copy of the mesh moves in, the hierarchy comes
+//!   back through a channel) while the panel shows its progress (levels done, faces left);
+//!   the viewer stays responsive and keeps the mesh unchanged until it returns
+//!   ([`Tool::poll`]).
 //! - **Level slider**: coarsens or refines with the hierarchy's detail coefficients. Edits
 //!   made by other tools at a coarse level ride along to the finer levels: before moving,
 //!   the document's positions are copied into the hierarchy's mesh (when the document's
@@ -20,17 +24,24 @@
 use std::cell::RefCell;
 use std::collections::HashMap;
 use std::rc::Rc;
-use std::time::Instant;
+use std::sync::mpsc::{self, Receiver, TryRecvError};
+use std::sync::{Arc, Mutex};
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
 
 use glam::DVec3;
-use halfedge::{FaceId, Hierarchy, HierarchyOptions, Mesh, Method, VertexId, FRONTIER};
+use halfedge::{
+    BuildProgress, FaceId, Hierarchy, HierarchyOptions, Mesh, Method, VertexId, FRONTIER,
+};
 use three_d::egui;
 
 use super::{
-    bool_param, number_param, string_param, Overlay, Pick, Tool, ToolContext, ToolError, ViewInfo,
+    bool_param, number_param, string_param, Background, Overlay, Pick, Tool, ToolContext,
+    ToolError, ViewInfo,
 };
 use crate::app::group;
 use crate::colors::{Rgba, NO_LABEL};
+use crate::document::Revision;
 
 /// Label of the host (the part outside the sub-mesh).
 pub const HOST: u32 = 0;
@@ -247,6 +258,56 @@ impl PlaneNormal {
     }
 }
 
+/// What the build thread sends back: the hierarchy (or the error) and the build time.
+type BuildResult = (Result<Hierarchy, halfedge::Error>, Duration);
+
+/// A hierarchy build running on its own thread.
+struct PendingBuild {
+    /// The latest progress report of the build.
+    progress: Arc<Mutex<Option<BuildProgress>>>,
+    /// Where the result arrives.
+    result: Receiver<BuildResult>,
+    thread: JoinHandle<()>,
+    started: Instant,
+    method: Method,
+    target_faces: usize,
+    input_faces: usize,
+    /// Connectivity of the input, to tell whether level 0 comes back with other slots.
+    input_fingerprint: u64,
+    /// The document's revision when the build started: it must not change meanwhile.
+    revision: Revision,
+    /// Sub-mesh labels of the input, attached to the hierarchy at level 0.
+    labels: Option<SubMeshLabels>,
+}
+
+impl PendingBuild {
+    /// The progress so far: `(levels done, faces left)`.
+    fn progress(&self) -> (usize, usize) {
+        let last = self.progress.lock().ok().and_then(|p| *p);
+        last.map_or((0, self.input_faces), |p| (p.levels, p.faces))
+    }
+}
+
+/// Fraction of the faces to remove (input down to the target) removed so far, in `[0, 1]`.
+fn build_fraction(input_faces: usize, target_faces: usize, faces_left: usize) -> f32 {
+    let target = target_faces.min(input_faces);
+    let span = input_faces - target;
+    if span == 0 {
+        return 1.0;
+    }
+    let removed = input_faces.saturating_sub(faces_left.max(target));
+    removed as f32 / span as f32
+}
+
+/// The message of a panic payload.
+fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
+    payload
+        .downcast_ref::<&str>()
+        .map(|s| (*s).to_owned())
+        .or_else(|| payload.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "unknown panic".into())
+}
+
 /// The multiresolution tool (see the module docs).
 pub struct Multires {
     shared: SharedLabels,
@@ -257,6 +318,8 @@ pub struct Multires {
     /// Planarity bound of the rounds, degrees.
     pub max_normal_deviation: f64,
     hierarchy: Option<Hierarchy>,
+    /// The build running on another thread, if any.
+    pending: Option<PendingBuild>,
     /// Level shown by the slider.
     level: usize,
     /// Connectivity fingerprint → level, for the levels visited.
@@ -282,6 +345,7 @@ impl Multires {
             target_faces: 500,
             max_normal_deviation: 90.0,
             hierarchy: None,
+            pending: None,
             level: 0,
             visited: HashMap::new(),
             frontier: FrontierMode::Loop,
@@ -308,21 +372,102 @@ impl Multires {
         base.with_target_faces(self.target_faces)
     }
 
-    /// Builds the hierarchy of the document's mesh and leaves the document at level 0.
-    pub fn build(&mut self, ctx: &mut ToolContext<'_>) -> Result<(), ToolError> {
-        let start = Instant::now();
+    /// True while a hierarchy build runs on its thread.
+    pub fn is_building(&self) -> bool {
+        self.pending.is_some()
+    }
+
+    /// The error for actions that need the tool idle.
+    fn check_idle(&self) -> Result<(), ToolError> {
+        match self.pending {
+            Some(_) => Err(ToolError::new(
+                "a hierarchy build is running: wait for it to finish",
+            )),
+            None => Ok(()),
+        }
+    }
+
+    /// Starts building the hierarchy of the document's mesh on another thread (a copy of
+    /// the mesh moves in); [`Tool::poll`] takes the result in and leaves the document at
+    /// level 0.
+    pub fn start_build(&mut self, ctx: &mut ToolContext<'_>) -> Result<(), ToolError> {
+        self.check_idle()?;
         let input = ctx.mesh().clone();
-        let input_fp = connectivity_fingerprint(&input);
+        let input_fingerprint = connectivity_fingerprint(&input);
         let input_faces = input.n_faces();
         let labels = self.shared.get(&input);
-        let mut last = None;
-        let mut h =
-            Hierarchy::build_with_progress(input, &self.options(), &mut |p| last = Some(p))?;
-        let built = start.elapsed();
+        let options = self.options();
+        let progress = Arc::new(Mutex::new(None));
+        let (sender, result) = mpsc::channel();
+        let reports = Arc::clone(&progress);
+        let thread = std::thread::Builder::new()
+            .name("hierarchy build".into())
+            .spawn(move || {
+                let start = Instant::now();
+                let h = Hierarchy::build_with_progress(input, &options, &mut |p| {
+                    if let Ok(mut last) = reports.lock() {
+                        *last = Some(p);
+                    }
+                });
+                // The receiver is gone only when the tool was dropped: nothing to tell.
+                let _ = sender.send((h, start.elapsed()));
+            })
+            .map_err(|e| ToolError::new(format!("cannot start the build thread: {e}")))?;
+        self.pending = Some(PendingBuild {
+            progress,
+            result,
+            thread,
+            started: Instant::now(),
+            method: self.method,
+            target_faces: self.target_faces,
+            input_faces,
+            input_fingerprint,
+            revision: ctx.doc.revision(),
+            labels,
+        });
+        ctx.info(format!(
+            "Building {} hierarchy of {} faces…",
+            method_name(self.method),
+            group(input_faces)
+        ));
+        Ok(())
+    }
+
+    /// Builds the hierarchy and waits for it (blocking the caller).
+    pub fn build(&mut self, ctx: &mut ToolContext<'_>) -> Result<(), ToolError> {
+        self.start_build(ctx)?;
+        let pending = self.pending.take().expect("just started");
+        let received = pending.result.recv();
+        self.finish_build(pending, received.ok(), ctx)
+    }
+
+    /// Takes in the result of a build (`None`: the thread ended without one).
+    fn finish_build(
+        &mut self,
+        pending: PendingBuild,
+        received: Option<BuildResult>,
+        ctx: &mut ToolContext<'_>,
+    ) -> Result<(), ToolError> {
+        let joined = pending.thread.join();
+        let Some((result, built)) = received else {
+            let why = match joined {
+                Err(payload) => panic_message(payload.as_ref()),
+                Ok(()) => "it ended without a result".into(),
+            };
+            return Err(ToolError::new(format!("the build thread failed: {why}")));
+        };
+        let mut h = result?;
+        if ctx.doc.revision() != pending.revision {
+            return Err(ToolError::new(
+                "the mesh changed while the hierarchy was being built: build it again",
+            ));
+        }
+        let input_fp = pending.input_fingerprint;
+        let input_faces = pending.input_faces;
         let coarse_faces = h.mesh().n_faces();
         // Back to the input (bit for bit), where the document is.
         h.go_to_level(0)?;
-        if let Some(labels) = labels {
+        if let Some(labels) = pending.labels {
             // Labels made on the input: attach them at level 0.
             let attribute = h.mesh_mut().label_attribute();
             let n = labels.labels.len();
@@ -340,10 +485,9 @@ impl Multires {
         self.level = 0;
         let levels = h.coarsest_level();
         self.hierarchy = Some(h);
-        let _ = last;
         ctx.info(format!(
             "Built {} hierarchy: {levels} levels, {} → {} faces in {:.0} ms",
-            method_name(self.method),
+            method_name(pending.method),
             group(input_faces),
             group(coarse_faces),
             built.as_secs_f64() * 1e3
@@ -354,6 +498,7 @@ impl Multires {
     /// Copies the document's positions into the hierarchy's mesh, first moving the
     /// hierarchy to the document's level when the document shows another visited level.
     fn sync_from_document(&mut self, ctx: &ToolContext<'_>) -> Result<(), ToolError> {
+        self.check_idle()?;
         let h = self
             .hierarchy
             .as_mut()
@@ -440,6 +585,7 @@ impl Multires {
     /// Makes the frontier from the picks and labels the two sides (on the hierarchy's
     /// mesh when there is one, so that the labels ride along through levels).
     pub fn define_labels(&mut self, ctx: &mut ToolContext<'_>) -> Result<(), ToolError> {
+        self.check_idle()?;
         let use_hierarchy = self.hierarchy.is_some() && self.sync_from_document(ctx).is_ok();
         let mut scratch;
         let mesh: &mut Mesh = if use_hierarchy {
@@ -604,118 +750,48 @@ impl Tool for Multires {
 
     fn ui(&mut self, ui: &mut egui::Ui, ctx: &mut ToolContext<'_>) {
         self.view = Some(ctx.view);
-        ui.strong("Hierarchy");
-        ui.horizontal(|ui| {
-            ui.label("Method");
-            ui.selectable_value(&mut self.method, Method::Rounds, "rounds");
-            ui.selectable_value(&mut self.method, Method::Qem, "QEM");
-        });
-        ui.horizontal(|ui| {
-            ui.label("Target faces");
-            ui.add(egui::DragValue::new(&mut self.target_faces).range(4..=10_000_000));
-        });
-        if self.method == Method::Rounds {
+        if let Some(p) = &self.pending {
+            let (levels, faces) = p.progress();
+            ui.strong(format!(
+                "Building the {} hierarchy… {:.1} s",
+                method_name(p.method),
+                p.started.elapsed().as_secs_f64()
+            ));
             ui.add(
-                egui::Slider::new(&mut self.max_normal_deviation, 10.0..=180.0)
-                    .text("planarity (°)"),
+                egui::ProgressBar::new(build_fraction(p.input_faces, p.target_faces, faces)).text(
+                    format!(
+                        "{levels} levels · {} of {} faces left",
+                        group(faces),
+                        group(p.input_faces)
+                    ),
+                ),
             );
+            ui.weak(format!(
+                "down to {} faces; the tool is back when the build is done",
+                group(p.target_faces.min(p.input_faces))
+            ));
+            ui.separator();
         }
-        if ui.button("Build hierarchy").clicked() {
-            if let Err(e) = self.build(ctx) {
+        let idle = self.pending.is_none();
+        ui.add_enabled_ui(idle, |ui| self.controls_ui(ui, ctx));
+    }
+
+    fn poll(&mut self, ctx: &mut ToolContext<'_>) -> Background {
+        let Some(pending) = &self.pending else {
+            return Background::Idle;
+        };
+        let received = match pending.result.try_recv() {
+            Err(TryRecvError::Empty) => return Background::Running,
+            Ok(r) => Some(r),
+            Err(TryRecvError::Disconnected) => None,
+        };
+        let pending = self.pending.take().expect("checked");
+        match self.finish_build(pending, received, ctx) {
+            Ok(()) => Background::Idle,
+            Err(e) => {
                 ctx.error(format!("Build failed: {e}"));
+                Background::Failed(e)
             }
-        }
-        if let Some(h) = &self.hierarchy {
-            let coarsest = h.coarsest_level();
-            let counts = h.level_face_counts().to_vec();
-            let mut level = self.level;
-            let r = ui.add(egui::Slider::new(&mut level, 0..=coarsest).text("level"));
-            ui.weak(format!(
-                "level {level}: {} faces · {} levels · {} faces at the coarsest",
-                group(counts[level.min(coarsest)]),
-                coarsest + 1,
-                group(counts[coarsest])
-            ));
-            if level != self.level {
-                if let Err(e) = self.go_to_level(level, ctx) {
-                    ctx.error(format!("Level change failed: {e}"));
-                }
-            }
-            if r.drag_stopped() || (r.changed() && !r.dragged()) {
-                ctx.doc.end_edit();
-            }
-        } else {
-            ui.weak("No hierarchy yet.");
-        }
-        ui.separator();
-        ui.strong("Sub-mesh");
-        let before = (self.frontier, self.normal, self.flip);
-        ui.horizontal(|ui| {
-            ui.label("Frontier");
-            egui::ComboBox::from_id_salt("multires-frontier")
-                .selected_text(self.frontier.name())
-                .show_ui(ui, |ui| {
-                    for (m, name) in FrontierMode::ALL {
-                        ui.selectable_value(&mut self.frontier, m, name);
-                    }
-                });
-        });
-        if self.frontier == FrontierMode::Plane {
-            ui.horizontal(|ui| {
-                ui.label("Normal");
-                egui::ComboBox::from_id_salt("multires-normal")
-                    .selected_text(self.normal.name())
-                    .show_ui(ui, |ui| {
-                        for (m, name) in PlaneNormal::ALL {
-                            ui.selectable_value(&mut self.normal, m, name);
-                        }
-                    });
-            });
-        }
-        ui.checkbox(&mut self.flip, "flip sides");
-        if (self.frontier, self.normal, self.flip) != before {
-            if before.0 != self.frontier {
-                self.picks.clear();
-                self.plane = None;
-            } else if let Some((p, _)) = self.plane {
-                self.plane = Some((p, self.normal.vector(&ctx.view)));
-            }
-            if self.has_enough_picks() {
-                if let Err(e) = self.define_labels(ctx) {
-                    ctx.error(format!("Frontier: {e}"));
-                }
-            }
-        }
-        ui.weak(match self.frontier {
-            FrontierMode::Loop => "Click vertices around the part to cut (3 or more).",
-            FrontierMode::Collar => {
-                "Click vertices around the part: the band of faces along them is the collar."
-            }
-            FrontierMode::Plane => {
-                "Click a point of the cutting plane; the sub-mesh is on the normal's side."
-            }
-        });
-        ui.horizontal(|ui| {
-            ui.label(format!("{} picks", self.picks.len()));
-            if ui.button("Label").clicked() {
-                if let Err(e) = self.define_labels(ctx) {
-                    ctx.error(format!("Frontier: {e}"));
-                }
-            }
-            if ui.button("Clear").clicked() {
-                self.clear_picks(ctx);
-            }
-        });
-        if let Some(l) = self.shared.get(ctx.mesh()) {
-            let (host, sub, front) = l.counts();
-            ui.weak(format!(
-                "sub-mesh {} · host {} · frontier {} vertices",
-                group(sub),
-                group(host),
-                group(front)
-            ));
-        } else if self.shared.is_set() {
-            ui.weak("The labels belong to another level or mesh.");
         }
     }
 
@@ -747,7 +823,7 @@ impl Tool for Multires {
     }
 
     fn apply(&mut self, ctx: &mut ToolContext<'_>) -> Result<(), ToolError> {
-        self.build(ctx)
+        self.start_build(ctx)
     }
 
     fn set_parameter(
@@ -865,6 +941,123 @@ impl Tool for Multires {
 }
 
 impl Multires {
+    /// The panel's controls (disabled while a build runs).
+    fn controls_ui(&mut self, ui: &mut egui::Ui, ctx: &mut ToolContext<'_>) {
+        ui.strong("Hierarchy");
+        ui.horizontal(|ui| {
+            ui.label("Method");
+            ui.selectable_value(&mut self.method, Method::Rounds, "rounds");
+            ui.selectable_value(&mut self.method, Method::Qem, "QEM");
+        });
+        ui.horizontal(|ui| {
+            ui.label("Target faces");
+            ui.add(egui::DragValue::new(&mut self.target_faces).range(4..=10_000_000));
+        });
+        if self.method == Method::Rounds {
+            ui.add(
+                egui::Slider::new(&mut self.max_normal_deviation, 10.0..=180.0)
+                    .text("planarity (°)"),
+            );
+        }
+        if ui.button("Build hierarchy").clicked() {
+            if let Err(e) = self.start_build(ctx) {
+                ctx.error(format!("Build failed: {e}"));
+            }
+        }
+        if let Some(h) = &self.hierarchy {
+            let coarsest = h.coarsest_level();
+            let counts = h.level_face_counts().to_vec();
+            let mut level = self.level;
+            let r = ui.add(egui::Slider::new(&mut level, 0..=coarsest).text("level"));
+            ui.weak(format!(
+                "level {level}: {} faces · {} levels · {} faces at the coarsest",
+                group(counts[level.min(coarsest)]),
+                coarsest + 1,
+                group(counts[coarsest])
+            ));
+            if level != self.level {
+                if let Err(e) = self.go_to_level(level, ctx) {
+                    ctx.error(format!("Level change failed: {e}"));
+                }
+            }
+            if r.drag_stopped() || (r.changed() && !r.dragged()) {
+                ctx.doc.end_edit();
+            }
+        } else {
+            ui.weak("No hierarchy yet.");
+        }
+        ui.separator();
+        ui.strong("Sub-mesh");
+        let before = (self.frontier, self.normal, self.flip);
+        ui.horizontal(|ui| {
+            ui.label("Frontier");
+            egui::ComboBox::from_id_salt("multires-frontier")
+                .selected_text(self.frontier.name())
+                .show_ui(ui, |ui| {
+                    for (m, name) in FrontierMode::ALL {
+                        ui.selectable_value(&mut self.frontier, m, name);
+                    }
+                });
+        });
+        if self.frontier == FrontierMode::Plane {
+            ui.horizontal(|ui| {
+                ui.label("Normal");
+                egui::ComboBox::from_id_salt("multires-normal")
+                    .selected_text(self.normal.name())
+                    .show_ui(ui, |ui| {
+                        for (m, name) in PlaneNormal::ALL {
+                            ui.selectable_value(&mut self.normal, m, name);
+                        }
+                    });
+            });
+        }
+        ui.checkbox(&mut self.flip, "flip sides");
+        if (self.frontier, self.normal, self.flip) != before {
+            if before.0 != self.frontier {
+                self.picks.clear();
+                self.plane = None;
+            } else if let Some((p, _)) = self.plane {
+                self.plane = Some((p, self.normal.vector(&ctx.view)));
+            }
+            if self.has_enough_picks() {
+                if let Err(e) = self.define_labels(ctx) {
+                    ctx.error(format!("Frontier: {e}"));
+                }
+            }
+        }
+        ui.weak(match self.frontier {
+            FrontierMode::Loop => "Click vertices around the part to cut (3 or more).",
+            FrontierMode::Collar => {
+                "Click vertices around the part: the band of faces along them is the collar."
+            }
+            FrontierMode::Plane => {
+                "Click a point of the cutting plane; the sub-mesh is on the normal's side."
+            }
+        });
+        ui.horizontal(|ui| {
+            ui.label(format!("{} picks", self.picks.len()));
+            if ui.button("Label").clicked() {
+                if let Err(e) = self.define_labels(ctx) {
+                    ctx.error(format!("Frontier: {e}"));
+                }
+            }
+            if ui.button("Clear").clicked() {
+                self.clear_picks(ctx);
+            }
+        });
+        if let Some(l) = self.shared.get(ctx.mesh()) {
+            let (host, sub, front) = l.counts();
+            ui.weak(format!(
+                "sub-mesh {} · host {} · frontier {} vertices",
+                group(sub),
+                group(host),
+                group(front)
+            ));
+        } else if self.shared.is_set() {
+            ui.weak("The labels belong to another level or mesh.");
+        }
+    }
+
     fn has_enough_picks(&self) -> bool {
         match self.frontier {
             FrontierMode::Loop | FrontierMode::Collar => self.picks.len() >= 3,
@@ -876,7 +1069,147 @@ impl Multires {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::colors::Display;
+    use crate::document::Document;
+    use crate::tools::Status;
     use halfedge::generators;
+
+    fn view() -> ViewInfo {
+        ViewInfo {
+            eye: DVec3::new(0.0, 0.0, 5.0),
+            forward: DVec3::NEG_Z,
+            right: DVec3::X,
+            up: DVec3::Y,
+            scene_radius: 1.0,
+        }
+    }
+
+    /// Polls `tool` like the viewer does every frame until its build is done.
+    fn poll_until_idle(tool: &mut Multires, ctx: &mut ToolContext<'_>) -> Background {
+        let start = Instant::now();
+        loop {
+            match tool.poll(ctx) {
+                Background::Running => {
+                    assert!(
+                        start.elapsed() < Duration::from_secs(120),
+                        "the build does not end"
+                    );
+                    std::thread::sleep(Duration::from_millis(5));
+                }
+                done => return done,
+            }
+        }
+    }
+
+    #[test]
+    fn background_build_gives_the_levels_of_a_direct_build_and_undo_works() {
+        let input = generators::icosphere(4);
+        let mut doc = Document::new(input.clone(), None, None);
+        let (mut display, mut status) = (Display::default(), Status::default());
+        let mut ctx = ToolContext {
+            doc: &mut doc,
+            display: &mut display,
+            status: &mut status,
+            view: view(),
+            pick: None,
+        };
+        let mut tool = Multires::new(SharedLabels::default());
+        tool.target_faces = 200;
+        tool.apply(&mut ctx).unwrap();
+        assert!(tool.is_building());
+        assert!(ctx.status.message.starts_with("Building rounds hierarchy"));
+        // The rest of the tool waits for the build.
+        assert!(tool.set_parameter("level", &1.into(), &mut ctx).is_err());
+        assert!(tool.apply(&mut ctx).is_err());
+        assert_eq!(poll_until_idle(&mut tool, &mut ctx), Background::Idle);
+        assert!(!tool.is_building());
+        assert!(
+            ctx.status.message.starts_with("Built rounds hierarchy"),
+            "{}",
+            ctx.status.message
+        );
+        let direct = Hierarchy::build(
+            input.clone(),
+            &HierarchyOptions::rounds()
+                .with_max_normal_deviation(90f64.to_radians())
+                .with_target_faces(200),
+        )
+        .unwrap();
+        let h = tool.hierarchy().expect("built");
+        assert_eq!(h.level_face_counts(), direct.level_face_counts());
+        assert!(h.coarsest_level() >= 2);
+        // The document stays the input, bit for bit.
+        assert_eq!(ctx.mesh().positions(), input.positions());
+        // Level changes and undo work on the hierarchy from the thread.
+        let coarsest = h.coarsest_level();
+        tool.set_parameter("level", &coarsest.into(), &mut ctx)
+            .unwrap();
+        ctx.doc.end_edit();
+        assert_eq!(ctx.mesh().n_faces(), direct.level_face_counts()[coarsest]);
+        ctx.mesh().check().unwrap();
+        assert!(ctx.doc.undo().is_some());
+        assert_eq!(ctx.mesh().positions(), input.positions());
+        assert_eq!(ctx.mesh().n_faces(), input.n_faces());
+        assert!(ctx.doc.redo().is_some());
+        assert_eq!(ctx.mesh().n_faces(), direct.level_face_counts()[coarsest]);
+    }
+
+    #[test]
+    fn build_errors_reach_the_status_line() {
+        let mut doc = Document::new(generators::icosphere(2), None, None);
+        let (mut display, mut status) = (Display::default(), Status::default());
+        let mut ctx = ToolContext {
+            doc: &mut doc,
+            display: &mut display,
+            status: &mut status,
+            view: view(),
+            pick: None,
+        };
+        let mut tool = Multires::new(SharedLabels::default());
+        // Out of range (the panel and scripts refuse it; the field is public).
+        tool.max_normal_deviation = 200.0;
+        tool.start_build(&mut ctx).unwrap();
+        match poll_until_idle(&mut tool, &mut ctx) {
+            Background::Failed(e) => assert!(e.0.contains("max_normal_deviation"), "{e}"),
+            other => panic!("expected a failure, got {other:?}"),
+        }
+        assert!(ctx.status.is_error);
+        assert!(ctx.status.message.starts_with("Build failed"));
+        assert!(tool.hierarchy().is_none() && !tool.is_building());
+        assert_eq!(ctx.doc.undo_len(), 0);
+    }
+
+    #[test]
+    fn a_mesh_changed_during_the_build_refuses_the_result() {
+        let mut doc = Document::new(generators::icosphere(2), None, None);
+        let (mut display, mut status) = (Display::default(), Status::default());
+        let mut ctx = ToolContext {
+            doc: &mut doc,
+            display: &mut display,
+            status: &mut status,
+            view: view(),
+            pick: None,
+        };
+        let mut tool = Multires::new(SharedLabels::default());
+        tool.target_faces = 40;
+        tool.start_build(&mut ctx).unwrap();
+        ctx.positions_mut()[0] += DVec3::X;
+        ctx.doc.end_edit();
+        assert!(matches!(
+            poll_until_idle(&mut tool, &mut ctx),
+            Background::Failed(_)
+        ));
+        assert!(tool.hierarchy().is_none());
+    }
+
+    #[test]
+    fn progress_fraction_counts_the_faces_removed_towards_the_target() {
+        assert_eq!(build_fraction(1000, 100, 1000), 0.0);
+        assert_eq!(build_fraction(1000, 100, 550), 0.5);
+        assert_eq!(build_fraction(1000, 100, 100), 1.0);
+        assert_eq!(build_fraction(1000, 100, 50), 1.0);
+        assert_eq!(build_fraction(50, 100, 50), 1.0);
+    }
 
     #[test]
     fn fingerprints_tell_connectivity_apart() {

@@ -527,8 +527,8 @@ impl Tool for SubMeshEdit {
     fn on_drag(&mut self, drag: &Drag, ctx: &mut ToolContext<'_>) {
         match drag.phase {
             DragPhase::Start => {
-                if self.source == Source::Ring {
-                    self.centre = Some(drag.pick.vertex);
+                if let (Source::Ring, Some(pick)) = (self.source, drag.pick) {
+                    self.centre = Some(pick.vertex);
                 }
                 match self.submesh(ctx.mesh()) {
                     Ok(sub) => {
