@@ -298,7 +298,7 @@ impl FfdTool {
             }
             Operation::Taper => {
                 st.ffd.taper(self.taper[0], self.taper[1])?;
-                format!("taper {} → {}", self.taper[0], self.taper[1])
+                format!("taper {} to {}", self.taper[0], self.taper[1])
             }
             Operation::Twist => {
                 st.ffd.twist(self.twist.to_radians())?;

@@ -483,10 +483,12 @@ impl Multires {
         self.visited.clear();
         self.visited.insert(fp, 0);
         self.level = 0;
-        let levels = h.coarsest_level();
+        // Counted as the panel counts them: the input is level 0.
+        let levels = h.coarsest_level() + 1;
         self.hierarchy = Some(h);
+        // ASCII only: the status line's font has no arrows.
         ctx.info(format!(
-            "Built {} hierarchy: {levels} levels, {} → {} faces in {:.0} ms",
+            "Built {} hierarchy: {levels} levels, {} down to {} faces in {:.0} ms",
             method_name(pending.method),
             group(input_faces),
             group(coarse_faces),
