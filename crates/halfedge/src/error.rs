@@ -75,6 +75,11 @@ pub enum Error {
     /// An argument is outside its documented range.
     #[error("invalid argument: {0}")]
     InvalidArgument(String),
+    /// A long operation was stopped by its caller (a progress callback returned
+    /// [`ControlFlow::Break`](std::ops::ControlFlow::Break)); nothing the caller owns was
+    /// changed.
+    #[error("cancelled: {0}")]
+    Cancelled(String),
     /// A sub-mesh frontier does not separate the mesh or is not a closed loop.
     #[error("invalid frontier: {0}")]
     InvalidFrontier(String),

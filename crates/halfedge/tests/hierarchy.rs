@@ -495,3 +495,41 @@ fn tiny_and_empty_meshes_build_trivial_hierarchies() {
         assert_eq!(tetra.n_faces(), 20);
     }
 }
+
+/// A progress callback can stop a build (both methods): the build ends with
+/// `Error::Cancelled` at the report that said stop, and a callback that never says stop
+/// gives the same hierarchy as `build`.
+#[test]
+fn a_build_can_be_cancelled_from_its_progress_callback() {
+    use std::ops::ControlFlow;
+    let mesh = load("spot.obj");
+    for options in [
+        HierarchyOptions::rounds().with_target_faces(300),
+        HierarchyOptions::qem().with_target_faces(300),
+    ] {
+        let mut reports = 0;
+        let stopped = Hierarchy::build_cancellable(mesh.clone(), &options, &mut |p| {
+            reports += 1;
+            if p.levels >= 2 {
+                ControlFlow::Break(())
+            } else {
+                ControlFlow::Continue(())
+            }
+        });
+        let Err(Error::Cancelled(message)) = stopped else {
+            panic!("expected a cancelled build, got {stopped:?}");
+        };
+        assert!(message.contains("2 levels"), "{message}");
+        assert_eq!(reports, 2);
+        let direct = Hierarchy::build(mesh.clone(), &options).unwrap();
+        let full =
+            Hierarchy::build_cancellable(
+                mesh.clone(),
+                &options,
+                &mut |_| ControlFlow::Continue(()),
+            )
+            .unwrap();
+        assert_eq!(full.level_face_counts(), direct.level_face_counts());
+        assert!(snapshot(full.mesh()) == snapshot(direct.mesh()));
+    }
+}

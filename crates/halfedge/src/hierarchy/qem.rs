@@ -27,13 +27,15 @@
 //!   [`level_ratio`](super::HierarchyOptions::level_ratio) of the previous level's, so
 //!   that levels remove about as much as a round does.
 
+use std::ops::ControlFlow;
+
 use glam::{DMat3, DVec3};
 use rayon::prelude::*;
 
 use super::heap::{self, MinHeap};
 use super::legality::{self, Collapse, NewNormals};
 use super::rounds::choose_direction;
-use super::{BuildProgress, Hierarchy, HierarchyOptions};
+use super::{report, BuildProgress, Hierarchy, HierarchyOptions};
 use crate::{HalfedgeId, Mesh, Result};
 
 /// A symmetric 4×4 quadric `Σ w (n·x + d)²` and the total face area it gathered.
@@ -245,7 +247,7 @@ fn edge_cost(mesh: &Mesh, quadrics: &[Quadric], e: HalfedgeId) -> f64 {
 pub(crate) fn build(
     h: &mut Hierarchy,
     options: &HierarchyOptions,
-    progress: &mut dyn FnMut(BuildProgress),
+    progress: &mut dyn FnMut(BuildProgress) -> ControlFlow<()>,
 ) -> Result<()> {
     let input_faces = h.mesh.n_faces();
     let cos_flip = options.max_flip_angle.cos();
@@ -376,20 +378,26 @@ pub(crate) fn build(
         if mesh.n_faces() <= next_level {
             h.close_level();
             next_level = level_target(h.mesh.n_faces(), options.level_ratio);
-            progress(BuildProgress {
-                levels: h.built_levels(),
-                faces: h.mesh.n_faces(),
-                input_faces,
-            });
+            report(
+                progress,
+                BuildProgress {
+                    levels: h.built_levels(),
+                    faces: h.mesh.n_faces(),
+                    input_faces,
+                },
+            )?;
         }
         since_report += 1;
         if since_report == 1 << 16 {
             since_report = 0;
-            progress(BuildProgress {
-                levels: h.built_levels(),
-                faces: h.mesh.n_faces(),
-                input_faces,
-            });
+            report(
+                progress,
+                BuildProgress {
+                    levels: h.built_levels(),
+                    faces: h.mesh.n_faces(),
+                    input_faces,
+                },
+            )?;
         }
     }
     if h.built_levels() < options.max_levels {

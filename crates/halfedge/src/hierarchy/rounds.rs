@@ -18,10 +18,12 @@
 //! the faces, as the paper reports. Face normals are cached by face index and refreshed
 //! around each survivor.
 
+use std::ops::ControlFlow;
+
 use glam::{DVec3, Vec3};
 
 use super::legality::{self, Collapse, NewNormals, Placement};
-use super::{BuildProgress, Hierarchy, HierarchyOptions};
+use super::{report, BuildProgress, Hierarchy, HierarchyOptions};
 use crate::{HalfedgeId, Mesh, Result};
 
 /// Minimum over the star of `v0v1` of the cosine between a face normal and the star's
@@ -78,7 +80,7 @@ pub(crate) fn star_plane_distance(mesh: &Mesh, c: &Collapse, p: DVec3, normals: 
 pub(crate) fn build(
     h: &mut Hierarchy,
     options: &HierarchyOptions,
-    progress: &mut dyn FnMut(BuildProgress),
+    progress: &mut dyn FnMut(BuildProgress) -> ControlFlow<()>,
 ) -> Result<()> {
     let input_faces = h.mesh.n_faces();
     let cos_planar = options.max_normal_deviation.cos();
@@ -152,11 +154,14 @@ pub(crate) fn build(
             since_report += 1;
             if since_report == 1 << 16 {
                 since_report = 0;
-                progress(BuildProgress {
-                    levels: h.built_levels(),
-                    faces: h.mesh.n_faces(),
-                    input_faces,
-                });
+                report(
+                    progress,
+                    BuildProgress {
+                        levels: h.built_levels(),
+                        faces: h.mesh.n_faces(),
+                        input_faces,
+                    },
+                )?;
             }
             if h.mesh.n_faces() <= options.target_faces {
                 h.close_level();
@@ -167,11 +172,14 @@ pub(crate) fn build(
         edges.retain(|&i| mesh.halfedge_at(i as usize).is_some());
         let removed = faces_before - h.mesh.n_faces();
         h.close_level();
-        progress(BuildProgress {
-            levels: h.built_levels(),
-            faces: h.mesh.n_faces(),
-            input_faces,
-        });
+        report(
+            progress,
+            BuildProgress {
+                levels: h.built_levels(),
+                faces: h.mesh.n_faces(),
+                input_faces,
+            },
+        )?;
         if removed == 0 || (removed as f64) < options.min_level_reduction * faces_before as f64 {
             break;
         }
