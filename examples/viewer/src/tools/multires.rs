@@ -23,7 +23,9 @@
 
 use std::cell::RefCell;
 use std::collections::HashMap;
+use std::ops::ControlFlow;
 use std::rc::Rc;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{self, Receiver, TryRecvError};
 use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
@@ -278,6 +280,8 @@ struct PendingBuild {
     revision: Revision,
     /// Sub-mesh labels of the input, attached to the hierarchy at level 0.
     labels: Option<SubMeshLabels>,
+    /// Set to ask the build to stop at its next progress report.
+    cancel: Arc<AtomicBool>,
 }
 
 impl PendingBuild {
@@ -377,6 +381,14 @@ impl Multires {
         self.pending.is_some()
     }
 
+    /// Asks a running build to stop at its next progress report (the end of a level or
+    /// 65,536 collapses); [`Tool::poll`] then reports the tool idle, the mesh unchanged.
+    pub fn cancel_build(&self) {
+        if let Some(p) = &self.pending {
+            p.cancel.store(true, Ordering::Relaxed);
+        }
+    }
+
     /// The error for actions that need the tool idle.
     fn check_idle(&self) -> Result<(), ToolError> {
         match self.pending {
@@ -400,13 +412,20 @@ impl Multires {
         let progress = Arc::new(Mutex::new(None));
         let (sender, result) = mpsc::channel();
         let reports = Arc::clone(&progress);
+        let cancel = Arc::new(AtomicBool::new(false));
+        let cancelled = Arc::clone(&cancel);
         let thread = std::thread::Builder::new()
             .name("hierarchy build".into())
             .spawn(move || {
                 let start = Instant::now();
-                let h = Hierarchy::build_with_progress(input, &options, &mut |p| {
+                let h = Hierarchy::build_cancellable(input, &options, &mut |p| {
                     if let Ok(mut last) = reports.lock() {
                         *last = Some(p);
+                    }
+                    if cancelled.load(Ordering::Relaxed) {
+                        ControlFlow::Break(())
+                    } else {
+                        ControlFlow::Continue(())
                     }
                 });
                 // The receiver is gone only when the tool was dropped: nothing to tell.
@@ -424,6 +443,7 @@ impl Multires {
             input_fingerprint,
             revision: ctx.doc.revision(),
             labels,
+            cancel,
         });
         ctx.info(format!(
             "Building {} hierarchy of {} faces…",
@@ -456,7 +476,13 @@ impl Multires {
             };
             return Err(ToolError::new(format!("the build thread failed: {why}")));
         };
-        let mut h = result?;
+        let mut h = match result {
+            Err(halfedge::Error::Cancelled(why)) => {
+                ctx.info(format!("Build cancelled ({why}); the mesh is unchanged"));
+                return Ok(());
+            }
+            other => other?,
+        };
         if ctx.doc.revision() != pending.revision {
             return Err(ToolError::new(
                 "the mesh changed while the hierarchy was being built: build it again",
@@ -772,6 +798,11 @@ impl Tool for Multires {
                 "down to {} faces; the tool is back when the build is done",
                 group(p.target_faces.min(p.input_faces))
             ));
+            if p.cancel.load(Ordering::Relaxed) {
+                ui.weak("Cancelling at the end of this level…");
+            } else if ui.button("Cancel").clicked() {
+                self.cancel_build();
+            }
             ui.separator();
         }
         let idle = self.pending.is_none();
@@ -1101,6 +1132,39 @@ mod tests {
                 done => return done,
             }
         }
+    }
+
+    #[test]
+    fn a_cancelled_build_leaves_the_tool_idle_and_the_mesh_unchanged() {
+        // Large enough that the first level takes far longer than asking to cancel.
+        let input = generators::icosphere(7);
+        let mut doc = Document::new(input.clone(), None, None);
+        let (mut display, mut status) = (Display::default(), Status::default());
+        let mut ctx = ToolContext {
+            doc: &mut doc,
+            display: &mut display,
+            status: &mut status,
+            view: view(),
+            pick: None,
+        };
+        let mut tool = Multires::new(SharedLabels::default());
+        tool.target_faces = 200;
+        tool.apply(&mut ctx).unwrap();
+        tool.cancel_build();
+        assert_eq!(poll_until_idle(&mut tool, &mut ctx), Background::Idle);
+        assert!(
+            ctx.status.message.starts_with("Build cancelled"),
+            "{}",
+            ctx.status.message
+        );
+        assert!(tool.hierarchy.is_none());
+        assert!(ctx.mesh().positions() == input.positions());
+        assert_eq!(ctx.mesh().n_faces(), input.n_faces());
+        // The tool builds again afterwards.
+        tool.target_faces = 20_000;
+        tool.apply(&mut ctx).unwrap();
+        assert_eq!(poll_until_idle(&mut tool, &mut ctx), Background::Idle);
+        assert!(tool.hierarchy.is_some());
     }
 
     #[test]
