@@ -220,12 +220,19 @@ pub struct BuildProgress {
     pub input_faces: usize,
 }
 
-/// Hands `p` to a build's progress callback; [`Error::Cancelled`] when it says stop.
+/// Hands the build's progress (`levels` and faces now, of `input_faces`) to its callback;
+/// [`Error::Cancelled`] when the callback says stop.
 #[inline]
 pub(crate) fn report(
+    h: &Hierarchy,
+    input_faces: usize,
     progress: &mut dyn FnMut(BuildProgress) -> ControlFlow<()>,
-    p: BuildProgress,
 ) -> Result<()> {
+    let p = BuildProgress {
+        levels: h.built_levels(),
+        faces: h.mesh.n_faces(),
+        input_faces,
+    };
     match progress(p) {
         ControlFlow::Continue(()) => Ok(()),
         ControlFlow::Break(()) => Err(Error::Cancelled(format!(
@@ -370,14 +377,7 @@ impl Hierarchy {
             Method::Rounds => rounds::build(&mut h, options, progress)?,
             Method::Qem => qem::build(&mut h, options, progress)?,
         }
-        report(
-            progress,
-            BuildProgress {
-                levels: h.built_levels(),
-                faces: h.mesh.n_faces(),
-                input_faces: faces,
-            },
-        )?;
+        report(&h, faces, progress)?;
         h.records.shrink_to_fit();
         h.placements.shrink_to_fit();
         h.stamp = Some(h.mesh.topology_stamp());

@@ -378,26 +378,12 @@ pub(crate) fn build(
         if mesh.n_faces() <= next_level {
             h.close_level();
             next_level = level_target(h.mesh.n_faces(), options.level_ratio);
-            report(
-                progress,
-                BuildProgress {
-                    levels: h.built_levels(),
-                    faces: h.mesh.n_faces(),
-                    input_faces,
-                },
-            )?;
+            report(h, input_faces, progress)?;
         }
         since_report += 1;
         if since_report == 1 << 16 {
             since_report = 0;
-            report(
-                progress,
-                BuildProgress {
-                    levels: h.built_levels(),
-                    faces: h.mesh.n_faces(),
-                    input_faces,
-                },
-            )?;
+            report(h, input_faces, progress)?;
         }
     }
     if h.built_levels() < options.max_levels {

@@ -154,14 +154,7 @@ pub(crate) fn build(
             since_report += 1;
             if since_report == 1 << 16 {
                 since_report = 0;
-                report(
-                    progress,
-                    BuildProgress {
-                        levels: h.built_levels(),
-                        faces: h.mesh.n_faces(),
-                        input_faces,
-                    },
-                )?;
+                report(h, input_faces, progress)?;
             }
             if h.mesh.n_faces() <= options.target_faces {
                 h.close_level();
@@ -172,14 +165,7 @@ pub(crate) fn build(
         edges.retain(|&i| mesh.halfedge_at(i as usize).is_some());
         let removed = faces_before - h.mesh.n_faces();
         h.close_level();
-        report(
-            progress,
-            BuildProgress {
-                levels: h.built_levels(),
-                faces: h.mesh.n_faces(),
-                input_faces,
-            },
-        )?;
+        report(h, input_faces, progress)?;
         if removed == 0 || (removed as f64) < options.min_level_reduction * faces_before as f64 {
             break;
         }

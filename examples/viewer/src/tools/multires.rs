@@ -1117,6 +1117,33 @@ mod tests {
         }
     }
 
+    /// A document and the rest of what a tool context borrows, for tests without a window.
+    struct Fixture {
+        doc: Document,
+        display: Display,
+        status: Status,
+    }
+
+    impl Fixture {
+        fn new(mesh: Mesh) -> Self {
+            Self {
+                doc: Document::new(mesh, None, None),
+                display: Display::default(),
+                status: Status::default(),
+            }
+        }
+
+        fn ctx(&mut self) -> ToolContext<'_> {
+            ToolContext {
+                doc: &mut self.doc,
+                display: &mut self.display,
+                status: &mut self.status,
+                view: view(),
+                pick: None,
+            }
+        }
+    }
+
     /// Polls `tool` like the viewer does every frame until its build is done.
     fn poll_until_idle(tool: &mut Multires, ctx: &mut ToolContext<'_>) -> Background {
         let start = Instant::now();
@@ -1138,15 +1165,8 @@ mod tests {
     fn a_cancelled_build_leaves_the_tool_idle_and_the_mesh_unchanged() {
         // Large enough that the first level takes far longer than asking to cancel.
         let input = generators::icosphere(7);
-        let mut doc = Document::new(input.clone(), None, None);
-        let (mut display, mut status) = (Display::default(), Status::default());
-        let mut ctx = ToolContext {
-            doc: &mut doc,
-            display: &mut display,
-            status: &mut status,
-            view: view(),
-            pick: None,
-        };
+        let mut fixture = Fixture::new(input.clone());
+        let mut ctx = fixture.ctx();
         let mut tool = Multires::new(SharedLabels::default());
         tool.target_faces = 200;
         tool.apply(&mut ctx).unwrap();
@@ -1170,15 +1190,8 @@ mod tests {
     #[test]
     fn background_build_gives_the_levels_of_a_direct_build_and_undo_works() {
         let input = generators::icosphere(4);
-        let mut doc = Document::new(input.clone(), None, None);
-        let (mut display, mut status) = (Display::default(), Status::default());
-        let mut ctx = ToolContext {
-            doc: &mut doc,
-            display: &mut display,
-            status: &mut status,
-            view: view(),
-            pick: None,
-        };
+        let mut fixture = Fixture::new(input.clone());
+        let mut ctx = fixture.ctx();
         let mut tool = Multires::new(SharedLabels::default());
         tool.target_faces = 200;
         tool.apply(&mut ctx).unwrap();
@@ -1222,15 +1235,8 @@ mod tests {
 
     #[test]
     fn build_errors_reach_the_status_line() {
-        let mut doc = Document::new(generators::icosphere(2), None, None);
-        let (mut display, mut status) = (Display::default(), Status::default());
-        let mut ctx = ToolContext {
-            doc: &mut doc,
-            display: &mut display,
-            status: &mut status,
-            view: view(),
-            pick: None,
-        };
+        let mut fixture = Fixture::new(generators::icosphere(2));
+        let mut ctx = fixture.ctx();
         let mut tool = Multires::new(SharedLabels::default());
         // Out of range (the panel and scripts refuse it; the field is public).
         tool.max_normal_deviation = 200.0;
@@ -1247,15 +1253,8 @@ mod tests {
 
     #[test]
     fn a_mesh_changed_during_the_build_refuses_the_result() {
-        let mut doc = Document::new(generators::icosphere(2), None, None);
-        let (mut display, mut status) = (Display::default(), Status::default());
-        let mut ctx = ToolContext {
-            doc: &mut doc,
-            display: &mut display,
-            status: &mut status,
-            view: view(),
-            pick: None,
-        };
+        let mut fixture = Fixture::new(generators::icosphere(2));
+        let mut ctx = fixture.ctx();
         let mut tool = Multires::new(SharedLabels::default());
         tool.target_faces = 40;
         tool.start_build(&mut ctx).unwrap();
