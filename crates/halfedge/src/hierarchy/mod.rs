@@ -12,7 +12,13 @@
 //!   [`legality`] (OpenMesh's topological rules, no normal flips, no degenerate faces,
 //!   boundary vertices never leave the boundary). The build stops at a target face
 //!   count, a level count or an error bound ([`HierarchyOptions`]). The mesh is left at
-//!   the coarsest level.
+//!   the coarsest level. [`Hierarchy::build_with_progress`] reports progress, and
+//!   [`Hierarchy::build_cancellable`] lets the report stop the build.
+//! - **Speed**: walking the records is bound by memory latency (each step touches a few
+//!   elements scattered over arrays larger than the caches), so every step prefetches
+//!   what the record a few steps ahead will touch (`crate::prefetch`); while the
+//!   hierarchy trusts its mesh ([`Mesh::topology_stamp`]), collapsing a record again
+//!   skips the legality test the build already made, and splitting one skips its checks.
 //! - **Walking**: [`coarsen_to`](Hierarchy::coarsen_to) / [`refine_to`](Hierarchy::refine_to)
 //!   / [`go_to_level`](Hierarchy::go_to_level) level by level, or
 //!   [`collapse_next`](Hierarchy::collapse_next) / [`split_next`](Hierarchy::split_next)
