@@ -788,7 +788,8 @@ impl Tool for Multires {
             ui.add(
                 egui::ProgressBar::new(build_fraction(p.input_faces, p.target_faces, faces)).text(
                     format!(
-                        "{levels} levels · {} of {} faces left",
+                        "{levels} level{} · {} of {} faces left",
+                        if levels == 1 { "" } else { "s" },
                         group(faces),
                         group(p.input_faces)
                     ),
