@@ -28,6 +28,26 @@ fn run_script(prefix: Command, name: &str, dir: &Path, input: &Path, actions: se
     );
 }
 
+/// The FFD script's common start: attach a `grid` × `grid` net globally, apply an
+/// identity bend and save the mesh to `identity`; then `actions`.
+fn ffd_identity_then(grid: u32, identity: &Path, actions: serde_json::Value) -> serde_json::Value {
+    let mut all = serde_json::json!([
+        {"action": "select_tool", "tool": "ffd"},
+        {"action": "set", "param": "grid_u", "value": grid},
+        {"action": "set", "param": "grid_v", "value": grid},
+        {"action": "set", "param": "mode", "value": "global"},
+        {"action": "set", "param": "attach", "value": true},
+        {"action": "set", "param": "operation", "value": "bend"},
+        {"action": "set", "param": "bend", "value": 0},
+        {"action": "apply"},
+        {"action": "save", "path": identity}
+    ]);
+    if let (Some(all), serde_json::Value::Array(rest)) = (all.as_array_mut(), actions) {
+        all.extend(rest);
+    }
+    all
+}
+
 fn assert_screenshot(path: &Path) {
     let (sigma, colors, size) = image_stats(path);
     assert_eq!(size, (900, 640));
@@ -239,32 +259,27 @@ fn ffd_identity_drag_footprint_and_undo() {
         "ffd",
         &dir,
         &input,
-        serde_json::json!([
-            {"action": "select_tool", "tool": "ffd"},
-            {"action": "set", "param": "grid_u", "value": 10},
-            {"action": "set", "param": "grid_v", "value": 10},
-            {"action": "set", "param": "mode", "value": "global"},
-            {"action": "set", "param": "attach", "value": true},
-            {"action": "set", "param": "operation", "value": "bend"},
-            {"action": "set", "param": "bend", "value": 0},
-            {"action": "apply"},
-            {"action": "save", "path": p("identity.obj")},
-            {"action": "set", "param": "control", "value": ["shape", 4, 4]},
-            {"action": "pick_vertex", "index": 0},
-            {"action": "drag", "vector": [0.0, 0.0, 0.4], "steps": 4},
-            {"action": "save", "path": p("dragged.obj")},
-            {"action": "orbit", "yaw": 20, "pitch": 25},
-            {"action": "screenshot", "path": p("shot.png")},
-            {"action": "undo"},
-            {"action": "undo"},
-            {"action": "save", "path": p("undone.obj")},
-            {"action": "redo"},
-            {"action": "redo"},
-            {"action": "set", "param": "operation", "value": "twist"},
-            {"action": "set", "param": "twist", "value": 30},
-            {"action": "apply"},
-            {"action": "save", "path": p("twisted.obj")}
-        ]),
+        ffd_identity_then(
+            10,
+            &p("identity.obj"),
+            serde_json::json!([
+                {"action": "set", "param": "control", "value": ["shape", 4, 4]},
+                {"action": "pick_vertex", "index": 0},
+                {"action": "drag", "vector": [0.0, 0.0, 0.4], "steps": 4},
+                {"action": "save", "path": p("dragged.obj")},
+                {"action": "orbit", "yaw": 20, "pitch": 25},
+                {"action": "screenshot", "path": p("shot.png")},
+                {"action": "undo"},
+                {"action": "undo"},
+                {"action": "save", "path": p("undone.obj")},
+                {"action": "redo"},
+                {"action": "redo"},
+                {"action": "set", "param": "operation", "value": "twist"},
+                {"action": "set", "param": "twist", "value": 30},
+                {"action": "apply"},
+                {"action": "save", "path": p("twisted.obj")}
+            ]),
+        ),
     );
     // Identity surfaces give the mesh back.
     let identity = read(&p("identity.obj"));
@@ -507,23 +522,18 @@ fn ffd_press_beyond_the_silhouette_grabs_a_control_point() {
         "ffd-ray",
         &dir,
         &input,
-        serde_json::json!([
-            {"action": "select_tool", "tool": "ffd"},
-            {"action": "set", "param": "grid_u", "value": 6},
-            {"action": "set", "param": "grid_v", "value": 6},
-            {"action": "set", "param": "mode", "value": "global"},
-            {"action": "set", "param": "attach", "value": true},
-            {"action": "set", "param": "operation", "value": "bend"},
-            {"action": "set", "param": "bend", "value": 0},
-            {"action": "apply"},
-            {"action": "save", "path": p("identity.obj")},
-            {"action": "drag", "x": x, "y": y, "vector": [0.0, 0.0, 0.5], "steps": 3},
-            {"action": "save", "path": p("dragged.obj")},
-            {"action": "screenshot", "path": p("shot.png")},
-            {"action": "undo"},
-            {"action": "undo"},
-            {"action": "save", "path": p("undone.obj")}
-        ]),
+        ffd_identity_then(
+            6,
+            &p("identity.obj"),
+            serde_json::json!([
+                {"action": "drag", "x": x, "y": y, "vector": [0.0, 0.0, 0.5], "steps": 3},
+                {"action": "save", "path": p("dragged.obj")},
+                {"action": "screenshot", "path": p("shot.png")},
+                {"action": "undo"},
+                {"action": "undo"},
+                {"action": "save", "path": p("undone.obj")}
+            ]),
+        ),
     );
     let identity = read(&p("identity.obj"));
     let dragged = read(&p("dragged.obj"));
