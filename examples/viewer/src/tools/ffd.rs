@@ -26,8 +26,8 @@ use halfedge::Mesh;
 use three_d::egui;
 
 use super::{
-    bool_param, number_param, string_param, Drag, DragPhase, Overlay, Pick, Press, SharedLabels,
-    Tool, ToolContext, ToolError,
+    bool_param, choice_name, choice_param, number_param, string_param, Drag, DragPhase, Overlay,
+    Pick, Press, SharedLabels, Tool, ToolContext, ToolError,
 };
 use crate::app::group;
 use crate::camera::Ray;
@@ -630,16 +630,7 @@ impl Tool for FfdTool {
             }
             "grid_u" => self.grid[0] = grid(value)?,
             "grid_v" => self.grid[1] = grid(value)?,
-            "operation" => {
-                let s = string_param(name, value)?;
-                self.operation = OPERATIONS
-                    .iter()
-                    .find(|(_, n)| n.eq_ignore_ascii_case(s))
-                    .map(|(o, _)| *o)
-                    .ok_or_else(|| {
-                        ToolError::new(format!("operation {s:?}: bend, taper or twist"))
-                    })?;
-            }
+            "operation" => self.operation = choice_param(&OPERATIONS, name, value)?,
             "bend" => self.bend = number_param(name, value)?,
             "taper_start" => self.taper[0] = number_param(name, value)?,
             "taper_end" => self.taper[1] = number_param(name, value)?,
@@ -689,15 +680,7 @@ impl Tool for FfdTool {
             ("mode", if self.local { "local" } else { "global" }.into()),
             ("grid_u", self.grid[0].into()),
             ("grid_v", self.grid[1].into()),
-            (
-                "operation",
-                OPERATIONS
-                    .iter()
-                    .find(|(o, _)| *o == self.operation)
-                    .expect("listed")
-                    .1
-                    .into(),
-            ),
+            ("operation", choice_name(&OPERATIONS, self.operation).into()),
             ("bend", self.bend.into()),
             ("taper_start", self.taper[0].into()),
             ("taper_end", self.taper[1].into()),

@@ -8,7 +8,7 @@ use std::collections::VecDeque;
 use halfedge::{Mesh, VertexId};
 use three_d::egui;
 
-use super::{string_param, Overlay, Pick, Tool, ToolContext, ToolError};
+use super::{choice_name, choice_param, Overlay, Pick, Tool, ToolContext, ToolError};
 use crate::colors::{format_value, Colormap, NO_LABEL};
 
 /// What the Inspect tool colours the mesh by.
@@ -37,11 +37,7 @@ impl InspectColoring {
     ];
 
     fn name(self) -> &'static str {
-        Self::ALL
-            .iter()
-            .find(|(c, _)| *c == self)
-            .expect("listed")
-            .1
+        choice_name(&Self::ALL, self)
     }
 }
 
@@ -264,16 +260,7 @@ impl Tool for Inspect {
     ) -> Result<(), ToolError> {
         match name {
             "color" => {
-                let s = string_param(name, value)?;
-                self.coloring = InspectColoring::ALL
-                    .iter()
-                    .find(|(_, n)| n.eq_ignore_ascii_case(s))
-                    .map(|(c, _)| *c)
-                    .ok_or_else(|| {
-                        ToolError::new(format!(
-                            "color {s:?} unknown (none, valence, components, boundary, distance)"
-                        ))
-                    })?;
+                self.coloring = choice_param(&InspectColoring::ALL, name, value)?;
                 self.recolor(ctx);
                 Ok(())
             }

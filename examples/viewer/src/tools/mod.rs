@@ -269,6 +269,31 @@ pub fn string_param<'v>(name: &str, value: &'v serde_json::Value) -> Result<&'v 
         .ok_or_else(|| ToolError::bad_value(name, "a string", value))
 }
 
+/// The name of `x` in a table of choices `(value, name)` (a tool's modes and operations).
+///
+/// # Panics
+/// If `x` is not in the table (a programming error: every variant is listed).
+pub fn choice_name<T: PartialEq + Copy>(table: &[(T, &'static str)], x: T) -> &'static str {
+    table.iter().find(|(t, _)| *t == x).expect("listed").1
+}
+
+/// Reads a string parameter naming one of the choices of `table` (case-insensitive).
+pub fn choice_param<T: Copy>(
+    table: &[(T, &'static str)],
+    name: &str,
+    value: &serde_json::Value,
+) -> Result<T, ToolError> {
+    let s = string_param(name, value)?;
+    table
+        .iter()
+        .find(|(_, n)| n.eq_ignore_ascii_case(s))
+        .map(|(t, _)| *t)
+        .ok_or_else(|| {
+            let names: Vec<&str> = table.iter().map(|(_, n)| *n).collect();
+            ToolError::new(format!("{name} {s:?}: one of {}", names.join(", ")))
+        })
+}
+
 /// What a tool callback can see and change.
 pub struct ToolContext<'a> {
     /// The mesh and its history. Prefer the helper methods below for edits.

@@ -38,8 +38,8 @@ use halfedge::{
 use three_d::egui;
 
 use super::{
-    bool_param, number_param, string_param, Background, Overlay, Pick, Tool, ToolContext,
-    ToolError, ViewInfo,
+    bool_param, choice_name, choice_param, number_param, string_param, Background, Overlay, Pick,
+    Tool, ToolContext, ToolError, ViewInfo,
 };
 use crate::app::group;
 use crate::colors::{Rgba, NO_LABEL};
@@ -215,11 +215,7 @@ impl FrontierMode {
         (FrontierMode::Plane, "plane"),
     ];
     fn name(self) -> &'static str {
-        Self::ALL
-            .iter()
-            .find(|(m, _)| *m == self)
-            .expect("listed")
-            .1
+        choice_name(&Self::ALL, self)
     }
 }
 
@@ -244,11 +240,7 @@ impl PlaneNormal {
         (PlaneNormal::View, "view"),
     ];
     fn name(self) -> &'static str {
-        Self::ALL
-            .iter()
-            .find(|(m, _)| *m == self)
-            .expect("listed")
-            .1
+        choice_name(&Self::ALL, self)
     }
     fn vector(self, view: &ViewInfo) -> DVec3 {
         match self {
@@ -898,24 +890,12 @@ impl Tool for Multires {
                 self.go_to_level(l as usize, ctx)?;
             }
             "frontier" => {
-                let s = string_param(name, value)?;
-                self.frontier = FrontierMode::ALL
-                    .iter()
-                    .find(|(_, n)| n.eq_ignore_ascii_case(s))
-                    .map(|(m, _)| *m)
-                    .ok_or_else(|| {
-                        ToolError::new(format!("frontier {s:?}: loop, collar or plane"))
-                    })?;
+                self.frontier = choice_param(&FrontierMode::ALL, name, value)?;
                 self.picks.clear();
                 self.plane = None;
             }
             "normal" => {
-                let s = string_param(name, value)?;
-                self.normal = PlaneNormal::ALL
-                    .iter()
-                    .find(|(_, n)| n.eq_ignore_ascii_case(s))
-                    .map(|(m, _)| *m)
-                    .ok_or_else(|| ToolError::new(format!("normal {s:?}: x, y, z or view")))?;
+                self.normal = choice_param(&PlaneNormal::ALL, name, value)?;
             }
             "flip" => self.flip = bool_param(name, value)?,
             "define" => {

@@ -22,8 +22,8 @@ use halfedge::{Mesh, VertexId};
 use three_d::egui;
 
 use super::{
-    bool_param, number_param, string_param, Drag, DragPhase, Overlay, Pick, SharedLabels, Tool,
-    ToolContext, ToolError, ViewInfo,
+    bool_param, choice_name, choice_param, number_param, string_param, Drag, DragPhase, Overlay,
+    Pick, SharedLabels, Tool, ToolContext, ToolError, ViewInfo,
 };
 use crate::app::group;
 use crate::colors::NO_LABEL;
@@ -70,21 +70,6 @@ const OPERATIONS: [(Operation, &str); 6] = [
     (Operation::Twist, "twist"),
     (Operation::Smooth, "smooth"),
 ];
-
-fn name_of<T: PartialEq + Copy>(table: &[(T, &'static str)], x: T) -> &'static str {
-    table.iter().find(|(t, _)| *t == x).expect("listed").1
-}
-
-fn parse<T: Copy>(table: &[(T, &'static str)], param: &str, s: &str) -> Result<T, ToolError> {
-    table
-        .iter()
-        .find(|(_, n)| n.eq_ignore_ascii_case(s))
-        .map(|(t, _)| *t)
-        .ok_or_else(|| {
-            let names: Vec<&str> = table.iter().map(|(_, n)| *n).collect();
-            ToolError::new(format!("{param} {s:?}: one of {}", names.join(", ")))
-        })
-}
 
 /// A pull in progress.
 struct PullDrag {
@@ -269,7 +254,7 @@ impl SubMeshEdit {
     /// Applies the current operation (pull needs a drag).
     pub fn run(&mut self, ctx: &mut ToolContext<'_>) -> Result<(), ToolError> {
         let mesh = ctx.mesh();
-        let op = name_of(&OPERATIONS, self.operation);
+        let op = choice_name(&OPERATIONS, self.operation);
         let mut work = mesh.clone();
         let (sub_len, what) = match self.operation {
             Operation::Pull => {
@@ -589,9 +574,9 @@ impl Tool for SubMeshEdit {
         ctx: &mut ToolContext<'_>,
     ) -> Result<(), ToolError> {
         match name {
-            "source" => self.source = parse(&SOURCES, name, string_param(name, value)?)?,
+            "source" => self.source = choice_param(&SOURCES, name, value)?,
             "rings" => self.rings = count(name, value)?,
-            "operation" => self.operation = parse(&OPERATIONS, name, string_param(name, value)?)?,
+            "operation" => self.operation = choice_param(&OPERATIONS, name, value)?,
             "levels" => self.levels = count(name, value)?,
             "falloff" => {
                 self.smooth_falloff = match string_param(name, value)? {
@@ -649,9 +634,9 @@ impl Tool for SubMeshEdit {
 
     fn parameters(&self) -> Vec<(&'static str, serde_json::Value)> {
         vec![
-            ("source", name_of(&SOURCES, self.source).into()),
+            ("source", choice_name(&SOURCES, self.source).into()),
             ("rings", self.rings.into()),
-            ("operation", name_of(&OPERATIONS, self.operation).into()),
+            ("operation", choice_name(&OPERATIONS, self.operation).into()),
             ("levels", self.levels.into()),
             (
                 "falloff",
