@@ -109,9 +109,13 @@ impl Details {
     /// `len`: always so on the hierarchy's own mesh, checked before using a mesh the
     /// hierarchy cannot vouch for.
     pub(crate) fn in_bounds(&self, r: usize, len: usize) -> bool {
-        let a = self.offsets[2 * r] as usize;
-        let c = self.offsets[2 * r + 2] as usize;
-        self.neighbours[a..c].iter().all(|&i| (i as usize) < len)
+        self.all_neighbours(r).iter().all(|&i| (i as usize) < len)
+    }
+
+    /// Both neighbour lists of record `r`, one after the other.
+    #[inline]
+    fn all_neighbours(&self, r: usize) -> &[u32] {
+        &self.neighbours[self.offsets[2 * r] as usize..self.offsets[2 * r + 2] as usize]
     }
 
     /// Recomputes `C_i` of record `r` from the current positions (when the record is
@@ -134,9 +138,7 @@ impl Details {
     /// [`translations`](Self::translations) will read (see [`crate::prefetch`]).
     #[inline]
     pub(crate) fn prefetch(&self, r: usize, positions: &[DVec3]) {
-        let a = self.offsets[2 * r] as usize;
-        let c = self.offsets[2 * r + 2] as usize;
-        for &i in &self.neighbours[a..c] {
+        for &i in self.all_neighbours(r) {
             crate::prefetch::prefetch(positions, i as usize);
         }
     }
