@@ -47,7 +47,7 @@ pub use build::{AddFaceError, BuildReport};
 pub use collapse::{CollapseRecord, CollapseVeto};
 pub use error::{Error, Invariant, Result};
 pub use handle::{FaceId, HalfedgeId, VertexId};
-pub use hierarchy::{BuildProgress, Hierarchy, HierarchyOptions, Method};
+pub use hierarchy::{BuildProgress, DetailMode, Hierarchy, HierarchyOptions, Method};
 pub use labels::{Frontier, Label, SideCounts, FRONTIER};
 pub use mesh::Mesh;
 pub use topology::TopologyReport;

@@ -6,7 +6,7 @@ mod common;
 
 use common::{load, snapshot, Snapshot};
 use glam::DVec3;
-use halfedge::{generators, Error, Hierarchy, HierarchyOptions, Mesh, Method};
+use halfedge::{generators, DetailMode, Error, Hierarchy, HierarchyOptions, Mesh, Method};
 
 const REAL: [&str; 4] = ["spot.obj", "stanford-bunny.obj", "cow.obj", "teapot.obj"];
 
@@ -352,6 +352,7 @@ fn bunny_and_cut() -> (Mesh, f64) {
     (mesh, lo.y + 0.5 * (hi.y - lo.y))
 }
 
+// The paper's scheme (DetailMode::Translation).
 // An edit at a coarse level reaches the fine mesh through the centroid translations of
 // the splits that follow. Near the edited part's border a re-inserted vertex has moved and
 // unmoved neighbours and takes a blend of their motion; since a split's neighbours can be
@@ -371,7 +372,9 @@ fn translating_a_coarse_submesh_carries_its_fine_detail_exactly() {
     let scale = diagonal(&original);
     let mut h = Hierarchy::build(
         original.clone(),
-        &HierarchyOptions::rounds().with_max_levels(3),
+        &HierarchyOptions::rounds()
+            .with_max_levels(3)
+            .with_detail_mode(DetailMode::Translation),
     )
     .unwrap();
     let edge = h.mesh().mean_edge_length();
@@ -412,7 +415,9 @@ fn scaling_a_coarse_submesh_carries_the_fine_detail_along() {
     let (original, cut) = bunny_and_cut();
     let mut h = Hierarchy::build(
         original.clone(),
-        &HierarchyOptions::rounds().with_max_levels(3),
+        &HierarchyOptions::rounds()
+            .with_max_levels(3)
+            .with_detail_mode(DetailMode::Translation),
     )
     .unwrap();
     let edge = h.mesh().mean_edge_length();

@@ -1,41 +1,204 @@
-//! Centroid detail coefficients (the seed paper "Interactive Editing of Multiresolution
-//! Meshes", section 3, Fig. 1; DESIGN.md §2).
+//! Detail coefficients: how a split places the two vertices of its record after the mesh
+//! was edited at a coarser level.
 //!
-//! Before `v0 → v1` collapses, each endpoint `v ∈ {v0, v1}` gets the centroid `C_i` of its
-//! one-ring *without the other endpoint* (the vertices of the star of faces around `v`).
-//! When the record is split again, `C_f` is the centroid of the same neighbours at their
-//! current positions, and both `v0` and `v1` take their recorded pre-collapse position
-//! plus `C_f − C_i`, each with its own centroids. The translation carries any edit made at
-//! a coarser level to the re-inserted vertices.
+//! Two schemes ([`DetailMode`]), chosen when the hierarchy is built:
 //!
-//! Reach of an edit: a re-inserted vertex near the border of an edited part has moved and
-//! unmoved neighbours and takes a blend of their motion; as a split's neighbours may be
-//! vertices re-inserted just before in the same round, the blend spreads over a few
-//! coarse edge lengths, decaying by about a factor 10 per coarse edge (see the tests in
-//! `tests/hierarchy.rs`). Well inside an edited part the fine mesh moves with it; well
-//! outside nothing moves.
+//! - [`DetailMode::LocalFrame`] (the default), after the local-frame details of Kobbelt,
+//!   Campagna, Vorsatz & Seidel (1998) and Guskov, Sweldens & Schröder (1999): at collapse
+//!   time each endpoint's position is stored as an offset from the survivor's placed
+//!   position, in a frame built from the record's neighbours (both endpoints' one-rings
+//!   without the endpoints): their centroid, the normal of the rings, a tangent towards
+//!   the first neighbour that is not along the normal, and their RMS distance to the
+//!   centroid as unit length. At split time the same frame is built from the neighbours'
+//!   current positions, and both endpoints are placed at the survivor's current position
+//!   plus the stored offset expressed in the new frame. A neighbourhood that was
+//!   translated, rotated, scaled or bent at a coarse level takes its detail along, turned
+//!   and scaled with it; a survivor dragged on its own carries its detail with it.
+//! - [`DetailMode::Translation`], the seed paper's centroid translations ("Interactive
+//!   Editing of Multiresolution Meshes", section 3, Fig. 1): each endpoint takes its
+//!   recorded position plus the translation `C_f − C_i` of the centroid of its own
+//!   neighbours. Rotations are not carried (a rotated part comes back with unrotated
+//!   detail) and every split averages moved and unmoved neighbours, so an edit diffuses
+//!   about one ring further at every level. Kept for fidelity with the paper.
 //!
-//! Exactness: `C_i` and `C_f` are computed by the same function over the same neighbour
-//! list in the same order, so with no edit they agree bit for bit; a zero translation is
-//! then not even added (adding `+0.0` would turn a `-0.0` coordinate into `+0.0`), and
-//! refinement restores the input positions exactly.
+//! **Regions** (local frames only): a split whose survivor is exactly where the hierarchy
+//! left it (bit for bit) puts both endpoints back at their recorded positions. So a fine
+//! vertex moves only when its *ancestor* at the edited level (the vertex it was collapsed
+//! into) moved: everything an edit left in place stays exact at every finer level, and the
+//! transition between moved and still parts is the edit's own. A survivor marked with an
+//! affine map ([`crate::Hierarchy::mark_affine`]) whose position is that map's image of
+//! where the hierarchy left it places both endpoints at the map's image of their recorded
+//! positions, exactly: rigidly moved handles land where the user put them.
+//!
+//! Exactness: the frame (and the centroids) are computed by one function over the same
+//! neighbour list in the same order at collapse and at split time, so with no edit they
+//! agree bit for bit; and the hierarchy skips all of this while no position was edited.
 //!
 //! Storage is flat: one `Vec<u32>` of neighbour vertex indices for all records, with two
-//! lists per record (`v0`'s, then `v1`'s) delimited by one offset array, and the two
-//! recorded centroids per record.
+//! lists per record (`v0`'s, then `v1`'s) delimited by one offset array, and two vectors
+//! per record (the local offsets, or the recorded centroids).
 
-use glam::DVec3;
+use glam::{DAffine3, DVec3};
+
+/// How a split places its vertices after an edit at a coarser level (see the
+/// [module docs](self)).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum DetailMode {
+    /// Offsets in a local frame of the neighbourhood, anchored at the survivor; regions
+    /// that did not move stay exact; affine marks land exactly. The default.
+    #[default]
+    LocalFrame,
+    /// The seed paper's centroid translations `C_f − C_i` (section 3, Fig. 1).
+    Translation,
+}
+
+/// Cosines and sines of `2π j / n` for `j < n`, for ring lengths up to
+/// [`TABLED_RING`] (computed once, so every frame of a ring uses the same bits).
+const TABLED_RING: usize = 96;
+
+fn ring_table(n: usize) -> &'static [(f64, f64)] {
+    static TABLE: std::sync::OnceLock<Vec<Vec<(f64, f64)>>> = std::sync::OnceLock::new();
+    let table = TABLE.get_or_init(|| {
+        (0..=TABLED_RING)
+            .map(|n| {
+                (0..n)
+                    .map(|j| (std::f64::consts::TAU * j as f64 / n as f64).sin_cos())
+                    .map(|(s, c)| (c, s))
+                    .collect()
+            })
+            .collect()
+    });
+    &table[n.min(TABLED_RING)]
+}
+
+/// The two tangent vectors of a ring of neighbours (listed in ring order): its first
+/// Fourier mode `Σ cos(2π j/n) q_j`, `Σ sin(2π j/n) q_j`. Both are linear in the
+/// positions and blind to translations, so an affine map of the ring maps them by its
+/// linear part. `None` for rings of fewer than three vertices or longer than the table.
+#[inline]
+fn ring_tangents(positions: &[DVec3], list: &[u32]) -> Option<(DVec3, DVec3)> {
+    let n = list.len();
+    if !(3..=TABLED_RING).contains(&n) {
+        return None;
+    }
+    let (mut x, mut y) = (DVec3::ZERO, DVec3::ZERO);
+    for (&i, &(c, s)) in list.iter().zip(ring_table(n)) {
+        let q = positions[i as usize];
+        x += c * q;
+        y += s * q;
+    }
+    Some((x, y))
+}
+
+/// [`ring_tangents`] of the edge's link: `l0` followed by `l1`, one loop around the
+/// collapsed edge.
+#[inline]
+fn link_tangents(positions: &[DVec3], l0: &[u32], l1: &[u32]) -> Option<(DVec3, DVec3)> {
+    let n = l0.len() + l1.len();
+    if !(3..=TABLED_RING).contains(&n) {
+        return None;
+    }
+    let (mut x, mut y) = (DVec3::ZERO, DVec3::ZERO);
+    for (&i, &(c, s)) in l0.iter().chain(l1).zip(ring_table(n)) {
+        let q = positions[i as usize];
+        x += c * q;
+        y += s * q;
+    }
+    Some((x, y))
+}
+
+/// A local frame of a record's neighbourhood: the columns `x`, `y` (the first Fourier
+/// mode of one neighbour ring, see [`ring_tangents`]) and `z` along `x × y`, of length
+/// `sqrt |x × y|`. The frame follows every similarity of the neighbourhood exactly, and
+/// stretches and shears within the tangent plane with it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Frame {
+    axes: glam::DMat3,
+}
+
+/// Which ring a record's frame is built from: none, `v0`'s or `v1`'s.
+pub(crate) type Ring = u8;
+const NO_RING: Ring = 0;
+/// The frame is built from the edge's link (both lists, one loop).
+const LINK: Ring = 3;
+
+impl Frame {
+    /// The frame of ring `ring` (1: `l0`, 2: `l1`), or `None` when that ring spans no
+    /// plane (its tangents are nearly parallel, vanish or are not finite).
+    #[inline]
+    pub(crate) fn of_ring(positions: &[DVec3], l0: &[u32], l1: &[u32], ring: Ring) -> Option<Self> {
+        let (x, y) = match ring {
+            1 => ring_tangents(positions, l0)?,
+            2 => ring_tangents(positions, l1)?,
+            LINK => link_tangents(positions, l0, l1)?,
+            _ => return None,
+        };
+        Self::from_tangents(x, y)
+    }
+
+    #[inline]
+    fn from_tangents(x: DVec3, y: DVec3) -> Option<Self> {
+        let normal = x.cross(y);
+        let area = normal.length();
+        // Tangents at least ~0.1° apart.
+        if !(area > 2e-3 * x.length() * y.length()) || !area.is_finite() {
+            return None;
+        }
+        let z = normal / area.sqrt();
+        Some(Self {
+            axes: glam::DMat3::from_cols(x, y, z),
+        })
+    }
+
+    /// The better conditioned of the two rings' frames at collapse time, and which ring.
+    pub(crate) fn choose(positions: &[DVec3], l0: &[u32], l1: &[u32]) -> Option<(Ring, Self)> {
+        let quality = |ring: Ring| {
+            let f = Self::of_ring(positions, l0, l1, ring)?;
+            let [x, y, _] = f.axes.to_cols_array_2d().map(DVec3::from_array);
+            Some((x.cross(y).length() / (x.length() * y.length()), ring, f))
+        };
+        if let Some((q, ring, f)) = quality(LINK) {
+            if q > 0.5 {
+                return Some((ring, f));
+            }
+        }
+        match (quality(1), quality(2)) {
+            (Some(a), Some(b)) => Some(if b.0 > a.0 { (b.1, b.2) } else { (a.1, a.2) }),
+            (Some(a), None) | (None, Some(a)) => Some((a.1, a.2)),
+            (None, None) => None,
+        }
+    }
+
+    /// `v` (a world offset) in this frame's coordinates.
+    #[inline]
+    fn local(&self, v: DVec3) -> Option<DVec3> {
+        let d = self.axes.inverse() * v;
+        d.is_finite().then_some(d)
+    }
+
+    /// The world offset of local coordinates `d`.
+    #[inline]
+    fn world(&self, d: DVec3) -> DVec3 {
+        self.axes * d
+    }
+}
 
 /// The detail coefficients of every record of a hierarchy, indexed by record number.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Details {
+    mode: DetailMode,
     /// Neighbour vertex indices of all records, `v0`'s list then `v1`'s list per record.
     neighbours: Vec<u32>,
     /// `offsets[2 r]..offsets[2 r + 1]` is `v0`'s list of record `r`,
     /// `offsets[2 r + 1]..offsets[2 r + 2]` is `v1`'s; starts with 0.
     offsets: Vec<u32>,
-    /// `[C_i(v0), C_i(v1)]` per record.
-    centroids: Vec<[DVec3; 2]>,
+    /// Local frames: `[d0, d1]`, the offsets of `p0` and `p1` from the placed survivor in
+    /// the record's frame (or in world axes when `framed` is false).
+    /// Translation: `[C_i(v0), C_i(v1)]`.
+    coefficients: Vec<[DVec3; 2]>,
+    /// Local frames: the ring the record's frame is built from ([`NO_RING`]: the
+    /// neighbourhood had no frame at collapse time, the offsets are in world axes).
+    framed: Vec<Ring>,
 }
 
 /// Centroid of the positions of the listed vertices, summed in list order (the order is
@@ -63,37 +226,83 @@ pub(crate) fn translate_exact(p: DVec3, d: DVec3) -> DVec3 {
     )
 }
 
+/// Where a split puts its two vertices, given the survivor's position before the split.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Placement {
+    /// Both at their recorded positions (the split already put them there).
+    Recorded,
+    /// At these positions.
+    At([DVec3; 2]),
+}
+
+/// Positions `[p0, p1]` recorded before a collapse and the survivor's position after it.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Collapsed {
+    pub p0: DVec3,
+    pub p1: DVec3,
+    pub placed: DVec3,
+}
+
 impl Details {
-    /// Room for about `records` records.
-    pub(crate) fn with_capacity(records: usize) -> Self {
+    /// Room for about `records` records, in `mode`.
+    pub(crate) fn with_capacity(mode: DetailMode, records: usize) -> Self {
         let mut offsets = Vec::with_capacity(2 * records + 1);
         offsets.push(0);
         Self {
+            mode,
             neighbours: Vec::with_capacity(12 * records),
             offsets,
-            centroids: Vec::with_capacity(records),
+            coefficients: Vec::with_capacity(records),
+            framed: Vec::with_capacity(if mode == DetailMode::LocalFrame {
+                records
+            } else {
+                0
+            }),
         }
+    }
+
+    /// The scheme.
+    pub(crate) fn mode(&self) -> DetailMode {
+        self.mode
     }
 
     /// Appends the record of the next collapse: the neighbours of `v0` (without `v1`) and
     /// of `v1` (without `v0`) given as vertex indices by the two iterators, and computes
-    /// their centroids from `positions`.
+    /// its coefficients from `positions` (of the neighbours) and `at`.
     pub(crate) fn push(
         &mut self,
         positions: &[DVec3],
-        v0_neighbours: impl Iterator<Item = u32>,
-        v1_neighbours: impl Iterator<Item = u32>,
+        v0_ring: impl Iterator<Item = u32>,
+        v1_ring: impl Iterator<Item = u32>,
+        [i0, i1]: [u32; 2],
+        at: Collapsed,
     ) {
         let start0 = self.neighbours.len();
-        self.neighbours.extend(v0_neighbours);
+        self.push_ring(v0_ring, i1);
         let start1 = self.neighbours.len();
-        self.neighbours.extend(v1_neighbours);
+        self.push_ring(v1_ring, i0);
         let end = self.neighbours.len();
+        debug_assert!(start0 <= start1);
         self.offsets.push(start1 as u32);
         self.offsets.push(end as u32);
-        let c0 = centroid(positions, &self.neighbours[start0..start1]);
-        let c1 = centroid(positions, &self.neighbours[start1..end]);
-        self.centroids.push([c0, c1]);
+        self.coefficients.push([DVec3::ZERO; 2]);
+        if self.mode == DetailMode::LocalFrame {
+            self.framed.push(NO_RING);
+        }
+        self.refresh(self.coefficients.len() - 1, positions, at);
+    }
+
+    /// Appends the one-ring `ring` (in rotation order) of one endpoint without the other
+    /// endpoint `other`, starting right after `other`: so `v0`'s list then `v1`'s list
+    /// walk once around the collapsed edge (its link).
+    fn push_ring(&mut self, ring: impl Iterator<Item = u32>, other: u32) {
+        let start = self.neighbours.len();
+        self.neighbours.extend(ring);
+        let list = &mut self.neighbours[start..];
+        if let Some(k) = list.iter().position(|&i| i == other) {
+            list.rotate_left(k + 1);
+            self.neighbours.pop();
+        }
     }
 
     /// The neighbour lists of record `r`: `(v0's, v1's)`.
@@ -118,24 +327,85 @@ impl Details {
         &self.neighbours[self.offsets[2 * r] as usize..self.offsets[2 * r + 2] as usize]
     }
 
-    /// Recomputes `C_i` of record `r` from the current positions (when the record is
-    /// collapsed again after an edit at a finer level).
-    pub(crate) fn refresh(&mut self, r: usize, positions: &[DVec3]) {
+    /// Recomputes the coefficients of record `r` from the neighbours' current positions
+    /// and the collapse `at` (when the record is collapsed again after an edit at a finer
+    /// level).
+    pub(crate) fn refresh(&mut self, r: usize, positions: &[DVec3], at: Collapsed) {
         let (l0, l1) = self.lists(r);
-        let c = [centroid(positions, l0), centroid(positions, l1)];
-        self.centroids[r] = c;
+        match self.mode {
+            DetailMode::Translation => {
+                let c = [centroid(positions, l0), centroid(positions, l1)];
+                self.coefficients[r] = c;
+            }
+            DetailMode::LocalFrame => {
+                let offsets = [at.p0 - at.placed, at.p1 - at.placed];
+                let framed = Frame::choose(positions, l0, l1).and_then(|(ring, f)| {
+                    Some((ring, [f.local(offsets[0])?, f.local(offsets[1])?]))
+                });
+                let (framed, coefficients) = framed.unwrap_or((NO_RING, offsets));
+                self.framed[r] = framed;
+                self.coefficients[r] = coefficients;
+            }
+        }
     }
 
-    /// The translations `C_f − C_i` of `v0` and `v1` for splitting record `r` now.
+    /// Where splitting record `r` puts `v0` and `v1`, with the survivor now at `anchor`,
+    /// the neighbours at `positions`, and the collapse as recorded in `at`.
     #[inline]
-    pub(crate) fn translations(&self, r: usize, positions: &[DVec3]) -> [DVec3; 2] {
+    pub(crate) fn placement(
+        &self,
+        r: usize,
+        positions: &[DVec3],
+        anchor: DVec3,
+        at: Collapsed,
+    ) -> Placement {
         let (l0, l1) = self.lists(r);
-        let [c0, c1] = self.centroids[r];
-        [centroid(positions, l0) - c0, centroid(positions, l1) - c1]
+        let [a, b] = self.coefficients[r];
+        match self.mode {
+            DetailMode::Translation => {
+                let d0 = centroid(positions, l0) - a;
+                let d1 = centroid(positions, l1) - b;
+                Placement::At([translate_exact(at.p0, d0), translate_exact(at.p1, d1)])
+            }
+            DetailMode::LocalFrame => {
+                if anchor == at.placed {
+                    return Placement::Recorded;
+                }
+                let ring = self.framed[r];
+                if ring == NO_RING {
+                    return Placement::At([anchor + a, anchor + b]);
+                }
+                match Frame::of_ring(positions, l0, l1, ring) {
+                    Some(f) => Placement::At([anchor + f.world(a), anchor + f.world(b)]),
+                    // The edit flattened the neighbourhood to a line or a point: its
+                    // detail has no frame to live in and shrinks to the survivor.
+                    None => Placement::At([anchor; 2]),
+                }
+            }
+        }
+    }
+
+    /// Where splitting record `r` puts `v0` and `v1` when the survivor was moved by the
+    /// affine map `t` from where the hierarchy left it: `t` of their recorded positions,
+    /// or `None` when the survivor is not (within rounding) `t` of its placed position.
+    #[inline]
+    pub(crate) fn affine_placement(
+        t: &DAffine3,
+        anchor: DVec3,
+        at: Collapsed,
+    ) -> Option<[DVec3; 2]> {
+        let expected = t.transform_point3(at.placed);
+        let scale = expected
+            .abs()
+            .max_element()
+            .max(at.placed.abs().max_element())
+            .max(t.translation.abs().max_element());
+        ((anchor - expected).abs().max_element() <= 1e-10 * scale.max(f64::MIN_POSITIVE))
+            .then(|| [t.transform_point3(at.p0), t.transform_point3(at.p1)])
     }
 
     /// Prefetches the current positions of record `r`'s neighbours, which
-    /// [`translations`](Self::translations) will read (see [`crate::prefetch`]).
+    /// [`placement`](Self::placement) will read (see [`crate::prefetch`]).
     #[inline]
     pub(crate) fn prefetch(&self, r: usize, positions: &[DVec3]) {
         for &i in self.all_neighbours(r) {
@@ -147,7 +417,8 @@ impl Details {
     pub(crate) fn heap_bytes(&self) -> usize {
         self.neighbours.capacity() * 4
             + self.offsets.capacity() * 4
-            + self.centroids.capacity() * std::mem::size_of::<[DVec3; 2]>()
+            + self.coefficients.capacity() * std::mem::size_of::<[DVec3; 2]>()
+            + self.framed.capacity()
     }
 }
 
@@ -175,10 +446,145 @@ mod tests {
             DVec3::new(1e16, -3.0, 0.7),
             DVec3::new(-1e16, 5.0, 0.1),
         ];
-        let mut d = Details::with_capacity(1);
-        d.push(&positions, [0u32, 1, 2].into_iter(), [2u32].into_iter());
-        assert_eq!(d.translations(0, &positions), [DVec3::ZERO; 2]);
+        let at = Collapsed {
+            p0: DVec3::X,
+            p1: DVec3::Y,
+            placed: DVec3::Z,
+        };
+        let mut d = Details::with_capacity(DetailMode::Translation, 1);
+        d.push(
+            &positions,
+            [0u32, 1, 2].into_iter(),
+            [2u32].into_iter(),
+            [7, 8],
+            at,
+        );
+        assert_eq!(
+            d.placement(0, &positions, DVec3::Z, at),
+            Placement::At([at.p0, at.p1])
+        );
         let (a, b) = d.lists(0);
         assert_eq!((a, b), (&[0u32, 1, 2][..], &[2u32][..]));
+    }
+
+    /// A hexagon ring around the origin, in the plane z = 0.
+    fn ring() -> Vec<DVec3> {
+        (0..6)
+            .map(|k| {
+                let a = k as f64 * std::f64::consts::TAU / 6.0;
+                DVec3::new(a.cos(), a.sin(), 0.0)
+            })
+            .collect()
+    }
+
+    #[test]
+    fn local_frames_follow_a_similarity_of_the_neighbourhood() {
+        let positions = ring();
+        let at = Collapsed {
+            p0: DVec3::new(0.3, 0.1, 0.2),
+            p1: DVec3::new(-0.2, 0.05, -0.1),
+            placed: DVec3::new(0.05, 0.07, 0.04),
+        };
+        let mut d = Details::with_capacity(DetailMode::LocalFrame, 1);
+        d.push(
+            &positions,
+            [0u32, 1, 2, 3].into_iter(),
+            [3u32, 4, 5, 0].into_iter(),
+            [7, 8],
+            at,
+        );
+        // Unmoved survivor: the recorded positions, exactly.
+        assert_eq!(
+            d.placement(0, &positions, at.placed, at),
+            Placement::Recorded
+        );
+        // Rotate, scale and translate everything: the endpoints follow exactly.
+        let t = DAffine3::from_scale_rotation_translation(
+            DVec3::splat(1.7),
+            glam::DQuat::from_axis_angle(DVec3::new(1.0, 2.0, -0.5).normalize(), 1.1),
+            DVec3::new(4.0, -2.0, 3.0),
+        );
+        let moved: Vec<DVec3> = positions.iter().map(|&p| t.transform_point3(p)).collect();
+        let Placement::At([q0, q1]) = d.placement(0, &moved, t.transform_point3(at.placed), at)
+        else {
+            panic!("a moved survivor is placed")
+        };
+        assert!((q0 - t.transform_point3(at.p0)).length() < 1e-12);
+        assert!((q1 - t.transform_point3(at.p1)).length() < 1e-12);
+        // The translation scheme keeps the detail unrotated.
+        let mut paper = Details::with_capacity(DetailMode::Translation, 1);
+        paper.push(
+            &positions,
+            [0u32, 1, 2, 3].into_iter(),
+            [3u32, 4, 5, 0].into_iter(),
+            [7, 8],
+            at,
+        );
+        let Placement::At([r0, _]) = paper.placement(0, &moved, t.transform_point3(at.placed), at)
+        else {
+            panic!()
+        };
+        assert!((r0 - t.transform_point3(at.p0)).length() > 1e-3);
+    }
+
+    #[test]
+    fn degenerate_neighbourhoods_have_no_frame() {
+        let line = [DVec3::ZERO, DVec3::X, DVec3::X * 2.0];
+        assert_eq!(Frame::choose(&line, &[0, 1, 2], &[]), None);
+        let point = [DVec3::ONE; 3];
+        assert_eq!(Frame::choose(&point, &[0, 1, 2], &[2]), None);
+        let nan = [DVec3::ZERO, DVec3::X, DVec3::new(0.0, f64::NAN, 0.0)];
+        assert_eq!(Frame::choose(&nan, &[0, 1, 2], &[]), None);
+        assert_eq!(
+            Frame::choose(&ring(), &[0, 1, 2, 3, 4, 5], &[]).unwrap().0,
+            LINK
+        );
+        assert_eq!(Frame::choose(&ring(), &[0, 2, 4], &[0, 2, 4]).unwrap().0, 1);
+    }
+
+    #[test]
+    fn local_frames_follow_an_affine_map_of_the_tangent_plane() {
+        // A shear and stretch within the ring's plane: tangential offsets follow exactly.
+        let positions = ring();
+        let at = Collapsed {
+            p0: DVec3::new(0.3, 0.1, 0.0),
+            p1: DVec3::new(-0.2, 0.05, 0.0),
+            placed: DVec3::new(0.05, 0.07, 0.0),
+        };
+        let mut d = Details::with_capacity(DetailMode::LocalFrame, 1);
+        d.push(
+            &positions,
+            [0u32, 1, 2, 3, 4, 5].into_iter(),
+            [0u32, 2].into_iter(),
+            [7, 8],
+            at,
+        );
+        let t = glam::DAffine3::from_mat3(glam::DMat3::from_cols(
+            DVec3::new(2.0, 0.3, 0.0),
+            DVec3::new(0.5, 0.7, 0.0),
+            DVec3::Z,
+        ));
+        let moved: Vec<DVec3> = positions.iter().map(|&p| t.transform_point3(p)).collect();
+        let Placement::At([q0, q1]) = d.placement(0, &moved, t.transform_point3(at.placed), at)
+        else {
+            panic!()
+        };
+        assert!((q0 - t.transform_point3(at.p0)).length() < 1e-12);
+        assert!((q1 - t.transform_point3(at.p1)).length() < 1e-12);
+    }
+
+    #[test]
+    fn affine_marks_need_the_survivor_to_match() {
+        let at = Collapsed {
+            p0: DVec3::new(1.0, 2.0, 3.0),
+            p1: DVec3::new(2.0, 2.0, 3.0),
+            placed: DVec3::new(1.5, 2.0, 3.0),
+        };
+        let t = DAffine3::from_rotation_z(0.7) * DAffine3::from_translation(DVec3::X);
+        let anchor = t.transform_point3(at.placed);
+        let [q0, q1] = Details::affine_placement(&t, anchor, at).unwrap();
+        assert_eq!(q0, t.transform_point3(at.p0));
+        assert_eq!(q1, t.transform_point3(at.p1));
+        assert!(Details::affine_placement(&t, anchor + DVec3::Y * 1e-6, at).is_none());
     }
 }

@@ -48,12 +48,13 @@ pub mod rounds;
 
 use std::ops::ControlFlow;
 
-use glam::DVec3;
+use glam::{DAffine3, DVec3};
 
 use crate::attributes::Attribute;
 use crate::labels::{self, Label};
 use crate::{CollapseRecord, Error, HalfedgeId, Mesh, Result, VertexId};
-use detail::{translate_exact, Details};
+pub use detail::DetailMode;
+use detail::{Collapsed, Details, Placement};
 
 /// How many splits ahead [`Hierarchy::split_next`] prefetches the memory of the record it
 /// will split (see [`crate::prefetch`]).
@@ -114,6 +115,10 @@ pub struct HierarchyOptions {
     pub max_error: f64,
     /// Stop after a level that removed less than this fraction of its faces (default 1 %).
     pub min_level_reduction: f64,
+    /// How splits place their vertices after an edit at a coarser level (module
+    /// [`detail`]): local frames with exact regions (the default) or the seed paper's
+    /// centroid translations.
+    pub detail_mode: DetailMode,
 }
 
 impl Default for HierarchyOptions {
@@ -128,6 +133,7 @@ impl Default for HierarchyOptions {
             max_levels: usize::MAX,
             max_error: f64::INFINITY,
             min_level_reduction: 0.01,
+            detail_mode: DetailMode::LocalFrame,
         }
     }
 }
@@ -162,6 +168,12 @@ impl HierarchyOptions {
     /// Sets [`max_normal_deviation`](Self::max_normal_deviation) (radians).
     pub fn with_max_normal_deviation(mut self, radians: f64) -> Self {
         self.max_normal_deviation = radians;
+        self
+    }
+
+    /// Sets [`detail_mode`](Self::detail_mode).
+    pub fn with_detail_mode(mut self, mode: DetailMode) -> Self {
+        self.detail_mode = mode;
         self
     }
 
@@ -266,10 +278,14 @@ struct LabelBinding {
 pub struct Hierarchy {
     mesh: Mesh,
     records: Vec<CollapseRecord>,
-    /// Survivor position chosen at build time and its parameter `t` along the edge
-    /// (`p1 + t (p0 − p1)` plus a residual), for collapsing again after an edit.
+    /// Survivor position after the record's last collapse and its parameter `t` along
+    /// the edge (`p1 + t (p0 − p1)` plus a residual), for collapsing again after an edit
+    /// and for knowing, when splitting, whether the survivor moved since.
     placements: Vec<(DVec3, f64)>,
     details: Details,
+    /// Affine maps the user said moved some vertices since the hierarchy placed them
+    /// ([`Hierarchy::mark_affine`]).
+    marks: Marks,
     /// Records collapsed at the end of each level; `level_ends[0] == 0` (the input).
     level_ends: Vec<usize>,
     /// Face count of each level, finest first.
@@ -302,6 +318,7 @@ impl Clone for Hierarchy {
             records: self.records.clone(),
             placements: self.placements.clone(),
             details: self.details.clone(),
+            marks: self.marks.clone(),
             level_ends: self.level_ends.clone(),
             level_faces: self.level_faces.clone(),
             applied: self.applied,
@@ -370,7 +387,8 @@ impl Hierarchy {
             mesh,
             records: Vec::with_capacity(expected_records),
             placements: Vec::with_capacity(expected_records),
-            details: Details::with_capacity(expected_records),
+            details: Details::with_capacity(options.detail_mode, expected_records),
+            marks: Marks::default(),
             level_ends: vec![0],
             level_faces: vec![faces],
             applied: 0,
@@ -400,14 +418,20 @@ impl Hierarchy {
         let mesh = &self.mesh;
         let v0 = mesh.from_vertex(h);
         let v1 = mesh.to_vertex(h);
+        let at = Collapsed {
+            p0: mesh.position(v0),
+            p1: mesh.position(v1),
+            placed: p,
+        };
+        let (i0, i1) = (mesh.vertex_index(v0) as u32, mesh.vertex_index(v1) as u32);
         self.details.push(
             mesh.positions(),
             mesh.adjacent_vertices(v0)
-                .filter(|&w| w != v1)
                 .map(|w| mesh.vertex_index(w) as u32),
             mesh.adjacent_vertices(v1)
-                .filter(|&w| w != v0)
                 .map(|w| mesh.vertex_index(w) as u32),
+            [i0, i1],
+            at,
         );
         // The methods have just checked `is_collapse_ok` through the legality layer.
         let record = self.mesh.collapse_unchecked(h);
@@ -618,12 +642,21 @@ impl Hierarchy {
             self.mesh.collapse(h)?
         };
         if !clean {
-            self.details.refresh(r, self.mesh.positions());
+            let at = Collapsed {
+                p0: record.p0,
+                p1: record.p1,
+                placed: p,
+            };
+            self.details.refresh(r, self.mesh.positions(), at);
         }
         let i1 = self.mesh.vertex_index(v1);
         self.mesh.positions[i1] = p;
+        self.placements[r].0 = p;
         self.records[r] = record;
         self.applied += 1;
+        // Marks describe motion relative to the records below the current position; a
+        // record collapsed again now holds the moved positions.
+        self.marks.clear();
         self.stamp = self.stamp.map(|_| self.mesh.topology_stamp());
         Ok(true)
     }
@@ -663,10 +696,32 @@ impl Hierarchy {
             }
         }
         let clean = self.positions_are_clean();
-        let [d0, d1] = if clean {
-            [DVec3::ZERO; 2]
-        } else {
-            self.details.translations(r, self.mesh.positions())
+        let record = &self.records[r];
+        let at = Collapsed {
+            p0: record.p0,
+            p1: record.p1,
+            placed: self.placements[r].0,
+        };
+        let (i0, i1) = (
+            self.mesh.vertex_index(record.v0),
+            self.mesh.vertex_index(record.v1),
+        );
+        let mut mark = UNMARKED;
+        let placement = match self.mesh.positions.get(i1) {
+            Some(&anchor) if !clean => {
+                mark = self.marks.of(i1);
+                let affine = (mark != UNMARKED)
+                    .then(|| Details::affine_placement(&self.marks.maps[mark as usize], anchor, at))
+                    .flatten();
+                match affine {
+                    Some(both) => Placement::At(both),
+                    None => {
+                        mark = UNMARKED;
+                        self.details.placement(r, self.mesh.positions(), anchor, at)
+                    }
+                }
+            }
+            _ => Placement::Recorded,
         };
         if let Some(ahead) = r.checked_sub(SPLIT_PREFETCH_DISTANCE) {
             self.mesh.prefetch_split(&self.records[ahead]);
@@ -686,14 +741,14 @@ impl Hierarchy {
         } else {
             self.mesh.vertex_split(record)?;
         }
-        let (i0, i1) = (
-            self.mesh.vertex_index(record.v0),
-            self.mesh.vertex_index(record.v1),
-        );
-        // The split put v0 and v1 back at p0 and p1; only translations move them on.
-        if !clean {
-            self.mesh.positions[i0] = translate_exact(record.p0, d0);
-            self.mesh.positions[i1] = translate_exact(record.p1, d1);
+        // The split put v0 and v1 back at p0 and p1.
+        if let Placement::At([q0, q1]) = placement {
+            self.mesh.positions[i0] = q0;
+            self.mesh.positions[i1] = q1;
+        }
+        if !self.marks.is_empty() {
+            self.marks.set(i0, mark);
+            self.marks.set(i1, mark);
         }
         if let Some(binding) = self.labels {
             if r < binding.defined_at {
@@ -733,5 +788,133 @@ impl Hierarchy {
     /// Stops propagating labels through splits.
     pub fn detach_labels(&mut self) {
         self.labels = None;
+    }
+}
+
+/// No affine mark on a vertex.
+const UNMARKED: u32 = u32::MAX;
+
+/// Affine maps that moved vertices since the hierarchy placed them
+/// ([`Hierarchy::mark_affine`]): a map index per vertex slot (allocated on first use) and
+/// the maps.
+#[derive(Clone, Debug, Default)]
+struct Marks {
+    of_vertex: Vec<u32>,
+    maps: Vec<DAffine3>,
+}
+
+impl Marks {
+    #[inline]
+    fn is_empty(&self) -> bool {
+        self.maps.is_empty()
+    }
+    #[inline]
+    fn of(&self, i: usize) -> u32 {
+        self.of_vertex.get(i).copied().unwrap_or(UNMARKED)
+    }
+    #[inline]
+    fn set(&mut self, i: usize, mark: u32) {
+        if let Some(m) = self.of_vertex.get_mut(i) {
+            *m = mark;
+        }
+    }
+    fn clear(&mut self) {
+        if !self.is_empty() {
+            *self = Self::default();
+        }
+    }
+}
+
+/// # Edits at a coarse level
+impl Hierarchy {
+    /// How splits place their vertices after an edit (see [`DetailMode`]).
+    pub fn detail_mode(&self) -> DetailMode {
+        self.details.mode()
+    }
+
+    /// Tells the hierarchy that `vertices` (live at the current position) were just moved
+    /// by the affine map `transform` (for example a rigidly moved handle, or a rotated
+    /// sub-mesh): refinement then puts every finer vertex collapsed into one of them at
+    /// `transform` of its recorded position, exactly, instead of carrying it by its local
+    /// frame. So a part moved rigidly at a coarse level is, at full resolution, the rigid
+    /// image of its original fine vertices.
+    ///
+    /// Marks compose: a vertex marked with `A`, then with `B`, has moved by `B ∘ A`. A
+    /// marked vertex that is not (within rounding) at its map's image of where the
+    /// hierarchy left it when it is split (it was moved otherwise since) falls back to its
+    /// local frame. Walking coarser drops all marks (the records collapsed again hold the
+    /// moved positions). Marks need [`DetailMode::LocalFrame`].
+    ///
+    /// # Errors
+    /// [`Error::InvalidArgument`] in [`DetailMode::Translation`], for a map that is not
+    /// finite, or for a vertex that is not live; nothing is marked then.
+    pub fn mark_affine(&mut self, vertices: &[VertexId], transform: DAffine3) -> Result<()> {
+        if self.details.mode() != DetailMode::LocalFrame {
+            return Err(Error::InvalidArgument(
+                "affine marks need DetailMode::LocalFrame (the paper's translations ignore them)"
+                    .into(),
+            ));
+        }
+        if !transform.is_finite() {
+            return Err(Error::InvalidArgument(format!(
+                "the affine map of mark_affine is not finite: {transform:?}"
+            )));
+        }
+        if let Some(&v) = vertices.iter().find(|&&v| !self.mesh.is_valid_vertex(v)) {
+            return Err(Error::InvalidArgument(format!(
+                "mark_affine: vertex {v} is not a live vertex of the hierarchy's mesh"
+            )));
+        }
+        let slots = self.mesh.vertex_slots();
+        if self.marks.of_vertex.len() < slots {
+            self.marks.of_vertex.resize(slots, UNMARKED);
+        }
+        // One new map per map the vertices had before (or none).
+        let mut composed: Vec<(u32, u32)> = Vec::new();
+        for &v in vertices {
+            let i = self.mesh.vertex_index(v);
+            let old = self.marks.of_vertex[i];
+            let new = match composed.iter().find(|&&(o, _)| o == old) {
+                Some(&(_, n)) => n,
+                None => {
+                    let map = match old {
+                        UNMARKED => transform,
+                        o => transform * self.marks.maps[o as usize],
+                    };
+                    let n = self.marks.maps.len() as u32;
+                    self.marks.maps.push(map);
+                    composed.push((old, n));
+                    n
+                }
+            };
+            self.marks.of_vertex[i] = new;
+        }
+        Ok(())
+    }
+
+    /// Removes every affine mark ([`mark_affine`](Self::mark_affine)).
+    pub fn clear_marks(&mut self) {
+        self.marks.clear();
+    }
+
+    /// For every vertex slot of the input mesh (indexed by [`Mesh::vertex_index`]), the
+    /// index of its *ancestor* at `level`: the vertex it is collapsed into there (itself
+    /// when it is live at `level`). Refinement with [`DetailMode::LocalFrame`] moves a
+    /// fine vertex only when its ancestor at the edited level moved, so this map tells
+    /// which fine vertices an edit's region covers.
+    ///
+    /// # Errors
+    /// [`Error::InvalidArgument`] for a level that does not exist.
+    pub fn ancestors(&self, level: usize) -> Result<Vec<u32>> {
+        let end = self.check_level(level)?;
+        let mut map: Vec<u32> = (0..self.mesh.vertex_slots() as u32).collect();
+        for record in self.records[..end].iter().rev() {
+            let i0 = self.mesh.vertex_index(record.v0);
+            let i1 = self.mesh.vertex_index(record.v1);
+            if let (true, Some(&a)) = (i0 < map.len(), map.get(i1)) {
+                map[i0] = a;
+            }
+        }
+        Ok(map)
     }
 }
