@@ -291,3 +291,57 @@ fn marks_are_checked_and_dropped_when_walking_coarser() {
         assert_eq!(h.mesh().position(w), mesh.position(w));
     }
 }
+
+/// Everything a walk may change, to compare before and after a refused one.
+fn state(h: &Hierarchy) -> (usize, Vec<[u64; 3]>, usize, usize, Vec<u32>) {
+    let mesh = h.mesh();
+    let mut ends: Vec<u32> = mesh
+        .halfedges()
+        .map(|e| mesh.vertex_index(mesh.to_vertex(e)) as u32)
+        .collect();
+    ends.sort_unstable();
+    (
+        h.applied(),
+        mesh.positions()
+            .iter()
+            .map(|p| p.to_array().map(f64::to_bits))
+            .collect(),
+        mesh.n_faces(),
+        mesh.n_vertices(),
+        ends,
+    )
+}
+
+#[test]
+fn a_refused_walk_leaves_everything_where_it_started() {
+    // A foreign collapse at a coarse level, an edit: the walk to the input is refused
+    // part-way, and everything is back where the walk started.
+    let mesh = bumpy_capsule();
+    for options in [HierarchyOptions::rounds(), HierarchyOptions::qem()] {
+        let mut h = Hierarchy::build(mesh.clone(), &options.with_target_faces(2000)).unwrap();
+        h.go_to_level(2).unwrap();
+        for p in h.mesh_mut().positions_mut() {
+            *p *= 1.1;
+        }
+        let m = h.mesh_mut();
+        let e = m
+            .halfedges()
+            .find(|&e| m.is_collapse_ok(e).is_ok())
+            .unwrap();
+        m.collapse(e).unwrap();
+        let before = state(&h);
+        let level = h.current_level();
+        assert!(
+            h.refine_to(0).is_err(),
+            "a split went through a foreign collapse"
+        );
+        assert!(
+            state(&h) == before,
+            "the refused walk changed the hierarchy"
+        );
+        assert_eq!(h.current_level(), level);
+        h.mesh().check().unwrap();
+        assert!(h.go_to_level(h.coarsest_level()).is_err());
+        assert!(state(&h) == before);
+    }
+}

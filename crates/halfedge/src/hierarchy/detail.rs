@@ -226,6 +226,12 @@ pub(crate) fn translate_exact(p: DVec3, d: DVec3) -> DVec3 {
     )
 }
 
+/// The coefficients of a range of records ([`Details::save`]).
+pub(crate) struct SavedRange {
+    coefficients: Vec<[DVec3; 2]>,
+    framed: Vec<Ring>,
+}
+
 /// Where a split puts its two vertices, given the survivor's position before the split.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) enum Placement {
@@ -410,6 +416,26 @@ impl Details {
     pub(crate) fn prefetch(&self, r: usize, positions: &[DVec3]) {
         for &i in self.all_neighbours(r) {
             crate::prefetch::prefetch(positions, i as usize);
+        }
+    }
+
+    /// The coefficients of the records in `range`, to [`restore`](Self::restore) them.
+    pub(crate) fn save(&self, range: std::ops::Range<usize>) -> SavedRange {
+        SavedRange {
+            coefficients: self.coefficients[range.clone()].to_vec(),
+            framed: self
+                .framed
+                .get(range)
+                .map(<[Ring]>::to_vec)
+                .unwrap_or_default(),
+        }
+    }
+
+    /// Puts back the coefficients [`save`](Self::save)d for `range`.
+    pub(crate) fn restore(&mut self, range: std::ops::Range<usize>, saved: SavedRange) {
+        self.coefficients[range.clone()].copy_from_slice(&saved.coefficients);
+        if let Some(framed) = self.framed.get_mut(range) {
+            framed.copy_from_slice(&saved.framed);
         }
     }
 

@@ -567,6 +567,10 @@ impl Hierarchy {
 
     /// Collapses or splits record by record until `applied` records are collapsed.
     ///
+    /// The walk is atomic: when a step is refused (the topology was changed behind the
+    /// hierarchy's back), the mesh, its positions and attributes, and the hierarchy are
+    /// put back exactly as they were before the walk, and the error is returned.
+    ///
     /// # Errors
     /// [`Error::InvalidArgument`] when `applied` exceeds the number of records; a refused
     /// split or collapse (the topology was changed behind the hierarchy's back).
@@ -577,6 +581,22 @@ impl Hierarchy {
                 self.records.len()
             )));
         }
+        if self.stamp == Some(self.mesh.topology_stamp()) {
+            // Every step since the build was the hierarchy's own: no step can be refused.
+            return self.walk(applied);
+        }
+        let saved = Saved::take(self, applied);
+        match self.walk(applied) {
+            Ok(()) => Ok(()),
+            Err(e) => {
+                saved.restore(self);
+                Err(e)
+            }
+        }
+    }
+
+    /// [`seek`](Self::seek) without the way back.
+    fn walk(&mut self, applied: usize) -> Result<()> {
         while self.applied < applied {
             self.collapse_next()?;
         }
@@ -788,6 +808,51 @@ impl Hierarchy {
     /// Stops propagating labels through splits.
     pub fn detach_labels(&mut self) {
         self.labels = None;
+    }
+}
+
+/// What a walk of a hierarchy that does not trust its mesh may change, saved to undo a
+/// refused walk ([`Hierarchy::seek`]).
+struct Saved {
+    mesh: Mesh,
+    range: std::ops::Range<usize>,
+    records: Vec<CollapseRecord>,
+    placements: Vec<(DVec3, f64)>,
+    details: detail::SavedRange,
+    marks: Marks,
+    applied: usize,
+    clean_positions: Option<u64>,
+}
+
+impl Saved {
+    fn take(h: &Hierarchy, applied: usize) -> Self {
+        let range = h.applied.min(applied)..h.applied.max(applied);
+        Self {
+            mesh: h.mesh.clone(),
+            records: h.records[range.clone()].to_vec(),
+            placements: h.placements[range.clone()].to_vec(),
+            details: h.details.save(range.clone()),
+            range,
+            marks: h.marks.clone(),
+            applied: h.applied,
+            clean_positions: h.clean_positions,
+        }
+    }
+
+    fn restore(self, h: &mut Hierarchy) {
+        // The mesh keeps its identity; its topology changed and changed back, so it gets
+        // a new stamp (nobody who saw the walk's stamps may trust it).
+        let (id, count) = (h.mesh.stamp_id, h.mesh.stamp_count);
+        h.mesh = self.mesh;
+        h.mesh.stamp_id = id;
+        h.mesh.stamp_count = count + 1;
+        h.records[self.range.clone()].clone_from_slice(&self.records);
+        h.placements[self.range.clone()].copy_from_slice(&self.placements);
+        h.details.restore(self.range, self.details);
+        h.marks = self.marks;
+        h.applied = self.applied;
+        h.clean_positions = self.clean_positions;
+        h.stamp = None;
     }
 }
 
