@@ -345,3 +345,80 @@ fn a_refused_walk_leaves_everything_where_it_started() {
         assert!(state(&h) == before);
     }
 }
+
+/// Edges joining two vertices of different sub-meshes (neither on the frontier).
+fn crossing_edges(mesh: &Mesh) -> usize {
+    let a = mesh
+        .find_attribute::<VertexId, u32>(halfedge::labels::LABEL_ATTRIBUTE)
+        .unwrap();
+    let labels = mesh.attribute_values(a);
+    mesh.halfedges()
+        .filter(|&e| {
+            let l = |v| labels[mesh.vertex_index(v)];
+            let (x, y) = (l(mesh.from_vertex(e)), l(mesh.to_vertex(e)));
+            x != y && x != halfedge::FRONTIER && y != halfedge::FRONTIER
+        })
+        .count()
+}
+
+#[test]
+fn labels_hold_at_every_level() {
+    // Three sub-meshes cut by two planes at the input; then a frontier defined at a
+    // coarse level, made to hold by re-planning the hierarchy.
+    let mesh = bumpy_capsule();
+    for options in [HierarchyOptions::rounds(), HierarchyOptions::qem()] {
+        let mut fine = mesh.clone();
+        let f1 = fine
+            .frontier_from_plane(DVec3::new(1.0, 0.0, 0.0), DVec3::X)
+            .unwrap();
+        fine.label_sides(&f1, 1, 2).unwrap();
+        let mut h = Hierarchy::build(fine, &options.clone().with_target_faces(300)).unwrap();
+        assert!(h.n_levels() > 4);
+        for level in (0..h.n_levels()).rev() {
+            h.go_to_level(level).unwrap();
+            assert_eq!(crossing_edges(h.mesh()), 0, "{options:?} level {level}");
+        }
+        // Unconstrained, the same labels are crossed at coarse levels.
+        let mut fine = mesh.clone();
+        let f1 = fine
+            .frontier_from_plane(DVec3::new(1.0, 0.0, 0.0), DVec3::X)
+            .unwrap();
+        fine.label_sides(&f1, 1, 2).unwrap();
+        let mut free = Hierarchy::build(
+            fine,
+            &options
+                .clone()
+                .with_target_faces(300)
+                .with_respect_labels(false),
+        )
+        .unwrap();
+        let crossed: usize = (1..free.n_levels())
+            .map(|level| {
+                free.go_to_level(level).unwrap();
+                crossing_edges(free.mesh())
+            })
+            .sum();
+        assert!(
+            crossed > 0,
+            "the unconstrained hierarchy never crossed the labels"
+        );
+
+        // A frontier defined at level 2, propagated and made to hold everywhere.
+        let mut h =
+            Hierarchy::build(mesh.clone(), &options.clone().with_target_faces(300)).unwrap();
+        h.go_to_level(2).unwrap();
+        let m = h.mesh_mut();
+        let f = m
+            .frontier_from_plane(DVec3::new(-1.0, 0.0, 0.0), DVec3::X)
+            .unwrap();
+        let (labels, _) = m.label_sides(&f, 3, 4).unwrap();
+        h.attach_labels(labels);
+        h.constrain_to_labels().unwrap();
+        assert_eq!(h.current_level(), Some(2));
+        for level in 0..h.n_levels() {
+            h.go_to_level(level).unwrap();
+            h.mesh().check().unwrap();
+            assert_eq!(crossing_edges(h.mesh()), 0, "{options:?} level {level}");
+        }
+    }
+}

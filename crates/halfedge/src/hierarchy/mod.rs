@@ -119,6 +119,12 @@ pub struct HierarchyOptions {
     /// [`detail`]): local frames with exact regions (the default) or the seed paper's
     /// centroid translations.
     pub detail_mode: DetailMode,
+    /// Both methods: when the mesh has sub-mesh labels (the vertex attribute
+    /// [`labels::LABEL_ATTRIBUTE`]), only edges whose two ends carry the same label
+    /// collapse, so no edge ever joins two different sub-meshes at any level and every
+    /// fine vertex is collapsed into a vertex of its own sub-mesh (or of the frontier, for
+    /// frontier vertices). Default true.
+    pub respect_labels: bool,
 }
 
 impl Default for HierarchyOptions {
@@ -134,6 +140,7 @@ impl Default for HierarchyOptions {
             max_error: f64::INFINITY,
             min_level_reduction: 0.01,
             detail_mode: DetailMode::LocalFrame,
+            respect_labels: true,
         }
     }
 }
@@ -168,6 +175,12 @@ impl HierarchyOptions {
     /// Sets [`max_normal_deviation`](Self::max_normal_deviation) (radians).
     pub fn with_max_normal_deviation(mut self, radians: f64) -> Self {
         self.max_normal_deviation = radians;
+        self
+    }
+
+    /// Sets [`respect_labels`](Self::respect_labels).
+    pub fn with_respect_labels(mut self, respect: bool) -> Self {
+        self.respect_labels = respect;
         self
     }
 
@@ -293,6 +306,8 @@ pub struct Hierarchy {
     /// Records currently collapsed (`records[..applied]`).
     applied: usize,
     method: Method,
+    /// The options of the build (for [`Hierarchy::constrain_to_labels`]).
+    options: HierarchyOptions,
     labels: Option<LabelBinding>,
     /// The mesh's [`Mesh::topology_stamp`] after the hierarchy's own last step: while it
     /// is unchanged nobody else changed the connectivity, and splits skip their checks.
@@ -323,6 +338,7 @@ impl Clone for Hierarchy {
             level_faces: self.level_faces.clone(),
             applied: self.applied,
             method: self.method,
+            options: self.options.clone(),
             labels: self.labels,
         }
     }
@@ -393,6 +409,7 @@ impl Hierarchy {
             level_faces: vec![faces],
             applied: 0,
             method: options.method,
+            options: options.clone(),
             labels: None,
             stamp: None,
             clean_positions: None,
@@ -440,6 +457,18 @@ impl Hierarchy {
         self.records.push(record);
         self.placements.push((p, t));
         self.applied += 1;
+    }
+
+    /// The sub-mesh labels collapses must respect while building (by vertex index), or
+    /// nothing (see [`HierarchyOptions::respect_labels`]).
+    pub(crate) fn label_constraint(&self, options: &HierarchyOptions) -> Vec<Label> {
+        if !options.respect_labels {
+            return Vec::new();
+        }
+        self.mesh
+            .find_attribute::<VertexId, Label>(labels::LABEL_ATTRIBUTE)
+            .map(|a| self.mesh.attribute_values(a).to_vec())
+            .unwrap_or_default()
     }
 
     /// Closes the current level at the current record (building only).
@@ -805,6 +834,59 @@ impl Hierarchy {
     pub fn label_attribute(&self) -> Option<Attribute<VertexId, Label>> {
         self.labels.map(|b| b.attribute)
     }
+    /// Makes the sub-mesh labels hold at every level: refines to the input (the labels
+    /// reach the re-inserted vertices by the paper's Fig. 4 rule), builds the hierarchy
+    /// again with the same options, collapsing only edges whose ends carry the same label
+    /// ([`HierarchyOptions::respect_labels`]), and goes back to the level it was at (or
+    /// the new coarsest, if that is finer). Edits made so far are kept (they are in the
+    /// input's positions now); affine marks are dropped. Costs about one build. Call it
+    /// after labels were defined or changed at any level; several sub-meshes (labels) can
+    /// live in the mesh at once.
+    ///
+    /// # Errors
+    /// [`Error::InvalidArgument`] when the mesh has no label attribute; the errors of
+    /// [`go_to_level`](Self::go_to_level) and [`build`](Self::build) (the hierarchy is
+    /// then back at its level, unconstrained).
+    pub fn constrain_to_labels(&mut self) -> Result<()> {
+        let attribute = self
+            .labels
+            .map(|b| b.attribute)
+            .or_else(|| {
+                self.mesh
+                    .find_attribute::<VertexId, Label>(labels::LABEL_ATTRIBUTE)
+            })
+            .ok_or_else(|| {
+                Error::InvalidArgument(format!(
+                    "constrain_to_labels: the mesh has no {:?} vertex attribute",
+                    labels::LABEL_ATTRIBUTE
+                ))
+            })?;
+        let level = self.level_at_or_finer();
+        self.seek(0)?;
+        let mut options = self.options.clone();
+        options.respect_labels = true;
+        let mut rebuilt = match Hierarchy::build(self.mesh.clone(), &options) {
+            Ok(h) => h,
+            Err(e) => {
+                // Back to where it was (the walk to the input succeeded, so this one does).
+                let _ = self.go_to_level(level);
+                return Err(e);
+            }
+        };
+        rebuilt.labels = Some(LabelBinding {
+            attribute,
+            defined_at: 0,
+        });
+        let target = level.min(rebuilt.coarsest_level());
+        // The mesh keeps its identity.
+        let (id, count) = (self.mesh.stamp_id, self.mesh.stamp_count);
+        rebuilt.mesh.stamp_id = id;
+        rebuilt.mesh.stamp_count = count + 1;
+        rebuilt.stamp = Some(rebuilt.mesh.topology_stamp());
+        *self = rebuilt;
+        self.go_to_level(target)
+    }
+
     /// Stops propagating labels through splits.
     pub fn detach_labels(&mut self) {
         self.labels = None;

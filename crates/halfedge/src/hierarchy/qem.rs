@@ -251,6 +251,7 @@ pub(crate) fn build(
 ) -> Result<()> {
     let input_faces = h.mesh.n_faces();
     let cos_flip = options.max_flip_angle.cos();
+    let labels = h.label_constraint(options);
     let planes = face_planes(&h.mesh);
     let mut quadrics = vertex_quadrics(&h.mesh, &planes, options.boundary_weight);
     let mut normals: Vec<glam::Vec3> = planes.into_iter().map(|(n, _)| n.as_vec3()).collect();
@@ -309,7 +310,7 @@ pub(crate) fn build(
                 parked_near[mesh.vertex_index(mesh.to_vertex(e))] = true;
             };
             let o = mesh.opposite(e);
-            let Some((g, _)) = choose_direction(mesh, e, o) else {
+            let Some((g, _)) = choose_direction(mesh, e, o, &labels) else {
                 park(&mut state, &mut parked_near);
                 continue;
             };

@@ -86,6 +86,7 @@ pub(crate) fn build(
     let cos_planar = options.max_normal_deviation.cos();
     let cos_flip = options.max_flip_angle.cos();
     let mut normals = legality::cached_normals(&h.mesh);
+    let labels = h.label_constraint(options);
     let mut lock = vec![0u32; h.mesh.vertex_slots()];
     // The live edges (smaller halfedge index of each pair), in index order; rounds walk
     // this list, which shrinks after every round, rather than every halfedge slot.
@@ -128,7 +129,7 @@ pub(crate) fn build(
                 if star_planarity(mesh, &Collapse::new(mesh, e), &normals) < cos_planar {
                     continue;
                 }
-                let Some((g, placement)) = choose_direction(mesh, e, o) else {
+                let Some((g, placement)) = choose_direction(mesh, e, o, &labels) else {
                     continue;
                 };
                 let c = Collapse::new(mesh, g);
@@ -207,13 +208,21 @@ fn prefetch_rings(mesh: &Mesh, normals: &[Vec3], i: usize) {
 }
 
 /// The direction of edge `e`/`o` to collapse: the first of `e`, `o` that is
-/// topologically legal, preferring a free placement.
+/// topologically legal, preferring a free placement. `None` as well when `labels`
+/// (sub-mesh labels by vertex index, empty for none) differ at its two ends.
 #[inline]
 pub(crate) fn choose_direction(
     mesh: &Mesh,
     e: HalfedgeId,
     o: HalfedgeId,
+    labels: &[u32],
 ) -> Option<(HalfedgeId, Placement)> {
+    if !labels.is_empty() {
+        let label = |h: HalfedgeId| labels.get(mesh.vertex_index(mesh.to_vertex(h)));
+        if label(e) != label(o) {
+            return None;
+        }
+    }
     match legality::topology(mesh, e) {
         Some(Placement::Free) => Some((e, Placement::Free)),
         first => match legality::topology(mesh, o) {
