@@ -33,7 +33,8 @@ use std::time::{Duration, Instant};
 
 use glam::DVec3;
 use halfedge::{
-    BuildProgress, FaceId, Hierarchy, HierarchyOptions, Mesh, Method, VertexId, FRONTIER,
+    BuildProgress, DetailMode, FaceId, Hierarchy, HierarchyOptions, Mesh, Method, VertexId,
+    FRONTIER,
 };
 use three_d::egui;
 
@@ -313,6 +314,9 @@ pub struct Multires {
     pub target_faces: usize,
     /// Planarity bound of the rounds, degrees.
     pub max_normal_deviation: f64,
+    /// How refinement carries coarse edits: local frames with exact regions (default) or
+    /// the paper's centroid translations.
+    pub detail: DetailMode,
     hierarchy: Option<Hierarchy>,
     /// The build running on another thread, if any.
     pending: Option<PendingBuild>,
@@ -340,6 +344,7 @@ impl Multires {
             method: Method::Rounds,
             target_faces: 500,
             max_normal_deviation: 90.0,
+            detail: DetailMode::LocalFrame,
             hierarchy: None,
             pending: None,
             level: 0,
@@ -366,6 +371,7 @@ impl Multires {
             Method::Qem => HierarchyOptions::qem(),
         };
         base.with_target_faces(self.target_faces)
+            .with_detail_mode(self.detail)
     }
 
     /// True while a hierarchy build runs on its thread.
@@ -745,8 +751,9 @@ fn read_labels(mesh: &Mesh, attribute: halfedge::Attribute<VertexId, u32>) -> Ve
     labels
 }
 
-const PARAMETERS: [&str; 9] = [
+const PARAMETERS: [&str; 10] = [
     "method",
+    "detail",
     "target_faces",
     "level",
     "frontier",
@@ -866,6 +873,17 @@ impl Tool for Multires {
                     s => return Err(ToolError::new(format!("method {s:?}: rounds or qem"))),
                 }
             }
+            "detail" => {
+                self.detail = match string_param(name, value)?.to_lowercase().as_str() {
+                    "local" => DetailMode::LocalFrame,
+                    "translation" => DetailMode::Translation,
+                    s => {
+                        return Err(ToolError::new(format!(
+                            "detail {s:?}: local or translation"
+                        )))
+                    }
+                }
+            }
             "target_faces" => {
                 let n = number_param(name, value)?;
                 if !(n >= 4.0 && n.is_finite()) {
@@ -916,6 +934,7 @@ impl Tool for Multires {
     fn parameters(&self) -> Vec<(&'static str, serde_json::Value)> {
         vec![
             ("method", method_name(self.method).to_lowercase().into()),
+            ("detail", detail_name(self.detail).into()),
             ("target_faces", self.target_faces.into()),
             ("max_normal_deviation", self.max_normal_deviation.into()),
             ("level", self.level.into()),
@@ -962,6 +981,14 @@ impl Multires {
             ui.label("Method");
             ui.selectable_value(&mut self.method, Method::Rounds, "rounds");
             ui.selectable_value(&mut self.method, Method::Qem, "QEM");
+        });
+        ui.horizontal(|ui| {
+            ui.label("Detail")
+                .on_hover_text("how refinement carries coarse edits (applies to the next build)");
+            ui.selectable_value(&mut self.detail, DetailMode::LocalFrame, "local frames")
+                .on_hover_text("offsets in local frames: rotations carried, regions exact");
+            ui.selectable_value(&mut self.detail, DetailMode::Translation, "paper")
+                .on_hover_text("the paper's centroid translations");
         });
         ui.horizontal(|ui| {
             ui.label("Target faces");
@@ -1169,6 +1196,28 @@ mod tests {
     }
 
     #[test]
+    fn the_detail_switch_reaches_the_hierarchy() {
+        let mut fixture = Fixture::new(generators::icosphere(3));
+        let mut ctx = fixture.ctx();
+        let mut tool = Multires::new(SharedLabels::default());
+        tool.target_faces = 100;
+        assert!(tool
+            .set_parameter("detail", &"sideways".into(), &mut ctx)
+            .is_err());
+        for (name, mode) in [
+            ("translation", DetailMode::Translation),
+            ("local", DetailMode::LocalFrame),
+        ] {
+            tool.set_parameter("detail", &name.into(), &mut ctx)
+                .unwrap();
+            assert!(tool.parameters().contains(&("detail", name.into())));
+            tool.apply(&mut ctx).unwrap();
+            assert_eq!(poll_until_idle(&mut tool, &mut ctx), Background::Idle);
+            assert_eq!(tool.hierarchy().unwrap().detail_mode(), mode);
+        }
+    }
+
+    #[test]
     fn background_build_gives_the_levels_of_a_direct_build_and_undo_works() {
         let input = generators::icosphere(4);
         let mut fixture = Fixture::new(input.clone());
@@ -1276,5 +1325,13 @@ mod tests {
             connectivity_fingerprint(h.mesh()),
             connectivity_fingerprint(&a)
         );
+    }
+}
+
+/// The script name of a detail mode.
+fn detail_name(mode: DetailMode) -> &'static str {
+    match mode {
+        DetailMode::LocalFrame => "local",
+        DetailMode::Translation => "translation",
     }
 }
