@@ -111,7 +111,8 @@ fn bench(c: &mut Criterion) {
             )
         });
         // The paper's use: an edit at the coarsest level (here a translation of the
-        // whole coarse mesh), then refining carries it down through every centroid.
+        // whole coarse mesh), then refining carries it down through every record's
+        // local frame (the worst case: every survivor moved).
         group.bench_function(format!("{name}_refine_all_after_coarse_edit"), |b| {
             b.iter_batched(
                 || {

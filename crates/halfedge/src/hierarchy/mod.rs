@@ -1,6 +1,6 @@
 //! The progressive hierarchy of the seed paper ("Interactive Editing of Multiresolution
-//! Meshes", section 3; DESIGN.md §2): a sequence of edge collapses recorded level by
-//! level, with centroid detail coefficients, that can be walked coarser and finer at will
+//! Meshes", section 3): a sequence of edge collapses recorded level by level, with
+//! detail coefficients, that can be walked coarser and finer at will
 //! while the user edits positions (and sub-mesh labels) at any level.
 //!
 //! - **Building** ([`Hierarchy::build`]) simplifies the mesh with one of two methods
@@ -23,12 +23,23 @@
 //!   / [`go_to_level`](Hierarchy::go_to_level) level by level, or
 //!   [`collapse_next`](Hierarchy::collapse_next) / [`split_next`](Hierarchy::split_next)
 //!   split by split. Level 0 is the input; higher levels are coarser.
-//! - **Detail coefficients** (module [`detail`]): every split re-inserts `v0` and moves
-//!   `v1` by the translation of the centroid of their recorded neighbours, so edits made
-//!   at a coarse level ride along to the fine levels, and without edits refinement
+//! - **Detail coefficients** (module [`detail`], [`DetailMode`]): every split re-inserts
+//!   `v0` and places both endpoints at the survivor's current position plus their
+//!   recorded offsets, expressed in a local frame of the collapsed edge's neighbourhood
+//!   (the default), so that edits made at a coarse level ride along to the fine levels
+//!   with their detail turned, scaled and sheared with them. A fine vertex moves only when
+//!   its ancestor at the edited level moved ([`Hierarchy::ancestors`]): regions an edit
+//!   left in place stay exact, bit for bit. Parts moved by an affine map can be marked
+//!   ([`Hierarchy::mark_affine`]) to land exactly on its image. The seed paper's centroid
+//!   translations remain as [`DetailMode::Translation`]. Without edits refinement
 //!   restores the input bit for bit with the same handles and connectivity.
+//! - **Atomic walks**: a walk refused part-way (the topology was changed behind the
+//!   hierarchy's back) leaves everything where it started.
 //! - **Labels**: sub-mesh labels attached with [`Hierarchy::attach_labels`] propagate
-//!   through splits with the paper's Fig. 4 rule (see [`crate::labels`]).
+//!   through splits with the paper's Fig. 4 rule (see [`crate::labels`]); labels present
+//!   when the hierarchy is built hold at every level (only edges within one sub-mesh
+//!   collapse, [`HierarchyOptions::respect_labels`]), and
+//!   [`Hierarchy::constrain_to_labels`] re-plans the hierarchy for labels defined later.
 //!
 //! ```
 //! use halfedge::{generators, Hierarchy, HierarchyOptions};
@@ -315,8 +326,8 @@ pub struct Hierarchy {
     stamp: Option<u128>,
     /// `Some(the mesh's position edit count)` while no position has been changed since
     /// the build except by the hierarchy's own steps: then every neighbour is where it
-    /// was when its record was collapsed, every translation `C_f − C_i` is exactly zero,
-    /// and steps skip computing the centroids. `None` for good after the first edit.
+    /// was when its record was collapsed, every split restores its recorded positions,
+    /// and steps skip the detail coefficients. `None` for good after the first edit.
     clean_positions: Option<u64>,
 }
 
@@ -638,8 +649,9 @@ impl Hierarchy {
     /// One step coarser: collapses the next record again. The survivor goes to its build
     /// time position; if an endpoint moved since the record was taken (an edit at a
     /// finer level), it goes to the same place relative to the edge's current endpoints.
-    /// The centroids `C_i` are recomputed from the current positions. Returns `false` at
-    /// the coarsest level.
+    /// The record's detail coefficients are recomputed from the current positions. Drops
+    /// the affine marks ([`mark_affine`](Self::mark_affine)). Returns `false` at the
+    /// coarsest level.
     ///
     /// # Errors
     /// The kernel's refusal ([`Error::CollapseRefused`]) if the topology was changed
@@ -722,7 +734,9 @@ impl Hierarchy {
     }
 
     /// One step finer: splits the last collapsed record, re-inserting `v0` (same handle)
-    /// and moving both endpoints by their centroid translations `C_f − C_i`. Sub-mesh
+    /// and placing both endpoints by the detail coefficients (see [`DetailMode`]): at
+    /// their recorded positions when the survivor did not move, at the image of them by
+    /// the survivor's affine mark when it has one, else by the local frame. Sub-mesh
     /// labels defined at a finer position are kept; otherwise `v0` is classified by the
     /// paper's Fig. 4 rule. Returns `false` at the input level.
     ///
