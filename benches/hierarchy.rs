@@ -130,6 +130,28 @@ fn bench(c: &mut Criterion) {
             )
         });
     }
+    // The same edit carried by the paper's centroid translations, for comparison.
+    let mut paper = Hierarchy::build(
+        mesh.clone(),
+        &rounds_options().with_detail_mode(halfedge::DetailMode::Translation),
+    )
+    .unwrap();
+    for p in paper.mesh_mut().positions_mut() {
+        *p += glam::DVec3::new(0.01, 0.0, 0.0);
+    }
+    group.bench_function(
+        "rounds_refine_all_after_coarse_edit_paper_translations",
+        |b| {
+            b.iter_batched(
+                || paper.clone(),
+                |mut h| {
+                    h.refine_to(0).unwrap();
+                    h
+                },
+                BatchSize::LargeInput,
+            )
+        },
+    );
     group.finish();
 }
 

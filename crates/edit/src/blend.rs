@@ -33,7 +33,7 @@
 //! and is used. The new vertex is then placed by the blend like every other.
 
 use glam::{DMat4, DVec3};
-use halfedge::{Mesh, VertexId};
+use halfedge::{Hierarchy, Mesh, VertexId};
 use rayon::prelude::*;
 
 use crate::distance::{BorderGrid, FastMarching, QueryPoints, Source};
@@ -371,6 +371,8 @@ impl BlendSession {
     /// `options.max_edge_length`, until none does or the vertex budget is spent. New
     /// vertices join the deformable area with distances from the virtual origin (see the
     /// module docs) and are placed by the current blend. The mesh passes `check()`.
+    /// On the mesh of a [`Hierarchy`], whose records cannot take new vertices at a
+    /// coarse level, use [`refine_in_hierarchy`](Self::refine_in_hierarchy).
     ///
     /// # Errors
     /// [`EditError::SessionMismatch`] for another mesh; [`EditError::InvalidParameter`]
@@ -431,6 +433,64 @@ impl BlendSession {
             })
             .map(|h| mesh.edge_length(h))
             .fold(0.0, f64::max);
+        Ok(report)
+    }
+
+    /// Adaptive refinement (Sec. 6) of an edit made at a coarse level of a hierarchy:
+    /// the session was made on `hierarchy`'s mesh at its current level and its edit
+    /// applied there. The hierarchy can only keep new vertices at its input, so the
+    /// refinement is made there ([`Hierarchy::edit_input`]): the handle is marked with
+    /// the session's transform ([`Hierarchy::mark_affine`], with local-frame detail) so
+    /// that it lands exactly, the hierarchy walks to level 0 carrying the edit, every
+    /// input edge with an end that descends from the handle or the deformable area and
+    /// is longer than `options.max_edge_length` is split at its midpoint, longest first,
+    /// in passes (at most `options.max_new_vertices` new vertices), the hierarchy is
+    /// built again, and it goes back to the level. The threshold is a length at full
+    /// resolution. The session describes the coarse mesh before the refinement: make a
+    /// new one to edit further.
+    ///
+    /// # Errors
+    /// [`EditError::SessionMismatch`] when the session was not made on the hierarchy's
+    /// mesh, or the hierarchy is between two levels; [`EditError::InvalidParameter`] for a
+    /// threshold that is not finite and positive; the hierarchy's errors (it is then back
+    /// at its level).
+    pub fn refine_in_hierarchy(
+        &self,
+        hierarchy: &mut Hierarchy,
+        options: RefineOptions,
+    ) -> Result<RefineReport> {
+        self.check_mesh(hierarchy.mesh())?;
+        let max = options.max_edge_length;
+        if !(max.is_finite() && max > 0.0) {
+            return Err(EditError::InvalidParameter {
+                name: "max_edge_length",
+                reason: format!("must be finite and positive, got {max}"),
+            });
+        }
+        let level = hierarchy.current_level().ok_or_else(|| {
+            EditError::SessionMismatch("the hierarchy is between two levels".into())
+        })?;
+        let ancestors = hierarchy.ancestors(level)?;
+        let roles = self.regions.roles();
+        // Whether the input vertex at this index descends from a moving vertex.
+        let moving: Vec<bool> = ancestors
+            .iter()
+            .map(|&a| roles.get(a as usize).is_some_and(|&r| r != Role::Fixed))
+            .collect();
+        if hierarchy.detail_mode() == halfedge::DetailMode::LocalFrame {
+            let a = glam::DAffine3::from_mat4(self.power.transform());
+            if a.is_finite() {
+                hierarchy.mark_affine(self.regions.handle(), a)?;
+            }
+        }
+        let report = hierarchy.edit_input(|mesh| {
+            Ok::<_, EditError>(split_long_edges(
+                mesh,
+                &moving,
+                max,
+                options.max_new_vertices,
+            ))
+        })?;
         Ok(report)
     }
 
@@ -522,6 +582,47 @@ pub fn virtual_origin_distance(d0: f64, d1: f64, length: f64, radius: f64) -> f6
         return floor;
     }
     (mean + q / (inside.sqrt() + s)).max(floor)
+}
+
+/// Splits, longest first and in passes, every edge of `mesh` with an end whose `moving`
+/// entry is true (vertices beyond the list, added by earlier splits, count as moving) and
+/// longer than `max`, at its midpoint; at most `budget` new vertices.
+fn split_long_edges(mesh: &mut Mesh, moving: &[bool], max: f64, budget: usize) -> RefineReport {
+    let is_moving =
+        |mesh: &Mesh, v: VertexId| moving.get(mesh.vertex_index(v)).copied().unwrap_or(true);
+    let touches =
+        |mesh: &Mesh, h| is_moving(mesh, mesh.from_vertex(h)) || is_moving(mesh, mesh.to_vertex(h));
+    let mut report = RefineReport::default();
+    while report.passes < 64 && report.new_vertices < budget {
+        let mut long: Vec<(f64, halfedge::HalfedgeId)> = mesh
+            .edges()
+            .filter(|&h| touches(mesh, h))
+            .map(|h| (mesh.edge_length(h), h))
+            .filter(|&(l, _)| l > max)
+            .collect();
+        if long.is_empty() {
+            break;
+        }
+        report.passes += 1;
+        long.sort_by(|a, b| b.0.total_cmp(&a.0));
+        for (_, h) in long {
+            if report.new_vertices >= budget {
+                break;
+            }
+            if mesh.edge_length(h) > max {
+                let midpoint =
+                    0.5 * (mesh.position(mesh.from_vertex(h)) + mesh.position(mesh.to_vertex(h)));
+                mesh.split_edge(h, midpoint);
+                report.new_vertices += 1;
+            }
+        }
+    }
+    report.longest_edge = mesh
+        .edges()
+        .filter(|&h| touches(mesh, h))
+        .map(|h| mesh.edge_length(h))
+        .fold(0.0, f64::max);
+    report
 }
 
 #[cfg(test)]

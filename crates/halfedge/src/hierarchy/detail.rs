@@ -56,19 +56,20 @@ pub enum DetailMode {
 /// [`TABLED_RING`] (computed once, so every frame of a ring uses the same bits).
 const TABLED_RING: usize = 96;
 
-fn ring_table(n: usize) -> &'static [(f64, f64)] {
-    static TABLE: std::sync::OnceLock<Vec<Vec<(f64, f64)>>> = std::sync::OnceLock::new();
-    let table = TABLE.get_or_init(|| {
+/// Cosines and sines of `2π j / n`, `j < n`, for every ring length `n ≤ TABLED_RING`,
+/// one table after the other (ring `n` starts at `n (n − 1) / 2`).
+fn ring_tables() -> &'static [(f64, f64)] {
+    static TABLE: std::sync::OnceLock<Vec<(f64, f64)>> = std::sync::OnceLock::new();
+    TABLE.get_or_init(|| {
         (0..=TABLED_RING)
-            .map(|n| {
-                (0..n)
-                    .map(|j| (std::f64::consts::TAU * j as f64 / n as f64).sin_cos())
-                    .map(|(s, c)| (c, s))
-                    .collect()
+            .flat_map(|n| {
+                (0..n).map(move |j| {
+                    let (s, c) = (std::f64::consts::TAU * j as f64 / n as f64).sin_cos();
+                    (c, s)
+                })
             })
             .collect()
-    });
-    &table[n.min(TABLED_RING)]
+    })
 }
 
 /// The two tangent vectors of a ring of neighbours (listed in ring order): its first
@@ -81,25 +82,10 @@ fn ring_tangents(positions: &[DVec3], list: &[u32]) -> Option<(DVec3, DVec3)> {
     if !(3..=TABLED_RING).contains(&n) {
         return None;
     }
+    let start = n * (n - 1) / 2;
+    let table = ring_tables().get(start..start + n)?;
     let (mut x, mut y) = (DVec3::ZERO, DVec3::ZERO);
-    for (&i, &(c, s)) in list.iter().zip(ring_table(n)) {
-        let q = positions[i as usize];
-        x += c * q;
-        y += s * q;
-    }
-    Some((x, y))
-}
-
-/// [`ring_tangents`] of the edge's link: `l0` followed by `l1`, one loop around the
-/// collapsed edge.
-#[inline]
-fn link_tangents(positions: &[DVec3], l0: &[u32], l1: &[u32]) -> Option<(DVec3, DVec3)> {
-    let n = l0.len() + l1.len();
-    if !(3..=TABLED_RING).contains(&n) {
-        return None;
-    }
-    let (mut x, mut y) = (DVec3::ZERO, DVec3::ZERO);
-    for (&i, &(c, s)) in l0.iter().chain(l1).zip(ring_table(n)) {
+    for (&i, &(c, s)) in list.iter().zip(table) {
         let q = positions[i as usize];
         x += c * q;
         y += s * q;
@@ -116,6 +102,15 @@ pub(crate) struct Frame {
     axes: glam::DMat3,
 }
 
+/// The neighbour lists of a record: `v0`'s, `v1`'s, and both one after the other (the
+/// link of the collapsed edge, as they are stored).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Lists<'a> {
+    pub l0: &'a [u32],
+    pub l1: &'a [u32],
+    pub link: &'a [u32],
+}
+
 /// Which ring a record's frame is built from: none, `v0`'s or `v1`'s.
 pub(crate) type Ring = u8;
 const NO_RING: Ring = 0;
@@ -126,34 +121,36 @@ impl Frame {
     /// The frame of ring `ring` (1: `l0`, 2: `l1`), or `None` when that ring spans no
     /// plane (its tangents are nearly parallel, vanish or are not finite).
     #[inline]
-    pub(crate) fn of_ring(positions: &[DVec3], l0: &[u32], l1: &[u32], ring: Ring) -> Option<Self> {
-        let (x, y) = match ring {
-            1 => ring_tangents(positions, l0)?,
-            2 => ring_tangents(positions, l1)?,
-            LINK => link_tangents(positions, l0, l1)?,
+    pub(crate) fn of_ring(positions: &[DVec3], lists: Lists<'_>, ring: Ring) -> Option<Self> {
+        let list = match ring {
+            1 => lists.l0,
+            2 => lists.l1,
+            LINK => lists.link,
             _ => return None,
         };
+        let (x, y) = ring_tangents(positions, list)?;
         Self::from_tangents(x, y)
     }
 
     #[inline]
     fn from_tangents(x: DVec3, y: DVec3) -> Option<Self> {
         let normal = x.cross(y);
-        let area = normal.length();
-        // Tangents at least ~0.1° apart.
-        if !(area > 2e-3 * x.length() * y.length()) || !area.is_finite() {
+        let area2 = normal.length_squared();
+        // Tangents at least ~0.1° apart (and nothing infinite or NaN).
+        let enough = area2 > 4e-6 * x.length_squared() * y.length_squared();
+        if !enough || !area2.is_finite() {
             return None;
         }
-        let z = normal / area.sqrt();
+        let z = normal / area2.sqrt().sqrt();
         Some(Self {
             axes: glam::DMat3::from_cols(x, y, z),
         })
     }
 
     /// The better conditioned of the two rings' frames at collapse time, and which ring.
-    pub(crate) fn choose(positions: &[DVec3], l0: &[u32], l1: &[u32]) -> Option<(Ring, Self)> {
+    pub(crate) fn choose(positions: &[DVec3], lists: Lists<'_>) -> Option<(Ring, Self)> {
         let quality = |ring: Ring| {
-            let f = Self::of_ring(positions, l0, l1, ring)?;
+            let f = Self::of_ring(positions, lists, ring)?;
             let [x, y, _] = f.axes.to_cols_array_2d().map(DVec3::from_array);
             Some((x.cross(y).length() / (x.length() * y.length()), ring, f))
         };
@@ -327,6 +324,17 @@ impl Details {
         self.all_neighbours(r).iter().all(|&i| (i as usize) < len)
     }
 
+    /// The [`Lists`] of record `r`.
+    #[inline]
+    fn record_lists(&self, r: usize) -> Lists<'_> {
+        let (l0, l1) = self.lists(r);
+        Lists {
+            l0,
+            l1,
+            link: self.all_neighbours(r),
+        }
+    }
+
     /// Both neighbour lists of record `r`, one after the other.
     #[inline]
     fn all_neighbours(&self, r: usize) -> &[u32] {
@@ -345,9 +353,10 @@ impl Details {
             }
             DetailMode::LocalFrame => {
                 let offsets = [at.p0 - at.placed, at.p1 - at.placed];
-                let framed = Frame::choose(positions, l0, l1).and_then(|(ring, f)| {
-                    Some((ring, [f.local(offsets[0])?, f.local(offsets[1])?]))
-                });
+                let framed =
+                    Frame::choose(positions, self.record_lists(r)).and_then(|(ring, f)| {
+                        Some((ring, [f.local(offsets[0])?, f.local(offsets[1])?]))
+                    });
                 let (framed, coefficients) = framed.unwrap_or((NO_RING, offsets));
                 self.framed[r] = framed;
                 self.coefficients[r] = coefficients;
@@ -381,7 +390,7 @@ impl Details {
                 if ring == NO_RING {
                     return Placement::At([anchor + a, anchor + b]);
                 }
-                match Frame::of_ring(positions, l0, l1, ring) {
+                match Frame::of_ring(positions, self.record_lists(r), ring) {
                     Some(f) => Placement::At([anchor + f.world(a), anchor + f.world(b)]),
                     // The edit flattened the neighbourhood to a line or a point: its
                     // detail has no frame to live in and shrinks to the survivor.
@@ -437,6 +446,19 @@ impl Details {
         if let Some(framed) = self.framed.get_mut(range) {
             framed.copy_from_slice(&saved.framed);
         }
+    }
+
+    /// Prefetches record `r`'s own memory: its neighbour list (the indices that
+    /// [`prefetch`](Self::prefetch) will follow a few records later) and coefficients.
+    #[inline]
+    pub(crate) fn prefetch_record(&self, r: usize) {
+        if let Some(&start) = self.offsets.get(2 * r) {
+            let start = start as usize;
+            crate::prefetch::prefetch(&self.neighbours, start);
+            // A list of ~12 indices may straddle two cache lines.
+            crate::prefetch::prefetch(&self.neighbours, start + 15);
+        }
+        crate::prefetch::prefetch(&self.coefficients, r);
     }
 
     /// Bytes used (for reports).
@@ -553,19 +575,36 @@ mod tests {
         assert!((r0 - t.transform_point3(at.p0)).length() > 1e-3);
     }
 
+    /// The lists of a record, stored one after the other.
+    fn lists<'a>(l0: &'a [u32], l1: &'a [u32]) -> Lists<'a> {
+        let link: Vec<u32> = l0.iter().chain(l1).copied().collect();
+        Lists {
+            l0,
+            l1,
+            link: Box::leak(link.into_boxed_slice()),
+        }
+    }
+
     #[test]
     fn degenerate_neighbourhoods_have_no_frame() {
         let line = [DVec3::ZERO, DVec3::X, DVec3::X * 2.0];
-        assert_eq!(Frame::choose(&line, &[0, 1, 2], &[]), None);
+        assert_eq!(Frame::choose(&line, lists(&[0, 1, 2], &[])), None);
         let point = [DVec3::ONE; 3];
-        assert_eq!(Frame::choose(&point, &[0, 1, 2], &[2]), None);
+        assert_eq!(Frame::choose(&point, lists(&[0, 1, 2], &[2])), None);
         let nan = [DVec3::ZERO, DVec3::X, DVec3::new(0.0, f64::NAN, 0.0)];
-        assert_eq!(Frame::choose(&nan, &[0, 1, 2], &[]), None);
+        assert_eq!(Frame::choose(&nan, lists(&[0, 1, 2], &[])), None);
         assert_eq!(
-            Frame::choose(&ring(), &[0, 1, 2, 3, 4, 5], &[]).unwrap().0,
+            Frame::choose(&ring(), lists(&[0, 1, 2, 3, 4, 5], &[]))
+                .unwrap()
+                .0,
             LINK
         );
-        assert_eq!(Frame::choose(&ring(), &[0, 2, 4], &[0, 2, 4]).unwrap().0, 1);
+        assert_eq!(
+            Frame::choose(&ring(), lists(&[0, 2, 4], &[0, 2, 4]))
+                .unwrap()
+                .0,
+            1
+        );
     }
 
     #[test]

@@ -70,6 +70,9 @@ use detail::{Collapsed, Details, Placement};
 /// How many splits ahead [`Hierarchy::split_next`] prefetches the memory of the record it
 /// will split (see [`crate::prefetch`]).
 const SPLIT_PREFETCH_DISTANCE: usize = 8;
+/// How many splits ahead [`Hierarchy::split_next`] prefetches the record's neighbour list
+/// and coefficients (which the prefetch of the neighbours' positions reads, later).
+const LIST_PREFETCH_DISTANCE: usize = 20;
 /// How many splits ahead [`Hierarchy::split_next`] prefetches the first, second and third
 /// halfedge of the walk around `v1` of the record it will split.
 const MOVED_PREFETCH_DISTANCES: [usize; 3] = [6, 4, 2];
@@ -792,6 +795,12 @@ impl Hierarchy {
                 self.details.prefetch(ahead, self.mesh.positions());
             }
         }
+        if !clean {
+            if let Some(far) = r.checked_sub(LIST_PREFETCH_DISTANCE) {
+                self.details.prefetch_record(far);
+                crate::prefetch::prefetch(&self.placements, far);
+            }
+        }
         // The walk around v1 is a chain of loads: one more link of it per stage.
         for (step, distance) in MOVED_PREFETCH_DISTANCES.into_iter().enumerate() {
             if let Some(ahead) = r.checked_sub(distance) {
@@ -875,30 +884,74 @@ impl Hierarchy {
                     labels::LABEL_ATTRIBUTE
                 ))
             })?;
+        let respected = self.options.respect_labels;
+        self.options.respect_labels = true;
+        self.labels = Some(LabelBinding {
+            attribute,
+            defined_at: self.labels.map_or(self.applied, |b| b.defined_at),
+        });
+        let result = self.edit_input(|_| Ok::<(), std::convert::Infallible>(()));
+        if result.is_err() {
+            self.options.respect_labels = respected;
+        }
+        result
+    }
+
+    /// Changes the topology of the hierarchy's mesh the only way a hierarchy can keep:
+    /// at the input. Walks to level 0 (carrying every edit), hands the input mesh to
+    /// `change` (which may split edges, add or remove faces, …; its result is returned),
+    /// builds the hierarchy again with the same options (so the new vertices get records
+    /// of their own and every level is reachable), and goes back to the level it was at
+    /// (or the new coarsest, if that is finer). Attached labels stay attached; affine
+    /// marks are dropped. Costs about one build.
+    ///
+    /// This is how an edit that adds vertices at a coarse level (the adaptive refinement
+    /// of Bendels & Klein, for example) composes with the hierarchy: the vertices are
+    /// added where the carried edit stretched the input, and they survive every walk.
+    ///
+    /// # Errors
+    /// The errors of the walks and of [`build`](Self::build); an error of `change` is
+    /// passed through as [`Error::InvalidArgument`] with its message. When `change`
+    /// fails, or leaves a mesh that fails [`Mesh::check`], the input mesh is put back as
+    /// it was and the hierarchy returns to its level, unchanged but for the walk.
+    pub fn edit_input<R, E: std::fmt::Display>(
+        &mut self,
+        change: impl FnOnce(&mut Mesh) -> std::result::Result<R, E>,
+    ) -> Result<R> {
         let level = self.level_at_or_finer();
         self.seek(0)?;
-        let mut options = self.options.clone();
-        options.respect_labels = true;
-        let mut rebuilt = match Hierarchy::build(self.mesh.clone(), &options) {
-            Ok(h) => h,
+        let mut input = self.mesh.clone();
+        let result = change(&mut input)
+            .map_err(|e| Error::InvalidArgument(format!("edit_input: {e}")))
+            .and_then(|r| input.check().map(|()| r));
+        let result = match result {
+            Ok(r) => r,
             Err(e) => {
-                // Back to where it was (the walk to the input succeeded, so this one does).
                 let _ = self.go_to_level(level);
                 return Err(e);
             }
         };
-        rebuilt.labels = Some(LabelBinding {
-            attribute,
-            defined_at: 0,
-        });
+        let mut rebuilt = match Hierarchy::build(input, &self.options) {
+            Ok(h) => h,
+            Err(e) => {
+                let _ = self.go_to_level(level);
+                return Err(e);
+            }
+        };
+        if let Some(b) = self.labels {
+            rebuilt.labels = Some(LabelBinding {
+                attribute: b.attribute,
+                defined_at: 0,
+            });
+        }
         let target = level.min(rebuilt.coarsest_level());
-        // The mesh keeps its identity.
         let (id, count) = (self.mesh.stamp_id, self.mesh.stamp_count);
         rebuilt.mesh.stamp_id = id;
         rebuilt.mesh.stamp_count = count + 1;
         rebuilt.stamp = Some(rebuilt.mesh.topology_stamp());
         *self = rebuilt;
-        self.go_to_level(target)
+        self.go_to_level(target)?;
+        Ok(result)
     }
 
     /// Stops propagating labels through splits.

@@ -1,0 +1,70 @@
+//! Bendels & Klein's adaptive refinement made at a coarse level of a hierarchy: the new
+//! vertices are added at the input, every level stays reachable, the handle lands exactly
+//! and the fixed part does not move (on a generated mesh).
+
+use edit::blend::{BlendOptions, BlendSession, RefineOptions};
+use edit::regions::Regions;
+use glam::{DMat4, DVec3};
+use halfedge::{generators, Hierarchy, HierarchyOptions, VertexId};
+
+#[test]
+fn refinement_at_a_coarse_level_composes_with_the_hierarchy() {
+    let original = generators::icosphere(5);
+    let level = 2;
+    let mut h = Hierarchy::build(original.clone(), &HierarchyOptions::rounds()).unwrap();
+    h.go_to_level(level).unwrap();
+    let coarse = h.mesh();
+    let handle: Vec<VertexId> = coarse
+        .vertices()
+        .filter(|&v| coarse.position(v).z > 0.8)
+        .collect();
+    let fixed: Vec<VertexId> = coarse
+        .vertices()
+        .filter(|&v| coarse.position(v).z < 0.0)
+        .collect();
+    let regions = Regions::from_sets(coarse, &handle, &fixed).unwrap();
+    let roles = regions.roles().to_vec();
+    let ancestors = h.ancestors(level).unwrap();
+    let mut session = BlendSession::new(coarse, regions, BlendOptions::default()).unwrap();
+    let a = DMat4::from_translation(DVec3::new(0.2, 0.0, 1.5));
+    session.apply(h.mesh_mut(), a).unwrap();
+    let fine_edge = original.mean_edge_length();
+    let report = session
+        .refine_in_hierarchy(
+            &mut h,
+            RefineOptions {
+                max_edge_length: 2.0 * fine_edge,
+                max_new_vertices: 100_000,
+            },
+        )
+        .unwrap();
+    assert!(report.new_vertices > 100, "{report:?}");
+    assert!(report.longest_edge <= 2.0 * fine_edge);
+    assert_eq!(h.current_level(), Some(level.min(h.coarsest_level())));
+    // Every level is reachable, both ways.
+    for l in (0..h.n_levels()).chain((0..h.n_levels()).rev()) {
+        h.go_to_level(l).unwrap();
+        h.mesh().check().unwrap();
+    }
+    h.go_to_level(0).unwrap();
+    let fine = h.mesh();
+    assert_eq!(
+        fine.n_vertices(),
+        original.n_vertices() + report.new_vertices
+    );
+    for v in original.vertices() {
+        let i = original.vertex_index(v);
+        let (before, after) = (original.position(v), fine.position(v));
+        match roles[ancestors[i] as usize] {
+            edit::regions::Role::Handle => {
+                let target = a.transform_point3(before);
+                assert!((after - target).length() < 1e-9, "handle vertex {v} missed");
+            }
+            edit::regions::Role::Fixed => assert_eq!(after, before, "fixed vertex {v} moved"),
+            edit::regions::Role::Deformable => {}
+        }
+    }
+    // The session described the coarse mesh before the refinement.
+    h.go_to_level(level.min(h.coarsest_level())).unwrap();
+    assert!(session.apply(h.mesh_mut(), a).is_err());
+}
