@@ -436,6 +436,25 @@ impl BlendSession {
         Ok(report)
     }
 
+    /// [`apply`](Self::apply) to the mesh of `hierarchy` (the session was made on it at
+    /// its current level), and tells the hierarchy that the handle moved by `a`
+    /// ([`Hierarchy::set_affine_mark`]), so that at every finer level the handle is
+    /// exactly `a` of its original vertices. With the paper's translations
+    /// ([`halfedge::DetailMode::Translation`]) nothing is marked.
+    ///
+    /// # Errors
+    /// As [`apply`](Self::apply); nothing is changed then.
+    pub fn apply_in_hierarchy(&mut self, hierarchy: &mut Hierarchy, a: DMat4) -> Result<()> {
+        self.apply(hierarchy.mesh_mut(), a)?;
+        if hierarchy.detail_mode() == halfedge::DetailMode::LocalFrame {
+            let map = glam::DAffine3::from_mat4(self.power.transform());
+            if map.is_finite() {
+                hierarchy.set_affine_mark(self.regions.handle(), map)?;
+            }
+        }
+        Ok(())
+    }
+
     /// Adaptive refinement (Sec. 6) of an edit made at a coarse level of a hierarchy:
     /// the session was made on `hierarchy`'s mesh at its current level and its edit
     /// applied there. The hierarchy can only keep new vertices at its input, so the
@@ -480,7 +499,7 @@ impl BlendSession {
         if hierarchy.detail_mode() == halfedge::DetailMode::LocalFrame {
             let a = glam::DAffine3::from_mat4(self.power.transform());
             if a.is_finite() {
-                hierarchy.mark_affine(self.regions.handle(), a)?;
+                hierarchy.set_affine_mark(self.regions.handle(), a)?;
             }
         }
         let report = hierarchy.edit_input(|mesh| {

@@ -68,3 +68,49 @@ fn refinement_at_a_coarse_level_composes_with_the_hierarchy() {
     h.go_to_level(level.min(h.coarsest_level())).unwrap();
     assert!(session.apply(h.mesh_mut(), a).is_err());
 }
+
+#[test]
+fn a_handle_rotated_at_a_coarse_level_lands_exactly() {
+    // Dragged twice (as a user does), then refined: the handle's fine vertices are the
+    // last transform of their originals, the fixed part did not move.
+    let original = generators::icosphere(5);
+    let level = 3;
+    let mut h = Hierarchy::build(original.clone(), &HierarchyOptions::qem()).unwrap();
+    h.go_to_level(level).unwrap();
+    let coarse = h.mesh();
+    let pick = |f: &dyn Fn(DVec3) -> bool| -> Vec<VertexId> {
+        coarse
+            .vertices()
+            .filter(|&v| f(coarse.position(v)))
+            .collect()
+    };
+    let handle = pick(&|p| p.x > 0.7);
+    let fixed = pick(&|p| p.x < -0.2);
+    let regions = Regions::from_sets(coarse, &handle, &fixed).unwrap();
+    let roles = regions.roles().to_vec();
+    let ancestors = h.ancestors(level).unwrap();
+    let mut session = BlendSession::new(coarse, regions, BlendOptions::default()).unwrap();
+    let turn = |angle: f64| {
+        DMat4::from_translation(DVec3::X)
+            * DMat4::from_rotation_y(angle)
+            * DMat4::from_translation(-DVec3::X)
+    };
+    session.apply_in_hierarchy(&mut h, turn(0.3)).unwrap();
+    session.apply_in_hierarchy(&mut h, turn(0.6)).unwrap();
+    h.refine_to(0).unwrap();
+    let a = turn(0.6);
+    let mut handle_vertices = 0;
+    for v in original.vertices() {
+        let (before, after) = (original.position(v), h.mesh().position(v));
+        match roles[ancestors[original.vertex_index(v)] as usize] {
+            edit::regions::Role::Handle => {
+                handle_vertices += 1;
+                let error = (after - a.transform_point3(before)).length();
+                assert!(error < 1e-9, "handle vertex {v} off by {error}");
+            }
+            edit::regions::Role::Fixed => assert_eq!(after, before),
+            edit::regions::Role::Deformable => {}
+        }
+    }
+    assert!(handle_vertices > 100);
+}

@@ -1063,6 +1063,21 @@ impl Hierarchy {
     /// [`Error::InvalidArgument`] in [`DetailMode::Translation`], for a map that is not
     /// finite, or for a vertex that is not live; nothing is marked then.
     pub fn mark_affine(&mut self, vertices: &[VertexId], transform: DAffine3) -> Result<()> {
+        self.mark(vertices, transform, true)
+    }
+
+    /// [`mark_affine`](Self::mark_affine), replacing the marks the vertices had instead
+    /// of composing with them: for an edit that is applied again and again from the same
+    /// starting positions (a handle dragged interactively), whose latest map is the whole
+    /// motion since the hierarchy placed the vertices.
+    ///
+    /// # Errors
+    /// As [`mark_affine`](Self::mark_affine).
+    pub fn set_affine_mark(&mut self, vertices: &[VertexId], transform: DAffine3) -> Result<()> {
+        self.mark(vertices, transform, false)
+    }
+
+    fn mark(&mut self, vertices: &[VertexId], transform: DAffine3, compose: bool) -> Result<()> {
         if self.details.mode() != DetailMode::LocalFrame {
             return Err(Error::InvalidArgument(
                 "affine marks need DetailMode::LocalFrame (the paper's translations ignore them)"
@@ -1087,7 +1102,11 @@ impl Hierarchy {
         let mut composed: Vec<(u32, u32)> = Vec::new();
         for &v in vertices {
             let i = self.mesh.vertex_index(v);
-            let old = self.marks.of_vertex[i];
+            let old = if compose {
+                self.marks.of_vertex[i]
+            } else {
+                UNMARKED
+            };
             let new = match composed.iter().find(|&&(o, _)| o == old) {
                 Some(&(_, n)) => n,
                 None => {
