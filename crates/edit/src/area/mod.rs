@@ -20,6 +20,7 @@
 //! (local frames), [`session`] (editing session).
 
 pub mod embedding;
+mod fit;
 pub mod frames;
 pub mod selection;
 pub mod session;
@@ -29,4 +30,4 @@ pub use embedding::{
 };
 pub use frames::{FrameKind, LocalFrames};
 pub use selection::{AreaSide, EditingArea};
-pub use session::{EditingSession, SessionOptions};
+pub use session::{EditingSession, SessionOptions, MAX_SESSION_LEVELS};
