@@ -25,7 +25,7 @@
 //!   summed into **one lattice** of the finest size by B-spline refinement (masks
 //!   `(1, 6, 1)/8` at old knots and `(1, 1)/2` at new ones, applied along each axis), so
 //!   evaluating the fit costs one 4 × 4 lattice lookup whatever the number of levels.
-//! - **Scale parameter** `s ∈ [0, 1]` (Lee 1999 §5.2, as repaired in DESIGN.md): `f_k` is
+//! - **Scale parameter** `s ∈ [0, 1]` (Lee 1999 §5.2): `f_k` is
 //!   the multilevel fit that *starts* at level `k` (lattices `Φ_k … Φ_l`), `f_{l+1}` is
 //!   the function equal to the data values at the data points and zero elsewhere, and
 //!   `f_k` belongs to `s_k = (l − k + 1)/l`. Between two `s_k` the two functions are
@@ -47,9 +47,12 @@
 //! # Speed
 //!
 //! The fit touches only the data points' control points (sparse per level) plus one dense
-//! refinement pass per level; evaluation is 16 lattice reads per point. The editing
-//! session ([`crate::area::EditingSession`]) uses the same kernel with per-vertex basis
-//! weights precomputed once per area.
+//! refinement pass per level; evaluation is 16 lattice reads per point.
+//!
+//! The editing session ([`crate::area::EditingSession`]) uses the same B-splines and
+//! refinement in a form of its own: boundary fixing at every level, a scale mapping that
+//! does not depend on the level count, and sparse detail levels at the primitive (see
+//! its docs). This type keeps the paper's literal §5.2–5.3.
 
 use glam::{DVec2, DVec3};
 

@@ -157,7 +157,7 @@ fn primitive_reaches_its_targets_away_from_the_boundary() {
             k as f64 / 10.0
         );
     }
-    // a closed chain (the nose's ring) and its centre, to MBA accuracy
+    // a closed chain (the nose's ring) and its centre
     session.cancel(&mut mesh).unwrap();
     let primitive = nose_and_ring(&mesh);
     session.set_primitive(&mesh, &primitive).unwrap();
@@ -167,7 +167,7 @@ fn primitive_reaches_its_targets_away_from_the_boundary() {
         for &v in &primitive {
             let error = (mesh.position(v) - (rest[mesh.vertex_index(v)] + PULL)).length();
             assert!(
-                error < 0.02 * PULL.length(),
+                error < 1e-3 * PULL.length(),
                 "s = {s}: {v} misses by {error}"
             );
         }
@@ -192,15 +192,16 @@ fn primitive_reaches_its_targets_away_from_the_boundary() {
     let target = rest[mesh.vertex_index(nose)] + lift;
     session.move_vertex(&mesh, nose, target).unwrap();
     session.apply(&mut mesh).unwrap();
-    assert!((mesh.position(nose) - target).length() < 0.02 * lift.length());
-    assert!((mesh.position(far) - rest[mesh.vertex_index(far)]).length() < 0.02 * lift.length());
+    assert!((mesh.position(nose) - target).length() < 1e-3 * lift.length());
+    assert!((mesh.position(far) - rest[mesh.vertex_index(far)]).length() < 1e-3 * lift.length());
     mesh.check().unwrap();
 }
 
 #[test]
-fn holding_adjacent_vertices_needs_fine_levels_and_improves_with_them() {
+fn holding_adjacent_vertices_reaches_every_target_at_any_level_count() {
     // Moving the nose while holding its one-ring (second mode): the ring is 0.3 % of the
-    // rectangle away in the embedding, so only fine lattices separate the targets.
+    // rectangle away in the embedding, closer than the dense lattice separates at 6
+    // levels; the sparse detail levels at the primitive separate the targets.
     let (mut mesh, mut session) = spot_session(&SessionOptions::default());
     let rest = mesh.positions().to_vec();
     let nose = vertex(&mesh, SPOT_NOSE);
@@ -226,8 +227,7 @@ fn holding_adjacent_vertices_needs_fine_levels_and_improves_with_them() {
             .fold(0.0, f64::max);
         errors.push(error / lift.length());
     }
-    assert!(errors[1] < 0.1 * errors[0], "{errors:?}");
-    assert!(errors[1] < 0.05, "{errors:?}");
+    assert!(errors.iter().all(|&e| e < 1e-6), "{errors:?}");
 }
 
 #[test]
@@ -276,13 +276,16 @@ fn normal_frames_move_vertices_along_their_normals() {
     let normal = mesh.vertex_normal(nose);
     session.drag(&mut mesh, 0.1 * normal).unwrap();
     let uv_before = session.embedding().uv().to_vec();
+    let mut reference = mesh.clone();
+    reference.positions_mut().copy_from_slice(&rest);
     for &v in session.area().interior() {
-        let d = mesh.position(v) - rest[mesh.vertex_index(v)];
-        let mut reference = mesh.clone();
-        reference.positions_mut().copy_from_slice(&rest);
+        let p = rest[mesh.vertex_index(v)];
+        let d = mesh.position(v) - p;
         let n = reference.vertex_normal(v);
+        // the displacement is read back from f64 positions: near the border, where it
+        // falls to 1e-9 of the pull, rounding of `p + d` is the rest
         assert!(
-            d.cross(n).length() <= 1e-9 * d.length().max(1e-300),
+            d.cross(n).length() <= 1e-9 * d.length() + 4.0 * f64::EPSILON * p.length(),
             "{v}: {d} not along {n}"
         );
     }

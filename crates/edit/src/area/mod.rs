@@ -6,8 +6,9 @@
 //! set of the area, §3.3); their displacements become offsets in **local frames**
 //! ([`LocalFrames`], §3.4–3.5), the offsets at the primitive's embedded positions are
 //! spread over the rectangle by **multilevel B-spline approximation** with a
-//! **continuous scale parameter** and a fixed border ([`crate::mba`], §5), and every
-//! vertex of the area moves by the offset found at its embedded position. The
+//! **continuous scale parameter** and a fixed border (§5; the session's form of it is
+//! described in [`session`]), and every vertex of the area moves by the offset found at
+//! its embedded position. The
 //! [`EditingSession`] ties the steps together so that a drag costs only the fit and the
 //! evaluation.
 //!
@@ -20,6 +21,7 @@
 //! (local frames), [`session`] (editing session).
 
 pub mod embedding;
+mod fit;
 pub mod frames;
 pub mod selection;
 pub mod session;
@@ -29,4 +31,4 @@ pub use embedding::{
 };
 pub use frames::{FrameKind, LocalFrames};
 pub use selection::{AreaSide, EditingArea};
-pub use session::{EditingSession, SessionOptions};
+pub use session::{EditingSession, SessionOptions, MAX_SESSION_LEVELS};

@@ -11,23 +11,51 @@
 //! changed by other means, call [`EditingSession::commit`] before the next edit, or the
 //! next drag overwrites them with `rest + f_s`.
 //!
-//! # Speed
+//! # The fit
+//!
+//! The offsets are spread by the multilevel B-spline fit of Lee 1999 §5 with three
+//! repairs that make the paper's intent hold on areas of any size (details in the
+//! `fit` submodule's docs):
+//!
+//! - **Boundary fixing at every level** (§5.3): each level's lattice keeps its three
+//!   border rows and columns at zero, so the offsets fall to zero on the border with their
+//!   first and second derivatives, over a band as wide as the edit (the paper fixes the
+//!   finest lattice only, which creases the surface one or two rings inside the border at
+//!   large scales).
+//! - **The scale is a fraction of the area** (§3.6, §5.2): the coarsest lattice has
+//!   `m = 4/s` cells (`s = 1, 1/2, 1/4, …` ↔ `m = 4, 8, 16, …`, linear between), whatever
+//!   the number of levels, so a given `s` reaches the same part of an area on a coarse
+//!   and on a fine mesh: about `0.4 s` of the rectangle's side from the primitive (the
+//!   measured table is in `docs/guide/area-editing.md`).
+//! - **Detail levels at the primitive**: up to six sparse levels finer than the dense
+//!   lattice fit what is left at the primitive's vertices, so a primitive of several
+//!   vertices is reached to `1e-9` of the drag (away from the border band, where fixing
+//!   wins as in §5.3).
+//!
+//! The number of dense levels `l` follows the embedded resolution
+//! ([`SessionOptions::levels`]); it only decides where the smallest scales turn into
+//! moving the primitive alone.
+//!
+//! # Speed and memory
 //!
 //! Per area (once): the embedding, and for every interior vertex the index and the
-//! B-spline weights of its 4 × 4 control points in the finest lattice. Per primitive: the
-//! same for its vertices at every level. Per drag: the fit touches only the primitive's
-//! control points plus one dense refinement per level; the evaluation is 16 lattice reads
-//! per interior vertex (weights stored as `f32`), in slot order so that the writes into
-//! the mesh's position array run forward; in parallel over contiguous blocks of that
-//! array for very large areas ([`SessionOptions::parallel_threshold`]); boundary
-//! vertices are never written.
+//! B-spline weights of its 4 × 4 control points in the finest lattice. Per primitive:
+//! which control points each primitive vertex touches at every level, and the vertices
+//! the detail levels reach. Per drag: the fit touches only the primitive's control points
+//! plus one dense refinement per level; the evaluation is 16 lattice reads per interior
+//! vertex (weights stored as `f32`), in slot order so that the writes into the mesh's
+//! position array run forward; in parallel over contiguous blocks of that array for very
+//! large areas ([`SessionOptions::parallel_threshold`]); boundary vertices are never
+//! written. The dense lattice has `(2^{l−1} + 3)²` control points; `l ≤`
+//! [`MAX_SESSION_LEVELS`] keeps a drag under about 250 MB.
 
 use glam::{DVec2, DVec3};
 use halfedge::{Mesh, VertexId};
 use rayon::prelude::*;
 
+use super::fit::{self, CellIndex, FitPlan, FitState, FIRST_LEVEL};
 use super::{EditingArea, Embedding, EmbeddingOptions, FrameKind, LocalFrames};
-use crate::mba::{level_size, point_bases, FitWorkspace, LatticeBasis, ScaleSplit, MAX_LEVELS};
+use crate::mba::{level_size, LatticeBasis};
 use crate::{EditError, Result};
 
 /// Options of [`EditingSession::new`].
@@ -38,12 +66,16 @@ pub struct SessionOptions {
     /// Local frames.
     pub frames: FrameKind,
     /// Scale parameter `s ∈ [0, 1]` (Lee 1999 §3.6): 0 moves only the primitive, 1 the
-    /// whole area.
+    /// whole area; in between the edit reaches about `0.4 s` of the rectangle's side
+    /// from the primitive (motion down to 10 % of the drag), the same on coarse and fine
+    /// meshes (see the [module docs](self)).
     pub scale: f64,
-    /// Number `l` of B-spline levels (at least 3, since boundary fixing zeroes three
-    /// border rows on each side). `None`: the smallest `l` with
-    /// `m_l = 2^{l−1} ≥ √(area vertices) / 2`, at least 5 — about two vertices per
-    /// finest cell, so the finest level resolves the mesh.
+    /// Number `l` of dense B-spline levels, `3 ..=` [`MAX_SESSION_LEVELS`] (level 3,
+    /// four cells, is the coarsest with a free control point once the border is fixed).
+    /// `None`: the smallest `l ≥ 5` whose finest cell is at most twice the mean embedded
+    /// edge length (capped at [`MAX_SESSION_LEVELS`]), so the finest level resolves the
+    /// mesh. Scales below `2^{3−l}` blend the finest level with moving the primitive
+    /// alone.
     pub levels: Option<usize>,
     /// Interior vertices from which a drag's evaluation is split over rayon's threads
     /// (one contiguous block each). Measured on the project's shared 2-core machine
@@ -68,6 +100,10 @@ impl Default for SessionOptions {
 
 /// Default of [`SessionOptions::parallel_threshold`].
 pub const DEFAULT_PARALLEL_THRESHOLD: usize = 1 << 18;
+/// Most dense B-spline levels of a session: the finest lattice then has `(2^11 + 3)²`
+/// control points (101 MB of `DVec3`; a drag holds about 2.5 such lattices), far finer
+/// than the embedded edges of any area that fits in memory.
+pub const MAX_SESSION_LEVELS: usize = 12;
 const NONE: u32 = u32::MAX;
 
 /// An area-editing session after Lee 1999: see the [module docs](self).
@@ -95,12 +131,14 @@ pub struct EditingSession {
     rest: Vec<DVec3>,
     interior_slots: Vec<u32>,
     eval: Vec<CompactBasis>,
+    cells: CellIndex,
     primitive: Vec<u32>,
     primitive_bases: Vec<LatticeBasis>,
+    plan: FitPlan,
     data_of_local: Vec<u32>,
     displacements: Vec<DVec3>,
     offsets: Vec<DVec3>,
-    workspace: FitWorkspace,
+    state: FitState,
     lattice: Vec<DVec3>,
     parallel_threshold: usize,
 }
@@ -115,11 +153,13 @@ impl EditingSession {
     /// [`EditError::InvalidParameter`] for a bad scale or level count.
     pub fn new(mesh: &Mesh, area: EditingArea, options: &SessionOptions) -> Result<Self> {
         check_scale(options.scale)?;
-        let levels = match options.levels {
-            Some(l) => check_levels(l)?,
-            None => auto_levels(area.vertices().len()),
-        };
+        if let Some(l) = options.levels {
+            check_levels(l)?;
+        }
         let embedding = Embedding::new(mesh, &area, &options.embedding)?;
+        let levels = options
+            .levels
+            .unwrap_or_else(|| auto_levels(&embedding, &area.local_triangles(mesh)));
         let rest: Vec<DVec3> = area.vertices().iter().map(|&v| mesh.position(v)).collect();
         let centre_seed = nearest_to_centre(&area, &embedding);
         let frames = LocalFrames::new(mesh, &area, &rest, &options.frames, centre_seed)?;
@@ -139,19 +179,23 @@ impl EditingSession {
             rest,
             interior_slots,
             eval: Vec::new(),
+            cells: CellIndex::default(),
             primitive: Vec::new(),
             primitive_bases: Vec::new(),
+            plan: FitPlan::default(),
             displacements: Vec::new(),
             offsets: Vec::new(),
-            workspace: FitWorkspace::default(),
+            state: FitState::default(),
             lattice: Vec::new(),
             parallel_threshold: options.parallel_threshold,
         };
-        session.compute_bases();
+        session.compute_area_bases();
+        session.compute_primitive_plan();
         Ok(session)
     }
 
-    fn compute_bases(&mut self) {
+    /// Every interior vertex's basis in the finest dense lattice, and the cell index.
+    fn compute_area_bases(&mut self) {
         let size = self.embedding.size();
         let m = level_size(self.levels);
         let uv = &self.embedding.uv()[..self.area.n_interior()];
@@ -160,12 +204,27 @@ impl EditingSession {
             .with_min_len(1024)
             .map(|&p| CompactBasis::from(LatticeBasis::locate(p, DVec2::ZERO, size, m)))
             .collect();
-        let points: Vec<DVec2> = self
-            .primitive
+        self.cells = CellIndex::new(uv, size, m);
+    }
+
+    /// The primitive's finest dense bases and its fit plan.
+    fn compute_primitive_plan(&mut self) {
+        let size = self.embedding.size();
+        let uv = self.embedding.uv();
+        let points: Vec<DVec2> = self.primitive.iter().map(|&i| uv[i as usize]).collect();
+        let m = level_size(self.levels);
+        self.primitive_bases = points
             .iter()
-            .map(|&i| self.embedding.uv()[i as usize])
+            .map(|&p| LatticeBasis::locate(p, DVec2::ZERO, size, m))
             .collect();
-        self.primitive_bases = point_bases(&points, DVec2::ZERO, size, self.levels);
+        self.plan = FitPlan::new(
+            &points,
+            size,
+            self.levels,
+            &uv[..self.area.n_interior()],
+            &self.cells,
+            true,
+        );
     }
 
     /// The editing area.
@@ -180,10 +239,17 @@ impl EditingSession {
         &self.embedding
     }
 
-    /// Number of B-spline levels `l`.
+    /// Number of dense B-spline levels `l`.
     #[must_use]
     pub fn levels(&self) -> usize {
         self.levels
+    }
+
+    /// The scale `2^{3−l}` below which the finest dense level blends with moving the
+    /// primitive alone (the smallest scale with a B-spline reach of its own).
+    #[must_use]
+    pub fn finest_scale(&self) -> f64 {
+        fit::scale_of_level(self.levels)
     }
 
     /// The scale parameter `s`.
@@ -225,13 +291,16 @@ impl EditingSession {
         Ok(())
     }
 
-    /// Sets the number of B-spline levels (at least 3); recomputes the lattice bases.
+    /// Sets the number of dense B-spline levels; recomputes the lattice bases. The scale
+    /// keeps its reach.
     ///
     /// # Errors
-    /// [`EditError::InvalidParameter`] outside `3 ..= MAX_LEVELS`.
+    /// [`EditError::InvalidParameter`] outside `3 ..=` [`MAX_SESSION_LEVELS`]; nothing
+    /// changes then.
     pub fn set_levels(&mut self, levels: usize) -> Result<()> {
         self.levels = check_levels(levels)?;
-        self.compute_bases();
+        self.compute_area_bases();
+        self.compute_primitive_plan();
         Ok(())
     }
 
@@ -289,7 +358,7 @@ impl EditingSession {
         self.displacements = vec![DVec3::ZERO; primitive.len()];
         self.offsets = vec![DVec3::ZERO; primitive.len()];
         self.primitive = primitive;
-        self.compute_bases();
+        self.compute_primitive_plan();
         Ok(())
     }
 
@@ -395,22 +464,15 @@ impl EditingSession {
         for (c, &i) in self.primitive.iter().enumerate() {
             self.offsets[c] = self.frames.to_offset(i as usize, self.displacements[c]);
         }
-        let split = ScaleSplit::new(self.scale, self.levels);
-        self.workspace.fit(
-            self.levels,
-            split,
-            &self.primitive_bases,
-            &self.offsets,
-            true,
-            &mut self.lattice,
-        );
+        let split = fit::scale_split(self.scale, self.levels);
+        self.state
+            .fit(&self.plan, split, &self.offsets, &mut self.lattice);
         let evaluator = Evaluator {
             lattice: (split.k <= self.levels).then_some(self.lattice.as_slice()),
             n: level_size(self.levels) + 3,
             data_weight: split.data_weight(self.levels),
             eval: &self.eval,
-            primitive_bases: &self.primitive_bases
-                [(self.levels - 1) * self.primitive.len()..self.levels * self.primitive.len()],
+            primitive_bases: &self.primitive_bases,
             data_of_local: &self.data_of_local,
             offsets: &self.offsets,
             frames: &self.frames,
@@ -428,7 +490,7 @@ impl EditingSession {
             let blocks = rayon::current_num_threads().max(1);
             let per_block = slots.len().div_ceil(blocks);
             let mut tasks = Vec::with_capacity(blocks);
-            let mut rest_of_positions = positions;
+            let mut rest_of_positions = &mut *positions;
             let mut offset = 0usize;
             for start in (0..slots.len()).step_by(per_block) {
                 let end = (start + per_block).min(slots.len());
@@ -443,6 +505,14 @@ impl EditingSession {
                     out[slot as usize - lo] = evaluator.position(i);
                 }
             });
+        }
+        // the detail levels, near the primitive only
+        if self.state.detail_used() > 0 {
+            let details = self.plan.detail_vertices();
+            for (&i, &detail) in details.iter().zip(self.state.detail_offsets()) {
+                let i = i as usize;
+                positions[slots[i] as usize] = evaluator.position_with(i, detail);
+            }
         }
     }
 }
@@ -463,11 +533,26 @@ struct Evaluator<'a> {
 impl Evaluator<'_> {
     #[inline]
     fn position(&self, i: usize) -> DVec3 {
+        match self.offset(i) {
+            Some(offset) => self.rest[i] + self.frames.to_displacement(i, offset),
+            None => self.rest[i],
+        }
+    }
+
+    /// The position with `detail` added to the offset.
+    fn position_with(&self, i: usize, detail: DVec3) -> DVec3 {
+        let offset = self.offset(i).unwrap_or(DVec3::ZERO) + detail;
+        self.rest[i] + self.frames.to_displacement(i, offset)
+    }
+
+    /// The offset of local vertex `i`; `None` where nothing moves it.
+    #[inline]
+    fn offset(&self, i: usize) -> Option<DVec3> {
         let c = self.data_of_local[i];
         let offset = if c == NONE {
             match self.lattice {
                 Some(phi) => self.eval[i].evaluate(phi, self.n),
-                None => return self.rest[i],
+                None => return None,
             }
         } else {
             // the primitive's own full-precision basis: it reaches what the fit aimed at
@@ -478,7 +563,7 @@ impl Evaluator<'_> {
             };
             smooth + self.offsets[c] * self.data_weight
         };
-        self.rest[i] + self.frames.to_displacement(i, offset)
+        Some(offset)
     }
 }
 
@@ -529,22 +614,37 @@ fn check_scale(s: f64) -> Result<()> {
 }
 
 fn check_levels(l: usize) -> Result<usize> {
-    if !(3..=MAX_LEVELS).contains(&l) {
+    if !(FIRST_LEVEL..=MAX_SESSION_LEVELS).contains(&l) {
         return Err(EditError::InvalidParameter {
             name: "levels",
             reason: format!(
-                "{l} is outside 3..={MAX_LEVELS} (boundary fixing zeroes three border rows)"
+                "{l} is outside {FIRST_LEVEL}..={MAX_SESSION_LEVELS} (level {FIRST_LEVEL} is \
+                 the coarsest with a free control point once the border is fixed; level \
+                 {MAX_SESSION_LEVELS}'s lattice already takes 101 MB)"
             ),
         });
     }
     Ok(l)
 }
 
-/// The smallest `l ≥ 5` with `2^{l−1} ≥ √n / 2`.
-fn auto_levels(n: usize) -> usize {
-    let target = (n as f64).sqrt() / 2.0;
+/// The smallest `l ≥ 5` whose finest cell, `max(width, height) / 2^{l−1}`, is at most
+/// twice the mean embedded edge length (each edge once per face side), at most
+/// [`MAX_SESSION_LEVELS`]; 5 when the embedding has no edge of positive length.
+fn auto_levels(embedding: &Embedding, triangles: &[[u32; 3]]) -> usize {
+    let uv = embedding.uv();
+    let (sum, count) = triangles
+        .iter()
+        .flat_map(|t| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])])
+        .fold((0.0, 0usize), |(sum, count), (a, b)| {
+            (sum + uv[a as usize].distance(uv[b as usize]), count + 1)
+        });
+    let mean = sum / count.max(1) as f64;
+    let side = embedding.size().max_element();
     let mut l = 5;
-    while (level_size(l) as f64) < target && l < 12 {
+    if !(mean > 0.0 && side.is_finite()) {
+        return l;
+    }
+    while side / level_size(l) as f64 > 2.0 * mean && l < MAX_SESSION_LEVELS {
         l += 1;
     }
     l
