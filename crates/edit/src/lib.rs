@@ -29,6 +29,7 @@ pub mod mba;
 pub mod blend;
 pub mod distance;
 pub mod matrix;
+pub mod polyline;
 pub mod regions;
 pub mod shape;
 
