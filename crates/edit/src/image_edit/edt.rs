@@ -1,55 +1,90 @@
 //! The exact Euclidean distance transform of a pixel mask, after Felzenszwalb &
 //! Huttenlocher (2012), *Distance transforms of sampled functions*, Sec. 2–3: the
-//! squared distance is separable, so a pass along every row (the nearest mask pixel of
-//! the row, by two sweeps) is followed by a pass along the columns, where the lower
-//! envelope of the parabolas `(y − q)² + g(q)` gives the exact minimum in linear time.
+//! squared distance is separable, so a pass along every column (the nearest mask pixel
+//! of the column, by two sweeps) is followed by a pass along the rows, where the lower
+//! envelope of the parabolas `(x − q)² + g(q)²` gives the exact minimum in linear time.
 //! All values are integers below 2⁵³, computed exactly in `f64`.
 //!
 //! Bendels & Klein (Sec. 4.1) obtain the same field for images from graphics hardware;
 //! the image edit ([`super::ImageSession`]) needs it only at its grid vertices, so
-//! [`squared_distances_at`] runs the column pass only for the grid's columns and keeps
-//! only the grid's rows.
+//! [`squared_distances_at`] keeps the column pass's result only on the grid's rows and
+//! runs the row pass only there. Both passes walk memory in row order.
 
 use rayon::prelude::*;
 
 use super::mask::Mask;
 
-/// Squared horizontal distance to the nearest mask pixel of each row (`∞` for rows
-/// without one).
-fn row_pass(mask: &Mask) -> Vec<f64> {
-    let w = mask.width() as usize;
-    let mut g = vec![f64::INFINITY; mask.bits().len()];
-    if w == 0 {
+/// Columns per parallel block of the column pass.
+const BLOCK: usize = 512;
+
+/// Vertical distance to the nearest mask pixel of the column (`u32::MAX` for columns
+/// without one), kept only on `rows`: `rows.len() × width`, row-major. Two sweeps (down
+/// and up) in row order, each block of columns on its own thread.
+fn column_pass(mask: &Mask, rows: &[u32]) -> Vec<u32> {
+    let (w, h) = (mask.width() as usize, mask.height() as usize);
+    let mut g = vec![u32::MAX; rows.len() * w];
+    if w == 0 || h == 0 {
         return g;
     }
-    g.par_chunks_mut(w)
-        .zip(mask.bits().par_chunks(w))
-        .with_min_len(16)
-        .for_each(|(out, bits)| {
-            let mut last: Option<usize> = None;
-            for x in 0..w {
-                if bits[x] {
-                    last = Some(x);
+    // For each picture row, the slots of `g` it fills (rows may repeat or be out of range).
+    let mut wanted: Vec<Vec<usize>> = vec![Vec::new(); h];
+    for (j, &y) in rows.iter().enumerate() {
+        if let Some(list) = wanted.get_mut(y as usize) {
+            list.push(j);
+        }
+    }
+    let bits = mask.bits();
+    let blocks: Vec<(usize, Vec<u32>)> = (0..w.div_ceil(BLOCK))
+        .into_par_iter()
+        .map(|b| {
+            let x0 = b * BLOCK;
+            let bw = BLOCK.min(w - x0);
+            let mut out = vec![u32::MAX; rows.len() * bw];
+            let mut last = vec![u32::MAX; bw];
+            for y in 0..h {
+                let row = &bits[y * w + x0..y * w + x0 + bw];
+                for (l, &bit) in last.iter_mut().zip(row) {
+                    if bit {
+                        *l = y as u32;
+                    }
                 }
-                if let Some(l) = last {
-                    out[x] = (x - l) as f64;
+                for &j in &wanted[y] {
+                    for (o, &l) in out[j * bw..(j + 1) * bw].iter_mut().zip(&last) {
+                        if l != u32::MAX {
+                            *o = y as u32 - l;
+                        }
+                    }
                 }
             }
-            let mut next: Option<usize> = None;
-            for x in (0..w).rev() {
-                if bits[x] {
-                    next = Some(x);
+            last.fill(u32::MAX);
+            for y in (0..h).rev() {
+                let row = &bits[y * w + x0..y * w + x0 + bw];
+                for (l, &bit) in last.iter_mut().zip(row) {
+                    if bit {
+                        *l = y as u32;
+                    }
                 }
-                if let Some(r) = next {
-                    out[x] = out[x].min((r - x) as f64);
+                for &j in &wanted[y] {
+                    for (o, &l) in out[j * bw..(j + 1) * bw].iter_mut().zip(&last) {
+                        if l != u32::MAX {
+                            *o = (*o).min(l - y as u32);
+                        }
+                    }
                 }
-                out[x] *= out[x];
             }
-        });
+            (x0, out)
+        })
+        .collect();
+    for (x0, out) in blocks {
+        let bw = out.len() / rows.len().max(1);
+        for j in 0..rows.len() {
+            g[j * w + x0..j * w + x0 + bw].copy_from_slice(&out[j * bw..(j + 1) * bw]);
+        }
+    }
     g
 }
 
-/// One column of the second pass: `d(y) = min_q (y − q)² + f(q)` over the finite `f(q)`,
+/// One row of the second pass: `d(x) = min_q (x − q)² + f(q)` over the finite `f(q)`,
 /// by the lower envelope of parabolas; scratch vectors reused.
 fn envelope(f: &[f64], d: &mut [f64], v: &mut Vec<usize>, z: &mut Vec<f64>) {
     let n = f.len();
@@ -106,32 +141,33 @@ pub fn squared_distance_transform(mask: &Mask) -> Vec<f64> {
 #[must_use]
 pub fn squared_distances_at(mask: &Mask, columns: &[u32], rows: &[u32]) -> Vec<f64> {
     let (w, h) = (mask.width() as usize, mask.height() as usize);
-    let g = row_pass(mask);
-    let per_column: Vec<Vec<f64>> = columns
-        .par_iter()
-        .map_init(
-            || (vec![0.0; h], vec![0.0; h], Vec::new(), Vec::new()),
-            |(f, d, v, z), &x| {
-                let x = x as usize;
-                if x >= w {
-                    return vec![f64::INFINITY; rows.len()];
+    let g = column_pass(mask, rows);
+    let nc = columns.len();
+    let mut out = vec![f64::INFINITY; nc * rows.len()];
+    if w == 0 {
+        return out;
+    }
+    out.par_chunks_mut(nc.max(1))
+        .zip(rows.par_iter())
+        .enumerate()
+        .for_each_init(
+            || (vec![0.0; w], vec![0.0; w], Vec::new(), Vec::new()),
+            |(f, d, v, z), (j, (out, &y))| {
+                if y as usize >= h {
+                    return;
                 }
-                for (y, fy) in f.iter_mut().enumerate() {
-                    *fy = g[y * w + x];
+                for (fx, &gx) in f.iter_mut().zip(&g[j * w..(j + 1) * w]) {
+                    *fx = if gx == u32::MAX {
+                        f64::INFINITY
+                    } else {
+                        f64::from(gx) * f64::from(gx)
+                    };
                 }
                 envelope(f, d, v, z);
-                rows.iter()
-                    .map(|&y| d.get(y as usize).copied().unwrap_or(f64::INFINITY))
-                    .collect()
+                for (o, &x) in out.iter_mut().zip(columns) {
+                    *o = d.get(x as usize).copied().unwrap_or(f64::INFINITY);
+                }
             },
-        )
-        .collect();
-    let nc = columns.len();
-    let mut out = vec![0.0; nc * rows.len()];
-    for (i, column) in per_column.iter().enumerate() {
-        for (j, &value) in column.iter().enumerate() {
-            out[j * nc + i] = value;
-        }
-    }
+        );
     out
 }

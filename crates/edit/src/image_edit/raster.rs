@@ -177,7 +177,9 @@ impl Raster {
     /// picture) into `out` (`channels` values in 0..=255, not rounded). With alpha the
     /// colour channels are interpolated premultiplied and divided back (where all four
     /// taps are transparent, straight).
-    #[inline]
+    ///
+    /// The reference the tests hold the resampling's `f32` sampler to.
+    #[cfg(test)]
     pub(super) fn sample_bilinear(&self, x: f64, y: f64, out: &mut [f64; 4]) {
         let (w, h) = (self.width as usize, self.height as usize);
         let x = x.clamp(0.0, (w - 1) as f64);
@@ -234,8 +236,41 @@ impl Raster {
     }
 }
 
-/// A sample in 0..=255 rounded to a byte.
-#[inline]
-pub(super) fn to_byte(v: f64) -> u8 {
-    (v + 0.5).clamp(0.0, 255.0) as u8
+impl Raster {
+    /// [`Raster::sample_bilinear`] for `C` channels in `f32` arithmetic, unrolled: the
+    /// resampling's inner loop. Agrees with the `f64` version to about 1e-4.
+    #[inline(always)]
+    pub(super) fn sample_bilinear_fast<const C: usize>(&self, x: f64, y: f64) -> [f32; C] {
+        let (w, h) = (self.width as usize, self.height as usize);
+        let x = x.max(0.0).min((w - 1) as f64);
+        let y = y.max(0.0).min((h - 1) as f64);
+        let x0 = (x as usize).min(w.saturating_sub(2));
+        let y0 = (y as usize).min(h.saturating_sub(2));
+        let (fx, fy) = ((x - x0 as f64) as f32, (y - y0 as f64) as f32);
+        let row = w * C;
+        let (dx, dy) = (if w > 1 { C } else { 0 }, if h > 1 { row } else { 0 });
+        let i00 = y0 * row + x0 * C;
+        let d = &self.data;
+        let tap = |i: usize| -> [f32; C] { std::array::from_fn(|k| f32::from(d[i + k])) };
+        let (p00, p10, p01, p11) = (tap(i00), tap(i00 + dx), tap(i00 + dy), tap(i00 + dy + dx));
+        let (w00, w10) = ((1.0 - fx) * (1.0 - fy), fx * (1.0 - fy));
+        let (w01, w11) = ((1.0 - fx) * fy, fx * fy);
+        if C % 2 == 1 {
+            return std::array::from_fn(|k| {
+                w00 * p00[k] + w10 * p10[k] + w01 * p01[k] + w11 * p11[k]
+            });
+        }
+        let a = C - 1;
+        let (a00, a10, a01, a11) = (w00 * p00[a], w10 * p10[a], w01 * p01[a], w11 * p11[a]);
+        let alpha = a00 + a10 + a01 + a11;
+        std::array::from_fn(|k| {
+            if k == a {
+                alpha
+            } else if alpha > 0.0 {
+                (a00 * p00[k] + a10 * p10[k] + a01 * p01[k] + a11 * p11[k]) / alpha
+            } else {
+                w00 * p00[k] + w10 * p10[k] + w01 * p01[k] + w11 * p11[k]
+            }
+        })
+    }
 }

@@ -6,7 +6,7 @@ use rayon::prelude::*;
 
 use super::edt::squared_distances_at;
 use super::mask::Mask;
-use super::raster::{to_byte, Raster};
+use super::raster::Raster;
 use super::{ImageEditError, ImageResult};
 use crate::blend::blend_ratio;
 use crate::matrix::{embed_affine2, AffinePower};
@@ -350,62 +350,94 @@ impl ImageSession {
     }
 
     fn draw(&self, out: &mut Raster) -> RenderStats {
-        let (w, h) = (self.source.width() as usize, self.source.height() as usize);
-        let triangles: Vec<Triangle> = (0..self.n_triangles())
+        let h = self.source.height() as usize;
+        let (nx, ny) = (self.xs.len(), self.ys.len());
+        // The cells that moved, binned by the bands of rows their deformed bounding
+        // boxes reach; unmoved cells keep the copied input, which is exact.
+        let moved: Vec<(u32, usize, usize)> = (0..(nx - 1) * (ny - 1))
             .into_par_iter()
-            .filter_map(|t| {
-                let tri = self.triangle(t);
-                if tri.iter().all(|&v| self.alpha[v] == 0.0) {
-                    return None; // unmoved: the copy is exact
+            .filter_map(|cell| {
+                let v00 = (cell / (nx - 1)) * nx + cell % (nx - 1);
+                let corners = [v00, v00 + 1, v00 + nx, v00 + nx + 1];
+                if corners.iter().all(|&v| self.alpha[v] == 0.0) {
+                    return None;
                 }
-                Triangle::new(
-                    tri.map(|v| self.deformed[v]),
-                    tri.map(|v| self.original[v]),
-                    tri.iter().map(|&v| self.alpha[v]).sum::<f64>() as f32 / 3.0,
+                let ys = corners.map(|v| self.deformed[v].y);
+                let (top, bottom) = pixel_range(
+                    ys.iter().copied().fold(f64::INFINITY, f64::min),
+                    ys.iter().copied().fold(f64::NEG_INFINITY, f64::max),
                     h,
-                )
+                )?;
+                Some((cell as u32, top / BAND, bottom / BAND))
             })
             .collect();
-        let n_bands = h.div_ceil(BAND);
-        let mut bins: Vec<Vec<u32>> = vec![Vec::new(); n_bands];
-        for (k, t) in triangles.iter().enumerate() {
-            for bin in &mut bins[t.rows.0 / BAND..=t.rows.1 / BAND] {
-                bin.push(k as u32);
+        let mut bins: Vec<Vec<u32>> = vec![Vec::new(); h.div_ceil(BAND)];
+        for &(cell, b0, b1) in &moved {
+            for bin in &mut bins[b0..=b1] {
+                bin.push(cell);
             }
         }
-        let c = self.source.channels() as usize;
+        let pixels = match self.source.channels() {
+            1 => self.draw_bands::<1>(out, &bins),
+            2 => self.draw_bands::<2>(out, &bins),
+            3 => self.draw_bands::<3>(out, &bins),
+            _ => self.draw_bands::<4>(out, &bins),
+        };
+        RenderStats {
+            triangles: 2 * moved.len(),
+            pixels,
+        }
+    }
+
+    /// Draws the binned cells band by band in parallel, for `C` channels; returns the
+    /// number of pixels drawn.
+    fn draw_bands<const C: usize>(&self, out: &mut Raster, bins: &[Vec<u32>]) -> usize {
+        let (w, h) = (self.source.width() as usize, self.source.height() as usize);
         let fixed = self.fixed.bits();
-        let pixels: usize = out
-            .data_mut()
-            .par_chunks_mut(BAND * w * c)
+        let source = &self.source;
+        out.data_mut()
+            .par_chunks_mut(BAND * w * C)
             .zip(bins.par_iter())
             .enumerate()
             .map(|(band, (rows, bin))| {
                 let y0 = band * BAND;
                 let y1 = (y0 + BAND).min(h);
                 let mut depth = vec![f32::NEG_INFINITY; (y1 - y0) * w];
-                let mut value = [0.0; 4];
-                for &k in bin {
-                    let t = &triangles[k as usize];
-                    for y in t.rows.0.max(y0)..=t.rows.1.min(y1 - 1) {
-                        let Some((xa, xb)) = t.span(y as f64, w) else {
+                for &cell in bin {
+                    for half in 0..2 {
+                        let tri = self.triangle(2 * cell as usize + half);
+                        let Some(t) = Triangle::new(
+                            tri.map(|v| self.deformed[v]),
+                            tri.map(|v| self.original[v]),
+                            tri.iter().map(|&v| self.alpha[v]).sum::<f64>() as f32,
+                            h,
+                        ) else {
                             continue;
                         };
-                        let yf = y as f64;
-                        for x in xa..=xb {
-                            let i = y * w + x;
-                            let slot = (y - y0) * w + x;
-                            if fixed[i] || depth[slot] > t.priority {
+                        for y in t.rows.0.max(y0)..=t.rows.1.min(y1 - 1) {
+                            let yf = y as f64;
+                            let Some((xa, xb)) = t.span(yf, w) else {
                                 continue;
-                            }
-                            depth[slot] = t.priority;
-                            let xf = x as f64;
-                            let sx = t.map[0] * xf + t.map[1] * yf + t.map[2];
-                            let sy = t.map[3] * xf + t.map[4] * yf + t.map[5];
-                            self.source.sample_bilinear(sx, sy, &mut value);
-                            let o = slot * c;
-                            for (dst, &v) in rows[o..o + c].iter_mut().zip(&value) {
-                                *dst = to_byte(v);
+                            };
+                            let fixed_row = &fixed[y * w..(y + 1) * w];
+                            let depth_row = &mut depth[(y - y0) * w..(y - y0 + 1) * w];
+                            let out_row = &mut rows[(y - y0) * w * C..(y - y0 + 1) * w * C];
+                            let (bx, by) = (t.map[1] * yf + t.map[2], t.map[4] * yf + t.map[5]);
+                            for x in xa..=xb {
+                                if fixed_row[x] || depth_row[x] > t.priority {
+                                    continue;
+                                }
+                                depth_row[x] = t.priority;
+                                let xf = x as f64;
+                                let value = source.sample_bilinear_fast::<C>(
+                                    t.map[0] * xf + bx,
+                                    t.map[3] * xf + by,
+                                );
+                                for (dst, &v) in out_row[x * C..(x + 1) * C].iter_mut().zip(&value)
+                                {
+                                    // `as` saturates to 0..=255 (NaN to 0).
+                                    *dst = (v + 0.5) as u8;
+                                }
                             }
                         }
                     }
@@ -413,43 +445,61 @@ impl ImageSession {
                 // Pixels drawn by several triangles count once.
                 depth.iter().filter(|d| d.is_finite()).count()
             })
-            .sum();
-        RenderStats {
-            triangles: triangles.len(),
-            pixels,
-        }
+            .sum()
     }
+}
+
+/// The pixel rows (or columns) `⌈lo⌉ ..= ⌊hi⌋` within `0..len`, or `None` when empty.
+/// Casts instead of `ceil` / `floor` (library calls without SSE 4.1).
+#[inline]
+fn pixel_range(lo: f64, hi: f64, len: usize) -> Option<(usize, usize)> {
+    if lo.is_nan() || hi.is_nan() || lo > hi || hi < 0.0 || lo > (len - 1) as f64 {
+        return None;
+    }
+    let lo = lo.max(0.0);
+    let mut first = lo as usize;
+    if (first as f64) < lo {
+        first += 1;
+    }
+    let last = hi.min((len - 1) as f64) as usize;
+    (first <= last).then_some((first, last))
 }
 
 /// A deformed triangle prepared for inverse mapping: its barycentric coordinates as
 /// affine functions of the output pixel, and the affine map from output to source.
 struct Triangle {
-    /// `λ_k(x, y) = l[k][0] x + l[k][1] y + l[k][2]`.
-    l: [[f64; 3]; 3],
+    /// `λ_k(x, y) = l[k][0] x + l[k][1] y + l[k][2]`; `l[k][3] = −1 / l[k][0]` (0 when
+    /// `l[k][0] = 0`).
+    l: [[f64; 4]; 3],
     /// Source `x = m0 x + m1 y + m2`, `y = m3 x + m4 y + m5`.
     map: [f64; 6],
     /// Output rows covered (inclusive), clipped to the picture.
     rows: (usize, usize),
-    /// Mean α: where triangles overlap, the larger wins.
+    /// Sum of the corners' α: where triangles overlap, the larger wins.
     priority: f32,
 }
 
 impl Triangle {
+    #[inline]
     fn new(p: [DVec2; 3], o: [DVec2; 3], priority: f32, height: usize) -> Option<Self> {
         let (e1, e2) = (p[1] - p[0], p[2] - p[0]);
         let area = e1.perp_dot(e2);
         if area.abs() < 1e-12 || !area.is_finite() {
             return None;
         }
+        let ymin = p[0].y.min(p[1].y).min(p[2].y);
+        let ymax = p[0].y.max(p[1].y).max(p[2].y);
+        let rows = pixel_range(ymin, ymax, height)?;
+        let inv = 1.0 / area;
         let l1 = [
-            e2.y / area,
-            -e2.x / area,
-            (p[0].y * e2.x - p[0].x * e2.y) / area,
+            e2.y * inv,
+            -e2.x * inv,
+            (p[0].y * e2.x - p[0].x * e2.y) * inv,
         ];
         let l2 = [
-            -e1.y / area,
-            e1.x / area,
-            (p[0].x * e1.y - p[0].y * e1.x) / area,
+            -e1.y * inv,
+            e1.x * inv,
+            (p[0].x * e1.y - p[0].y * e1.x) * inv,
         ];
         let l0 = [-l1[0] - l2[0], -l1[1] - l2[1], 1.0 - l1[2] - l2[2]];
         let (f1, f2) = (o[1] - o[0], o[2] - o[0]);
@@ -461,38 +511,39 @@ impl Triangle {
             l1[1] * f1.y + l2[1] * f2.y,
             l1[2] * f1.y + l2[2] * f2.y + o[0].y,
         ];
-        let ymin = p.iter().map(|q| q.y).fold(f64::INFINITY, f64::min);
-        let ymax = p.iter().map(|q| q.y).fold(f64::NEG_INFINITY, f64::max);
-        let top = ymin.ceil().max(0.0);
-        let bottom = ymax.floor().min((height - 1) as f64);
-        if top > bottom {
-            return None;
-        }
+        let with_reciprocal = |l: [f64; 3]| {
+            [
+                l[0],
+                l[1],
+                l[2],
+                if l[0] != 0.0 { -1.0 / l[0] } else { 0.0 },
+            ]
+        };
         Some(Self {
-            l: [l0, l1, l2],
+            l: [l0, l1, l2].map(with_reciprocal),
             map,
-            rows: (top as usize, bottom as usize),
+            rows,
             priority,
         })
     }
 
-    /// The pixel columns of row `y` inside the triangle, clipped to `0..width`.
+    /// The pixel columns of row `y` inside the triangle (every `λ ≥ −ε`), clipped to
+    /// `0..width`.
     #[inline]
     fn span(&self, y: f64, width: usize) -> Option<(usize, usize)> {
-        let (mut lo, mut hi) = (0.0f64, (width - 1) as f64);
+        let (mut lo, mut hi) = (f64::NEG_INFINITY, f64::INFINITY);
         for l in &self.l {
-            // l0 x + rest ≥ −ε
+            // l0 x + rest ≥ 0  ⇔  x ≥ −rest / l0 (l0 > 0), x ≤ −rest / l0 (l0 < 0)
             let rest = l[1] * y + l[2] + INSIDE;
             if l[0] > 0.0 {
-                lo = lo.max(-rest / l[0]);
+                lo = lo.max(rest * l[3]);
             } else if l[0] < 0.0 {
-                hi = hi.min(-rest / l[0]);
+                hi = hi.min(rest * l[3]);
             } else if rest < 0.0 {
                 return None;
             }
         }
-        let (lo, hi) = (lo.ceil(), hi.floor());
-        (lo <= hi).then_some((lo as usize, hi as usize))
+        pixel_range(lo, hi, width)
     }
 }
 

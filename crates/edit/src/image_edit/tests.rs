@@ -344,6 +344,42 @@ fn bilinear_sampling_is_premultiplied_with_alpha() {
 }
 
 #[test]
+fn fast_sampler_agrees_with_the_reference() {
+    let mut rng = ChaCha8Rng::seed_from_u64(7);
+    let rgb = test_pattern(23, 17).unwrap();
+    for channels in 1..=4u8 {
+        let data: Vec<u8> = rgb
+            .data()
+            .chunks_exact(3)
+            .enumerate()
+            .flat_map(|(i, p)| {
+                [p[0], p[1], p[2], ((i * 37) % 256) as u8]
+                    .into_iter()
+                    .take(channels as usize)
+            })
+            .collect();
+        let image = Raster::new(23, 17, channels, data).unwrap();
+        let mut reference = [0.0; 4];
+        for _ in 0..2000 {
+            let (x, y) = (rng.random_range(-2.0..25.0), rng.random_range(-2.0..19.0));
+            image.sample_bilinear(x, y, &mut reference);
+            let fast: Vec<f32> = match channels {
+                1 => image.sample_bilinear_fast::<1>(x, y).to_vec(),
+                2 => image.sample_bilinear_fast::<2>(x, y).to_vec(),
+                3 => image.sample_bilinear_fast::<3>(x, y).to_vec(),
+                _ => image.sample_bilinear_fast::<4>(x, y).to_vec(),
+            };
+            for (k, &v) in fast.iter().enumerate() {
+                assert!(
+                    (f64::from(v) - reference[k]).abs() < 1e-3,
+                    "{channels} channels at ({x}, {y})"
+                );
+            }
+        }
+    }
+}
+
+#[test]
 fn png_round_trips_every_channel_count() {
     let dir = std::env::temp_dir().join(format!("edit-image-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
