@@ -99,7 +99,8 @@ fn envelope(f: &[f64], d: &mut [f64], v: &mut Vec<usize>, z: &mut Vec<f64>) {
         while let Some(&p) = v.last() {
             let pf = p as f64;
             s = ((f[q] + qf * qf) - (f[p] + pf * pf)) / (2.0 * (qf - pf));
-            if s <= *z.last().expect("one boundary per parabola") {
+            // `z` holds one left boundary per parabola in `v`.
+            if z.last().is_some_and(|&left| s <= left) {
                 v.pop();
                 z.pop();
                 s = f64::NEG_INFINITY;
