@@ -13,6 +13,9 @@
 //! - [`bendels_klein`]: Bendels & Klein precisely specified regions, distance fields,
 //!   shape functions, `exp(α log A)` and adaptive refinement ([`crate::regions`],
 //!   [`crate::distance`], [`crate::shape`], [`crate::matrix`], [`crate::blend`]).
+//! - [`images_and_polylines`]: the same edit on polylines / polygons and on pictures
+//!   (grid mesh, exact distance transform, resampling) ([`crate::polyline`],
+//!   [`crate::image_edit`]).
 //! - [`submesh_edits`]: sub-mesh edits with propagation levels, Barr's deformers and
 //!   Taubin smoothing ([`crate::submesh`], [`crate::barr`], [`crate::smoothing`]).
 //! - [`ffd`]: Feng, Ma & Peng's shape/height-surface free-form deformation
@@ -27,6 +30,9 @@ pub mod area_editing {}
 
 #[doc = include_str!("../../../docs/guide/bendels-klein.md")]
 pub mod bendels_klein {}
+
+#[doc = include_str!("../../../docs/guide/images-and-polylines.md")]
+pub mod images_and_polylines {}
 
 #[doc = include_str!("../../../docs/guide/submesh-edits.md")]
 pub mod submesh_edits {}

@@ -8,7 +8,8 @@
 //! - [`regions`], [`distance`], [`shape`], [`matrix`], [`blend`]: Bendels & Klein,
 //!   *Image and 3D-object editing with precisely specified editing regions*: handle, fixed
 //!   and deformable regions, distance fields, shape functions and affine blending
-//!   `exp(α log A)` (Alexa 2002).
+//!   `exp(α log A)` (Alexa 2002); the same edit on curves ([`polyline`]) and pictures
+//!   ([`image_edit`]).
 //! - [`submesh`], [`barr`], [`smoothing`]: *Interactive editing of multiresolution
 //!   meshes* (sub-mesh edits with propagation levels), Barr's taper / twist / bend, Taubin
 //!   λ|μ smoothing; [`selection`]: the vertex sets they act on and exact undo snapshots.
@@ -28,7 +29,9 @@ pub mod mba;
 
 pub mod blend;
 pub mod distance;
+pub mod image_edit;
 pub mod matrix;
+pub mod polyline;
 pub mod regions;
 pub mod shape;
 
