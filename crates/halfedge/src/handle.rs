@@ -49,11 +49,16 @@ const PER_WORD: usize = 32;
 /// used, or freed by garbage collection), live, or a tombstone (removed by a collapse,
 /// revivable by a split) — is packed two bits a slot, so the states of a million-face
 /// mesh take a few hundred kilobytes and stay in cache while collapses and splits flip
-/// them. Generations (how often a slot was reused) live apart and are read only once a
-/// freed slot has been reused.
+/// them. Generations (how often a slot was freed) live apart, are allocated only when
+/// garbage collection first frees a slot, and are read only once a freed slot has been
+/// reused: a mesh that never collected garbage (every mesh just read or built, and every
+/// hierarchy) has none, and neither have its clones.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Slots {
     states: Vec<u64>,
+    /// Number of slots.
+    len: usize,
+    /// Generation per slot; empty while every generation is 0 (no slot freed yet).
     generations: Vec<u32>,
     /// Vacant slots, reused last-freed first.
     free: Vec<u32>,
@@ -67,7 +72,6 @@ impl Slots {
     pub(crate) fn with_capacity(n: usize) -> Self {
         Self {
             states: Vec::with_capacity(n.div_ceil(PER_WORD)),
-            generations: Vec::with_capacity(n),
             ..Self::default()
         }
     }
@@ -81,7 +85,7 @@ impl Slots {
         }
         Self {
             states,
-            generations: vec![0; n],
+            len: n,
             ..Self::default()
         }
     }
@@ -117,8 +121,7 @@ impl Slots {
     #[inline]
     fn state_of<K: Key>(&self, k: K) -> Option<u64> {
         let i = slot(k);
-        (i < self.generations.len() && self.generation_of(i) == generation(k))
-            .then(|| self.state(i))
+        (i < self.len && self.generation_of(i) == generation(k)).then(|| self.state(i))
     }
     /// True when `k` names a live element.
     #[inline]
@@ -138,7 +141,7 @@ impl Slots {
     /// True when slot `i` is live.
     #[inline]
     pub(crate) fn is_live_index(&self, i: usize) -> bool {
-        i < self.generations.len() && self.state(i) == LIVE
+        i < self.len && self.state(i) == LIVE
     }
     /// Marks slot `i` a tombstone (it was live).
     #[inline]
@@ -152,11 +155,14 @@ impl Slots {
     }
     /// Appends a live slot of generation 0.
     fn push_live(&mut self) -> u32 {
-        let i = self.generations.len();
+        let i = self.len;
         if i % PER_WORD == 0 {
             self.states.push(0);
         }
-        self.generations.push(0);
+        if !self.generations.is_empty() {
+            self.generations.push(0);
+        }
+        self.len += 1;
         self.set_state(i, LIVE);
         i as u32
     }
@@ -189,8 +195,11 @@ impl Slots {
     /// Frees every tombstone for good (vacant, next generation) and returns their indices.
     pub(crate) fn free_tombstones(&mut self) -> Vec<u32> {
         let mut freed = Vec::new();
-        for i in 0..self.generations.len() {
+        for i in 0..self.len {
             if self.state(i) == TOMBSTONE {
+                if self.generations.is_empty() {
+                    self.generations = vec![0; self.len];
+                }
                 self.set_state(i, VACANT);
                 self.generations[i] += 1;
                 freed.push(i as u32);
@@ -438,5 +447,33 @@ mod tests {
             }
         }
         assert!(slot(crate::VertexId::default()) >= (u32::MAX - 1) as usize);
+    }
+
+    /// Generations are allocated only when garbage collection first frees a slot (a
+    /// clone of fresh slots has none), then kept in step with new slots; a reused slot
+    /// hands out a new key and its old key is stale.
+    #[test]
+    fn generations_exist_once_a_slot_was_freed() {
+        use crate::VertexId;
+        let mut s = Slots::live(70);
+        assert!(s.generations.is_empty() && s.clone().generations.is_empty());
+        let old: VertexId = s.key(5);
+        s.bury(5);
+        s.bury(40);
+        assert!(s.is_tombstone(old) && s.generations.is_empty());
+        let freed = s.free_tombstones();
+        assert_eq!(freed, [5, 40]);
+        assert_eq!(s.generations.len(), 70);
+        assert!(!s.contains(old));
+        s.push_free(freed.into_iter().rev());
+        assert_eq!(s.allocate(), (5, true));
+        let new: VertexId = s.key(5);
+        assert!(new != old && s.is_live(new) && !s.is_live(old));
+        assert_eq!(generation(new), 1);
+        assert_eq!(s.allocate(), (40, true));
+        assert_eq!(s.allocate(), (70, false));
+        assert_eq!(s.generations.len(), 71);
+        assert!(s.is_live(s.key::<VertexId>(70)));
+        assert_eq!(s.live_count(), 71);
     }
 }
