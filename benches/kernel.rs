@@ -2,6 +2,11 @@
 //! ≈ 1.6 M faces), loading that mesh from a binary PLY and the bunny from OBJ, one-ring
 //! circulation over all vertices, vertex normals.
 //!
+//! Traversal rows come in pairs: the work written with the public API (element
+//! iterators, circulators, handles) and the same work as a plain index loop over copies
+//! of the kernel's own arrays (`Arrays`: 16-byte halfedge records, `opposite = h ^ 1`),
+//! which is the reference (target: API ≤ 1.1 × the index loop).
+//!
 //! ```text
 //! cargo bench --bench kernel
 //! python3 benches/openmesh_reference.py   # OpenMesh on the same work, for comparison
@@ -41,6 +46,182 @@ fn one_ring_sum(mesh: &Mesh) -> usize {
         .sum()
 }
 
+/// A copy of the kernel's arrays, read through the public API: the reference for the
+/// traversal rows (what a hand-written loop over pmp-style arrays does).
+struct Arrays {
+    /// Outgoing halfedge per vertex slot (`NONE`: isolated or removed).
+    vertex_halfedge: Vec<u32>,
+    /// `[to, next, prev, face]` per halfedge slot (`face == NONE`: boundary).
+    halfedges: Vec<[u32; 4]>,
+    /// A halfedge per face slot (`NONE`: removed).
+    face_halfedge: Vec<u32>,
+    positions: Vec<DVec3>,
+}
+
+const NONE: u32 = u32::MAX;
+
+impl Arrays {
+    fn new(mesh: &Mesh) -> Self {
+        let h_ix = |h| mesh.halfedge_index(h) as u32;
+        let mut vertex_halfedge = vec![NONE; mesh.vertex_slots()];
+        for v in mesh.vertices() {
+            vertex_halfedge[mesh.vertex_index(v)] = mesh.vertex_halfedge(v).map_or(NONE, h_ix);
+        }
+        let mut halfedges = vec![[NONE; 4]; mesh.halfedge_slots()];
+        for h in mesh.halfedges() {
+            halfedges[mesh.halfedge_index(h)] = [
+                mesh.vertex_index(mesh.to_vertex(h)) as u32,
+                h_ix(mesh.next(h)),
+                h_ix(mesh.prev(h)),
+                mesh.face(h).map_or(NONE, |f| mesh.face_index(f) as u32),
+            ];
+        }
+        let mut face_halfedge = vec![NONE; mesh.face_slots()];
+        for f in mesh.faces() {
+            face_halfedge[mesh.face_index(f)] = h_ix(mesh.face_halfedge(f));
+        }
+        Self {
+            vertex_halfedge,
+            halfedges,
+            face_halfedge,
+            positions: mesh.positions().to_vec(),
+        }
+    }
+
+    /// Calls `visit(h)` for every outgoing halfedge of the vertex whose first one is
+    /// `start`, counter-clockwise (`opposite(prev(h))`), as the kernel's circulator turns.
+    #[inline(always)]
+    fn ring(&self, start: u32, mut visit: impl FnMut(&[u32; 4])) {
+        if start == NONE {
+            return;
+        }
+        let mut h = start;
+        loop {
+            let r = &self.halfedges[h as usize];
+            visit(r);
+            h = r[2] ^ 1;
+            if h == start {
+                break;
+            }
+        }
+    }
+
+    fn one_ring_sum(&self) -> usize {
+        let mut sum = 0;
+        for &start in &self.vertex_halfedge {
+            self.ring(start, |r| sum += r[0] as usize);
+        }
+        sum
+    }
+
+    /// Sum of the neighbour positions of every vertex (a gather).
+    fn gather(&self) -> DVec3 {
+        let mut total = DVec3::ZERO;
+        for &start in &self.vertex_halfedge {
+            let mut s = DVec3::ZERO;
+            self.ring(start, |r| s += self.positions[r[0] as usize]);
+            total += s;
+        }
+        total
+    }
+
+    /// Uniform Laplacian per vertex slot: mean of the neighbours minus the vertex.
+    fn laplacian(&self) -> Vec<DVec3> {
+        self.vertex_halfedge
+            .iter()
+            .zip(&self.positions)
+            .map(|(&start, &p)| {
+                let (mut s, mut n) = (DVec3::ZERO, 0u32);
+                self.ring(start, |r| {
+                    s += self.positions[r[0] as usize];
+                    n += 1;
+                });
+                if n == 0 {
+                    DVec3::ZERO
+                } else {
+                    s / f64::from(n) - p
+                }
+            })
+            .collect()
+    }
+
+    fn face_normals(&self) -> Vec<DVec3> {
+        self.face_halfedge
+            .iter()
+            .map(|&h0| {
+                if h0 == NONE {
+                    return DVec3::ZERO;
+                }
+                let r0 = &self.halfedges[h0 as usize];
+                let r1 = &self.halfedges[r0[1] as usize];
+                let r2 = &self.halfedges[r1[1] as usize];
+                let [a, b, c] = [r0[0], r1[0], r2[0]].map(|v| self.positions[v as usize]);
+                (b - a).cross(c - a).normalize_or_zero()
+            })
+            .collect()
+    }
+
+    /// Face normals, then per vertex the normalised sum of its faces' normals (the
+    /// kernel's `vertex_normals`, on one thread).
+    fn vertex_normals(&self) -> Vec<DVec3> {
+        let face_normals = self.face_normals();
+        self.vertex_halfedge
+            .iter()
+            .map(|&start| {
+                let mut n = DVec3::ZERO;
+                self.ring(start, |r| {
+                    if r[3] != NONE {
+                        n += face_normals[r[3] as usize];
+                    }
+                });
+                n.normalize_or_zero()
+            })
+            .collect()
+    }
+}
+
+/// The API versions of the `Arrays` loops.
+fn gather(mesh: &Mesh) -> DVec3 {
+    mesh.vertices()
+        .map(|v| {
+            mesh.adjacent_vertices(v)
+                .map(|w| mesh.position(w))
+                .sum::<DVec3>()
+        })
+        .sum()
+}
+
+fn laplacian(mesh: &Mesh) -> Vec<DVec3> {
+    let mut out = vec![DVec3::ZERO; mesh.vertex_slots()];
+    for v in mesh.vertices() {
+        let (mut s, mut n) = (DVec3::ZERO, 0u32);
+        for w in mesh.adjacent_vertices(v) {
+            s += mesh.position(w);
+            n += 1;
+        }
+        if n > 0 {
+            out[mesh.vertex_index(v)] = s / f64::from(n) - mesh.position(v);
+        }
+    }
+    out
+}
+
+fn vertex_normals_one_thread(mesh: &Mesh) -> Vec<DVec3> {
+    let mut face_normals = vec![DVec3::ZERO; mesh.face_slots()];
+    for f in mesh.faces() {
+        face_normals[mesh.face_index(f)] = mesh.face_normal(f);
+    }
+    let mut out = vec![DVec3::ZERO; mesh.vertex_slots()];
+    for v in mesh.vertices() {
+        out[mesh.vertex_index(v)] = mesh
+            .adjacent_faces(v)
+            .map(|f| face_normals[mesh.face_index(f)])
+            .sum::<DVec3>()
+            .normalize_or_zero();
+    }
+    out
+}
+
 fn benches(c: &mut Criterion) {
     let bunny_path = common::meshes_dir().join("stanford-bunny.obj");
     let (bunny, _) = io::read(&bunny_path).unwrap();
@@ -70,8 +251,35 @@ fn benches(c: &mut Criterion) {
     group.bench_function("load nefertiti×2 binary PLY (1.6 M faces)", |b| {
         b.iter_with_large_drop(|| io::read(black_box(&big_path)).unwrap())
     });
+    let arrays = Arrays::new(&big);
+    assert_eq!(arrays.one_ring_sum(), one_ring_sum(&big));
+    assert_eq!(arrays.gather(), gather(&big));
+    assert_eq!(arrays.laplacian(), laplacian(&big));
+    assert_eq!(arrays.vertex_normals(), vertex_normals_one_thread(&big));
+    assert_eq!(arrays.vertex_normals(), big.vertex_normals());
+    group.bench_function("index loop (reference): one-ring sum", |b| {
+        b.iter(|| black_box(&arrays).one_ring_sum())
+    });
     group.bench_function("one-ring circulation, all vertices (0.8 M)", |b| {
         b.iter(|| one_ring_sum(black_box(&big)))
+    });
+    group.bench_function("index loop (reference): gather neighbour positions", |b| {
+        b.iter(|| black_box(&arrays).gather())
+    });
+    group.bench_function("gather neighbour positions", |b| {
+        b.iter(|| gather(black_box(&big)))
+    });
+    group.bench_function("index loop (reference): uniform Laplacian", |b| {
+        b.iter(|| black_box(&arrays).laplacian())
+    });
+    group.bench_function("uniform Laplacian", |b| {
+        b.iter(|| laplacian(black_box(&big)))
+    });
+    group.bench_function("index loop (reference): vertex normals, one thread", |b| {
+        b.iter(|| black_box(&arrays).vertex_normals())
+    });
+    group.bench_function("vertex normals, one thread", |b| {
+        b.iter(|| vertex_normals_one_thread(black_box(&big)))
     });
     group.bench_function("one-ring circulation, all vertices (0.8 M), rayon", |b| {
         b.iter(|| common::one_ring_sum_parallel(black_box(&big)))

@@ -85,14 +85,7 @@ impl Mesh {
         I::IntoIter: Clone,
         F: AsRef<[u32]>,
     {
-        if positions.is_empty() {
-            return Err(Error::EmptyInput);
-        }
-        for (i, p) in positions.iter().enumerate() {
-            if let Some(&value) = p.to_array().iter().find(|c| !c.is_finite()) {
-                return Err(Error::NonFiniteCoordinate { vertex: i, value });
-            }
-        }
+        check_positions(positions)?;
         Self::build(positions, polygons, true)
     }
 
@@ -105,46 +98,39 @@ impl Mesh {
         F: AsRef<[u32]>,
     {
         let polygons = polygons.into_iter();
-        let n = positions.len();
-        let mut n_faces = 0;
-        let mut referenced = vec![false; n];
-        for (face, poly) in polygons.clone().enumerate() {
-            n_faces += poly.as_ref().len().saturating_sub(2);
-            for &i in poly.as_ref() {
-                if i as usize >= n {
-                    return Err(Error::IndexOutOfRange {
-                        face,
-                        index: u64::from(i),
-                        vertex_count: n,
-                    });
-                }
-                referenced[i as usize] = true;
-            }
-        }
-
-        let mut report = BuildReport {
-            unreferenced_vertices: referenced.iter().filter(|&&r| !r).count(),
-            ..BuildReport::default()
-        };
-        // At most 2 halfedges per triangle edge, twice over when a face is re-added on
-        // copies of its vertices.
-        let max_halfedges = n_faces.saturating_mul(12);
-        if max_halfedges > Compact::MAX_HALFEDGES || n > Compact::MAX_HALFEDGES {
-            return Err(Error::InvalidArgument(format!(
-                "{n} vertices and {n_faces} triangles are more than 32-bit slot indices \
-                 can address"
-            )));
-        }
+        let mut survey = Survey::new(positions.len());
+        survey.add(polygons.clone())?;
+        let (n_faces, mut report) = survey.finish()?;
         if compact {
-            let mut compact = Compact::new(n, n_faces);
+            let mut compact = Compact::new(positions.len(), n_faces);
             add_polygons(&mut compact, |i| i, polygons, &mut report);
-            return Ok((compact.into_mesh(positions), report));
+            return Ok((compact.into_mesh(positions.to_vec()), report));
         }
         // The same algorithm on the mesh itself (tests compare the two).
-        let mut mesh = Mesh::with_capacity(n, n_faces);
+        let mut mesh = Mesh::with_capacity(positions.len(), n_faces);
         let vertices: Vec<VertexId> = positions.iter().map(|&p| mesh.add_vertex(p)).collect();
         add_polygons(&mut mesh, |i| vertices[i as usize], polygons, &mut report);
         Ok((mesh, report))
+    }
+
+    /// [`from_polygons`](Self::from_polygons) for the loaders: positions by value (they
+    /// become the mesh's), polygons in blocks, each freed as soon as its faces are in the
+    /// mesh, so that the memory peak of a load is about the mesh's own size.
+    pub(crate) fn from_polygon_blocks(
+        positions: Vec<DVec3>,
+        blocks: Vec<PolygonBlock>,
+    ) -> Result<(Mesh, BuildReport)> {
+        check_positions(&positions)?;
+        let mut survey = Survey::new(positions.len());
+        for block in &blocks {
+            survey.add(block.polygons())?;
+        }
+        let (n_faces, mut report) = survey.finish()?;
+        let mut compact = Compact::new(positions.len(), n_faces);
+        for block in blocks {
+            add_polygons(&mut compact, |i| i, block.polygons(), &mut report);
+        }
+        Ok((compact.into_mesh(positions), report))
     }
 
     /// Builds a mesh from triangles; see [`from_polygons`](Self::from_polygons).
@@ -177,6 +163,138 @@ impl From<Refusal<VertexId>> for AddFaceError {
             Refusal::ComplexEdge(a, b) => Self::ComplexEdge(a, b),
             Refusal::PatchRelinkingFailed(v) => Self::PatchRelinkingFailed(v),
         }
+    }
+}
+
+/// `Err` for no positions or a non-finite coordinate.
+fn check_positions(positions: &[DVec3]) -> Result<()> {
+    if positions.is_empty() {
+        return Err(Error::EmptyInput);
+    }
+    for (i, p) in positions.iter().enumerate() {
+        if let Some(&value) = p.to_array().iter().find(|c| !c.is_finite()) {
+            return Err(Error::NonFiniteCoordinate { vertex: i, value });
+        }
+    }
+    Ok(())
+}
+
+/// The first pass over the input polygons, before anything is built: indices in range,
+/// number of triangles, vertices no polygon refers to.
+struct Survey {
+    referenced: Vec<bool>,
+    polygons: usize,
+    triangles: usize,
+}
+
+impl Survey {
+    fn new(n_vertices: usize) -> Self {
+        Self {
+            referenced: vec![false; n_vertices],
+            polygons: 0,
+            triangles: 0,
+        }
+    }
+
+    /// Surveys the next polygons (numbered on from those surveyed before).
+    fn add<F: AsRef<[u32]>>(&mut self, polygons: impl Iterator<Item = F>) -> Result<()> {
+        let n = self.referenced.len();
+        for poly in polygons {
+            self.triangles += poly.as_ref().len().saturating_sub(2);
+            for &i in poly.as_ref() {
+                match self.referenced.get_mut(i as usize) {
+                    Some(r) => *r = true,
+                    None => {
+                        return Err(Error::IndexOutOfRange {
+                            face: self.polygons,
+                            index: u64::from(i),
+                            vertex_count: n,
+                        })
+                    }
+                }
+            }
+            self.polygons += 1;
+        }
+        Ok(())
+    }
+
+    /// The number of triangles to make room for and the report so far; `Err` when they
+    /// are more than `u32` slot indices can address.
+    fn finish(self) -> Result<(usize, BuildReport)> {
+        let n = self.referenced.len();
+        let report = BuildReport {
+            unreferenced_vertices: self.referenced.iter().filter(|&&r| !r).count(),
+            ..BuildReport::default()
+        };
+        // At most 2 halfedges per triangle edge, twice over when a face is re-added on
+        // copies of its vertices.
+        let max_halfedges = self.triangles.saturating_mul(12);
+        if max_halfedges > Compact::MAX_HALFEDGES || n > Compact::MAX_HALFEDGES {
+            return Err(Error::InvalidArgument(format!(
+                "{n} vertices and {} triangles are more than 32-bit slot indices can address",
+                self.triangles
+            )));
+        }
+        Ok((self.triangles, report))
+    }
+}
+
+/// A block of indexed polygons as a loader reads them: all indices one polygon after
+/// another, and the start of every polygon unless all are triangles.
+#[derive(Debug, Default)]
+pub(crate) struct PolygonBlock {
+    /// All polygon indices, one polygon after another.
+    pub(crate) indices: Vec<u32>,
+    /// Start of every polygon in `indices`, plus the end of the last one; `None` while all
+    /// polygons are triangles (the common case, which then needs no offsets).
+    pub(crate) offsets: Option<Vec<usize>>,
+}
+
+impl PolygonBlock {
+    /// Records that the polygon starting at `start` in `indices` ends at their end.
+    pub(crate) fn end_polygon(&mut self, start: usize) {
+        let end = self.indices.len();
+        match &mut self.offsets {
+            Some(offsets) => offsets.push(end),
+            None if end - start == 3 => {}
+            None => {
+                let mut offsets: Vec<usize> = (0..=start).step_by(3).collect();
+                offsets.push(end);
+                self.offsets = Some(offsets);
+            }
+        }
+    }
+
+    /// The polygons, in order.
+    fn polygons(&self) -> Polygons<'_> {
+        Polygons {
+            indices: &self.indices,
+            offsets: self.offsets.as_deref(),
+            next: 0,
+        }
+    }
+}
+
+/// Iterator over the polygons of a [`PolygonBlock`].
+#[derive(Clone)]
+struct Polygons<'a> {
+    indices: &'a [u32],
+    offsets: Option<&'a [usize]>,
+    /// Number of the next polygon.
+    next: usize,
+}
+
+impl<'a> Iterator for Polygons<'a> {
+    type Item = &'a [u32];
+    #[inline]
+    fn next(&mut self) -> Option<&'a [u32]> {
+        let k = self.next;
+        let polygon = match self.offsets {
+            None => self.indices.get(3 * k..3 * k + 3)?,
+            Some(offsets) => self.indices.get(*offsets.get(k)?..*offsets.get(k + 1)?)?,
+        };
+        self.next += 1;
+        Some(polygon)
     }
 }
 
@@ -393,5 +511,106 @@ mod tests {
             }
             same_build(&positions, &polygons);
         }
+    }
+
+    /// Blocks of `polygons` cut before the polygons numbered in `cuts`.
+    fn blocks(polygons: &[Vec<u32>], cuts: &[usize]) -> Vec<PolygonBlock> {
+        let mut blocks = vec![PolygonBlock::default()];
+        for (k, poly) in polygons.iter().enumerate() {
+            if cuts.contains(&k) {
+                blocks.push(PolygonBlock::default());
+            }
+            let block = blocks.last_mut().unwrap();
+            let start = block.indices.len();
+            block.indices.extend_from_slice(poly);
+            block.end_polygon(start);
+        }
+        blocks
+    }
+
+    /// Polygons in blocks (cut anywhere, empty blocks included; triangles-only blocks
+    /// without offsets, others with) build the very mesh the same polygons in one piece
+    /// build; an out-of-range index is reported with its polygon's number in the whole
+    /// input, and bad positions are refused as by `from_polygons`.
+    #[test]
+    fn blocks_build_what_one_piece_builds() {
+        let positions: Vec<DVec3> = (0..12)
+            .map(|i| DVec3::new(i as f64, (i * i % 7) as f64, 0.0))
+            .collect();
+        let polygons: Vec<Vec<u32>> = vec![
+            vec![0, 1, 2],
+            vec![1, 0, 3],
+            vec![0, 1, 4],
+            vec![2, 1, 5, 6],
+            vec![0, 2, 7],
+            vec![0, 8, 9],
+            vec![0, 9, 10],
+            vec![0, 10, 8],
+            vec![2, 2, 3],
+            vec![3, 1],
+            vec![3, 1, 2],
+            vec![5, 11, 6],
+            vec![6, 11, 5],
+        ];
+        let (whole, whole_report) = Mesh::from_polygons(&positions, &polygons).unwrap();
+        let n = polygons.len();
+        for a in 0..=n {
+            for b in a..=n {
+                let blocks = blocks(&polygons, &[a, b]);
+                let (mesh, report) = Mesh::from_polygon_blocks(positions.clone(), blocks).unwrap();
+                mesh.check().unwrap();
+                assert_eq!(report, whole_report, "cuts {a}, {b}");
+                assert_eq!(mesh.positions(), whole.positions());
+                assert_eq!(links(&mesh), links(&whole), "cuts {a}, {b}");
+            }
+        }
+        let mut bad = polygons.clone();
+        bad[11][1] = 12;
+        for cut in [0, 5, 11, 12] {
+            let e = Mesh::from_polygon_blocks(positions.clone(), blocks(&bad, &[cut])).unwrap_err();
+            assert!(
+                matches!(
+                    e,
+                    Error::IndexOutOfRange {
+                        face: 11,
+                        index: 12,
+                        vertex_count: 12
+                    }
+                ),
+                "{e:?}"
+            );
+        }
+        let mut nan = positions.clone();
+        nan[3].y = f64::NAN;
+        assert!(matches!(
+            Mesh::from_polygon_blocks(nan, blocks(&polygons, &[4])),
+            Err(Error::NonFiniteCoordinate { vertex: 3, .. })
+        ));
+        assert!(matches!(
+            Mesh::from_polygon_blocks(Vec::new(), Vec::new()),
+            Err(Error::EmptyInput)
+        ));
+    }
+
+    /// A binary PLY of several soup blocks (a 700 × 600 grid: 840,000 triangles, 2.5 M
+    /// indices) reads back as the mesh written, face for face.
+    #[test]
+    fn a_ply_of_several_blocks_reads_back() {
+        let grid = crate::generators::grid(700, 600, 1.0, 1.0);
+        assert!(3 * grid.n_faces() > 2 * crate::io::ply::PolygonSoup::BLOCK);
+        let mut bytes = Vec::new();
+        crate::io::write_ply_to(&mut bytes, &grid, crate::io::PlyFormat::BinaryLittleEndian)
+            .unwrap();
+        let (back, report) =
+            crate::io::read_ply_from_bytes(&bytes, std::path::Path::new("grid.ply")).unwrap();
+        assert_eq!(report.input_faces, grid.n_faces());
+        assert_eq!(back.positions(), grid.positions());
+        let triangles = |m: &Mesh| -> Vec<[usize; 3]> {
+            m.faces()
+                .map(|f| m.triangle(f).map(|v| m.vertex_index(v)))
+                .collect()
+        };
+        assert_eq!(triangles(&back), triangles(&grid));
+        back.check().unwrap();
     }
 }

@@ -56,12 +56,14 @@ impl Compact {
         (self.vertex_halfedge.len() - 1) as u32
     }
 
-    /// The mesh with this connectivity: `positions` for the input vertices, copies at
-    /// the positions of what they copy.
-    pub(crate) fn into_mesh(self, positions: &[DVec3]) -> Mesh {
-        let mut all = Vec::with_capacity(positions.len() + self.copies.len());
-        all.extend_from_slice(positions);
-        all.extend(self.copies.iter().map(|&c| positions[c as usize]));
+    /// The mesh with this connectivity: `positions` for the input vertices (they become
+    /// the mesh's, not copied), copies at the positions of what they copy.
+    pub(crate) fn into_mesh(self, positions: Vec<DVec3>) -> Mesh {
+        let mut all = positions;
+        all.reserve_exact(self.copies.len());
+        for &c in &self.copies {
+            all.push(all[c as usize]);
+        }
         let (nv, nh, nf) = (all.len(), self.halfedges.len(), self.face_halfedge.len());
         let mut mesh = Mesh {
             vertex_conn: self.vertex_halfedge,

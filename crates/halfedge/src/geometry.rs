@@ -1,7 +1,6 @@
 //! Basic geometric queries: normals, areas, lengths, bounds.
 
 use glam::DVec3;
-use rayon::prelude::*;
 
 use crate::{FaceId, HalfedgeId, Mesh, VertexId};
 
@@ -57,29 +56,30 @@ impl Mesh {
             .sum::<DVec3>()
             .normalize_or_zero()
     }
-    /// Unit normals of all faces, indexed by [`face_index`](Self::face_index), in parallel.
+    /// Unit normals of all faces, indexed by [`face_index`](Self::face_index), in parallel
+    /// (zero for removed faces).
     pub fn face_normals(&self) -> Vec<DVec3> {
-        let faces: Vec<FaceId> = self.faces().collect();
         let mut normals = vec![DVec3::ZERO; self.face_slots()];
-        let computed: Vec<(usize, DVec3)> = faces
-            .par_iter()
-            .map(|&f| (self.face_index(f), self.face_normal(f)))
-            .collect();
-        for (i, n) in computed {
-            normals[i] = n;
-        }
+        let (he, positions) = (&self.he[..], &self.positions[..]);
+        self.face_slots_.par_for_each_live(&mut normals, |i, n| {
+            let r0 = &he[self.face_conn[i] as usize];
+            let r1 = &he[r0.next as usize];
+            let r2 = &he[r1.next as usize];
+            let [a, b, c] = [r0.to, r1.to, r2.to].map(|v| positions[v as usize]);
+            *n = (b - a).cross(c - a).normalize_or_zero();
+        });
         normals
     }
     /// Unit normals of all vertices, indexed by [`vertex_index`](Self::vertex_index), in
-    /// parallel (face normals computed once).
+    /// parallel (face normals computed once; zero for removed and isolated vertices).
     pub fn vertex_normals(&self) -> Vec<DVec3> {
         let face_normals = self.face_normals();
         let mut normals = vec![DVec3::ZERO; self.vertex_slots()];
-        normals.par_iter_mut().enumerate().for_each(|(i, n)| {
-            let Some(v) = self.vertex_at(i) else { return };
-            *n = self
-                .adjacent_faces(v)
-                .map(|f| face_normals[self.face_index(f)])
+        self.vertex_slots_.par_for_each_live(&mut normals, |i, n| {
+            let walk = crate::iter::vertex_walk(&self.he, self.vertex_conn[i]);
+            *n = walk
+                .filter(|(_, r)| r.face != crate::handle::NONE)
+                .map(|(_, r)| face_normals[r.face as usize])
                 .sum::<DVec3>()
                 .normalize_or_zero();
         });

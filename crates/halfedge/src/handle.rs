@@ -26,7 +26,7 @@ new_key_type! {
 #[inline]
 pub(crate) fn key<K: Key>(index: u32, generation: u32) -> K {
     let version = u64::from(generation) * 2 + 1;
-    KeyData::from_ffi((version << 32) | (u64::from(index) + 1)).into()
+    KeyData::from_ffi((version << 32) | u64::from(index.wrapping_add(1))).into()
 }
 
 /// Generation of a key (see [`key`]).
@@ -49,11 +49,16 @@ const PER_WORD: usize = 32;
 /// used, or freed by garbage collection), live, or a tombstone (removed by a collapse,
 /// revivable by a split) — is packed two bits a slot, so the states of a million-face
 /// mesh take a few hundred kilobytes and stay in cache while collapses and splits flip
-/// them. Generations (how often a slot was reused) live apart and are read only once a
-/// freed slot has been reused.
+/// them. Generations (how often a slot was freed) live apart, are allocated only when
+/// garbage collection first frees a slot, and are read only once a freed slot has been
+/// reused: a mesh that never collected garbage (every mesh just read or built, and every
+/// hierarchy) has none, and neither have its clones.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Slots {
     states: Vec<u64>,
+    /// Number of slots.
+    len: usize,
+    /// Generation per slot; empty while every generation is 0 (no slot freed yet).
     generations: Vec<u32>,
     /// Vacant slots, reused last-freed first.
     free: Vec<u32>,
@@ -67,7 +72,6 @@ impl Slots {
     pub(crate) fn with_capacity(n: usize) -> Self {
         Self {
             states: Vec::with_capacity(n.div_ceil(PER_WORD)),
-            generations: Vec::with_capacity(n),
             ..Self::default()
         }
     }
@@ -81,7 +85,7 @@ impl Slots {
         }
         Self {
             states,
-            generations: vec![0; n],
+            len: n,
             ..Self::default()
         }
     }
@@ -117,8 +121,7 @@ impl Slots {
     #[inline]
     fn state_of<K: Key>(&self, k: K) -> Option<u64> {
         let i = slot(k);
-        (i < self.generations.len() && self.generation_of(i) == generation(k))
-            .then(|| self.state(i))
+        (i < self.len && self.generation_of(i) == generation(k)).then(|| self.state(i))
     }
     /// True when `k` names a live element.
     #[inline]
@@ -138,7 +141,7 @@ impl Slots {
     /// True when slot `i` is live.
     #[inline]
     pub(crate) fn is_live_index(&self, i: usize) -> bool {
-        i < self.generations.len() && self.state(i) == LIVE
+        i < self.len && self.state(i) == LIVE
     }
     /// Marks slot `i` a tombstone (it was live).
     #[inline]
@@ -152,11 +155,14 @@ impl Slots {
     }
     /// Appends a live slot of generation 0.
     fn push_live(&mut self) -> u32 {
-        let i = self.generations.len();
+        let i = self.len;
         if i % PER_WORD == 0 {
             self.states.push(0);
         }
-        self.generations.push(0);
+        if !self.generations.is_empty() {
+            self.generations.push(0);
+        }
+        self.len += 1;
         self.set_state(i, LIVE);
         i as u32
     }
@@ -189,8 +195,11 @@ impl Slots {
     /// Frees every tombstone for good (vacant, next generation) and returns their indices.
     pub(crate) fn free_tombstones(&mut self) -> Vec<u32> {
         let mut freed = Vec::new();
-        for i in 0..self.generations.len() {
+        for i in 0..self.len {
             if self.state(i) == TOMBSTONE {
+                if self.generations.is_empty() {
+                    self.generations = vec![0; self.len];
+                }
                 self.set_state(i, VACANT);
                 self.generations[i] += 1;
                 freed.push(i as u32);
@@ -204,27 +213,151 @@ impl Slots {
     }
     /// Indices of the live slots, in order.
     #[inline]
-    pub(crate) fn live_indices(&self) -> impl Iterator<Item = u32> + Clone + '_ {
-        (0..self.generations.len() as u32).filter(|&i| self.state(i as usize) == LIVE)
+    pub(crate) fn live_indices(&self) -> LiveIndices<'_> {
+        LiveIndices::new(&self.states, ALL_SLOTS)
+    }
+    /// Indices of the live even slots, in order (one halfedge per edge).
+    #[inline]
+    pub(crate) fn live_even_indices(&self) -> LiveIndices<'_> {
+        LiveIndices::new(&self.states, EVEN_SLOTS)
+    }
+    /// Runs `f(i, &mut out[i])` for every live slot `i`, in parallel, a state word's 32
+    /// slots at a time (so a word is tested once, not every slot); entries of other slots
+    /// are left alone. `out` may be shorter than the slots (the rest is not visited).
+    pub(crate) fn par_for_each_live<T: Send>(
+        &self,
+        out: &mut [T],
+        f: impl Fn(usize, &mut T) + Sync,
+    ) {
+        use rayon::prelude::*;
+        out.par_chunks_mut(PER_WORD)
+            .zip(self.states.par_iter())
+            .enumerate()
+            .for_each(|(k, (chunk, &word))| {
+                let base = k * PER_WORD;
+                let live = live_bits(word);
+                if live == ALL_SLOTS {
+                    for (j, x) in chunk.iter_mut().enumerate() {
+                        f(base + j, x);
+                    }
+                } else {
+                    for (j, x) in chunk.iter_mut().enumerate() {
+                        if live >> (2 * j) & 1 != 0 {
+                            f(base + j, x);
+                        }
+                    }
+                }
+            });
     }
     /// Number of live slots.
     pub(crate) fn live_count(&self) -> usize {
         self.states
             .iter()
-            .map(|&w| {
-                // Live is 0b01: the low bit set and the high bit clear.
-                (w & !(w >> 1) & 0x5555_5555_5555_5555).count_ones() as usize
-            })
+            .map(|&w| live_bits(w).count_ones() as usize)
             .sum()
+    }
+}
+
+/// The low bit of every slot's two state bits: a word's slots that are live are the set
+/// bits of `live_bits(word) & ALL_SLOTS`.
+const ALL_SLOTS: u64 = 0x5555_5555_5555_5555;
+/// The low state bit of the even slots only.
+const EVEN_SLOTS: u64 = 0x1111_1111_1111_1111;
+
+/// Live slots of a state word: bit `2 k` set when slot `k` of the word is live (state
+/// `0b01`: low bit set, high bit clear).
+#[inline(always)]
+fn live_bits(word: u64) -> u64 {
+    word & !(word >> 1) & ALL_SLOTS
+}
+
+/// Iterator over the live slot indices of a [`Slots`], in order: it reads the packed
+/// states a word (32 slots) at a time and picks the live ones with `trailing_zeros`, so a
+/// slot costs a few register operations and no bounds check; `fold` (hence `for_each`,
+/// `sum`, …) runs a word whose slots are all live as a plain counted loop.
+#[derive(Clone, Debug)]
+pub(crate) struct LiveIndices<'a> {
+    words: std::slice::Iter<'a, u64>,
+    /// Slot index of bit 0 of the current word (wraps to 0 on the first word).
+    base: u32,
+    /// Live slots of the current word not returned yet (bit `2 k` for slot `base + k`).
+    mask: u64,
+    /// The slots asked for: [`ALL_SLOTS`] or [`EVEN_SLOTS`].
+    select: u64,
+}
+
+impl<'a> LiveIndices<'a> {
+    #[inline]
+    fn new(states: &'a [u64], select: u64) -> Self {
+        Self {
+            words: states.iter(),
+            base: 0u32.wrapping_sub(PER_WORD as u32),
+            mask: 0,
+            select,
+        }
+    }
+}
+
+impl Iterator for LiveIndices<'_> {
+    type Item = u32;
+    #[inline]
+    fn next(&mut self) -> Option<u32> {
+        while self.mask == 0 {
+            let word = *self.words.next()?;
+            self.base = self.base.wrapping_add(PER_WORD as u32);
+            self.mask = live_bits(word) & self.select;
+        }
+        let bit = self.mask.trailing_zeros();
+        self.mask &= self.mask - 1;
+        Some(self.base + bit / 2)
+    }
+    #[inline]
+    fn size_hint(&self) -> (usize, Option<usize>) {
+        let here = self.mask.count_ones() as usize;
+        let per_word = (self.select.count_ones() as usize).min(PER_WORD);
+        (here, Some(here + self.words.len() * per_word))
+    }
+    #[inline]
+    fn fold<B, F: FnMut(B, u32) -> B>(self, init: B, mut f: F) -> B {
+        let mut acc = init;
+        let mut mask = self.mask;
+        while mask != 0 {
+            acc = f(acc, self.base + mask.trailing_zeros() / 2);
+            mask &= mask - 1;
+        }
+        let mut base = self.base;
+        for &word in self.words {
+            base = base.wrapping_add(PER_WORD as u32);
+            let mut mask = live_bits(word) & self.select;
+            if mask == ALL_SLOTS {
+                for i in base..base + PER_WORD as u32 {
+                    acc = f(acc, i);
+                }
+            } else if mask == EVEN_SLOTS {
+                for i in (base..base + PER_WORD as u32).step_by(2) {
+                    acc = f(acc, i);
+                }
+            } else {
+                while mask != 0 {
+                    acc = f(acc, base + mask.trailing_zeros() / 2);
+                    mask &= mask - 1;
+                }
+            }
+        }
+        acc
     }
 }
 
 /// Dense slot index of a key: the position of its element in per-element arrays
 /// (positions, attributes): the key's index minus one (index 0 is the null key, whose
 /// slot is out of every range).
+///
+/// The subtraction is done in `u32`, undoing [`key`]'s `+ 1` in the same width, so that
+/// the compiler folds `slot(key(i, g))` to `i` (one instruction less per step of a
+/// circulator that yields handles the caller turns back into indices).
 #[inline]
 pub(crate) fn slot<K: Key>(key: K) -> usize {
-    ((key.data().as_ffi() & 0xffff_ffff) as usize).wrapping_sub(1)
+    (key.data().as_ffi() as u32).wrapping_sub(1) as usize
 }
 
 impl std::fmt::Display for VertexId {
@@ -240,5 +373,107 @@ impl std::fmt::Display for HalfedgeId {
 impl std::fmt::Display for FaceId {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(f, "f{}", slot(*self))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// Slots whose states are runs of `(state, length)` (0 vacant, 1 live, 2 tombstone).
+    fn slots_from_runs(runs: &[(u64, usize)]) -> (Slots, Vec<u64>) {
+        let states: Vec<u64> = runs
+            .iter()
+            .flat_map(|&(s, n)| std::iter::repeat_n(s, n))
+            .collect();
+        let mut slots = Slots::default();
+        for (i, &s) in states.iter().enumerate() {
+            slots.push_live();
+            slots.set_state(i, s);
+        }
+        (slots, states)
+    }
+
+    /// The iterator's items through `next` only, and through `fold` after `k` `next`s.
+    fn by_next_and_fold(it: LiveIndices<'_>, k: usize) -> (Vec<u32>, Vec<u32>) {
+        let by_next: Vec<u32> = it.clone().by_ref().collect::<Vec<_>>();
+        let mut it = it;
+        let mut mixed: Vec<u32> = it.by_ref().take(k).collect();
+        mixed = it.fold(mixed, |mut v, i| {
+            v.push(i);
+            v
+        });
+        (by_next, mixed)
+    }
+
+    proptest! {
+        /// Live (and live even) indices, by `next`, by `fold` (whole words of live slots
+        /// take the counted loop) and by both mixed, are those a slot-by-slot scan finds;
+        /// `size_hint` brackets the count; `par_for_each_live` visits exactly them.
+        #[test]
+        fn live_indices_are_the_live_slots(
+            runs in prop::collection::vec((0u64..3, 0usize..80), 0..8),
+            k in 0usize..100,
+        ) {
+            let (slots, states) = slots_from_runs(&runs);
+            let live: Vec<u32> = (0..states.len() as u32)
+                .filter(|&i| states[i as usize] == LIVE)
+                .collect();
+            let even: Vec<u32> = live.iter().copied().filter(|i| i % 2 == 0).collect();
+            let (by_next, mixed) = by_next_and_fold(slots.live_indices(), k);
+            prop_assert_eq!(&by_next, &live);
+            prop_assert_eq!(&mixed, &live);
+            let (lo, hi) = slots.live_indices().size_hint();
+            prop_assert!(lo <= live.len() && live.len() <= hi.unwrap());
+            let (by_next, mixed) = by_next_and_fold(slots.live_even_indices(), k);
+            prop_assert_eq!(&by_next, &even);
+            prop_assert_eq!(&mixed, &even);
+            prop_assert_eq!(slots.live_count(), live.len());
+            let mut seen = vec![u32::MAX; states.len()];
+            slots.par_for_each_live(&mut seen, |i, x| *x = i as u32);
+            let visited: Vec<u32> = seen.into_iter().filter(|&i| i != u32::MAX).collect();
+            prop_assert_eq!(visited, live);
+        }
+    }
+
+    /// `slot` undoes `key` for every index, and the null key's slot is beyond every array.
+    #[test]
+    fn slot_undoes_key() {
+        for i in [0, 1, 31, 32, 1 << 20, u32::MAX - 2] {
+            for g in [0, 1, 7] {
+                assert_eq!(slot(key::<crate::VertexId>(i, g)), i as usize);
+                assert_eq!(generation(key::<crate::VertexId>(i, g)), g);
+            }
+        }
+        assert!(slot(crate::VertexId::default()) >= (u32::MAX - 1) as usize);
+    }
+
+    /// Generations are allocated only when garbage collection first frees a slot (a
+    /// clone of fresh slots has none), then kept in step with new slots; a reused slot
+    /// hands out a new key and its old key is stale.
+    #[test]
+    fn generations_exist_once_a_slot_was_freed() {
+        use crate::VertexId;
+        let mut s = Slots::live(70);
+        assert!(s.generations.is_empty() && s.clone().generations.is_empty());
+        let old: VertexId = s.key(5);
+        s.bury(5);
+        s.bury(40);
+        assert!(s.is_tombstone(old) && s.generations.is_empty());
+        let freed = s.free_tombstones();
+        assert_eq!(freed, [5, 40]);
+        assert_eq!(s.generations.len(), 70);
+        assert!(!s.contains(old));
+        s.push_free(freed.into_iter().rev());
+        assert_eq!(s.allocate(), (5, true));
+        let new: VertexId = s.key(5);
+        assert!(new != old && s.is_live(new) && !s.is_live(old));
+        assert_eq!(generation(new), 1);
+        assert_eq!(s.allocate(), (40, true));
+        assert_eq!(s.allocate(), (70, false));
+        assert_eq!(s.generations.len(), 71);
+        assert!(s.is_live(s.key::<VertexId>(70)));
+        assert_eq!(s.live_count(), 71);
     }
 }

@@ -34,6 +34,7 @@ use ply_rs_bw::ply::{
     BeginList, ElementDef, Header, PropertyAccess, PropertyAccessResult, PropertyType, ScalarType,
 };
 
+use crate::build::PolygonBlock;
 use crate::{BuildReport, Error, Mesh, Result};
 
 /// Reads a PLY file (ASCII, binary little or big endian). Vertex `i` of the file is the
@@ -55,41 +56,56 @@ pub fn read_ply_from_bytes(bytes: &[u8], path: &Path) -> Result<(Mesh, BuildRepo
     soup.build(path)
 }
 
-/// Indexed polygons as read from a file, before building.
+/// Indexed polygons as read from a file, before building. They are kept in blocks of
+/// about a megabyte (each ending at a polygon's end), which building frees one by one as
+/// their faces go into the mesh.
 #[derive(Debug, Default)]
 pub(crate) struct PolygonSoup {
     pub(crate) positions: Vec<DVec3>,
-    /// All polygon indices, one polygon after another.
-    pub(crate) indices: Vec<u32>,
-    /// Start of every polygon in `indices`, plus the end of the last one; `None` while all
-    /// polygons are triangles (the common case, which then needs no offsets).
-    offsets: Option<Vec<usize>>,
+    /// The blocks filled so far.
+    full: Vec<PolygonBlock>,
+    /// The block being filled.
+    block: PolygonBlock,
 }
 
 impl PolygonSoup {
+    /// Indices per block (4 MB).
+    pub(crate) const BLOCK: usize = 1 << 20;
+
     /// Appends a polygon.
     pub(crate) fn push_polygon(&mut self, polygon: impl IntoIterator<Item = u32>) {
-        let start = self.indices.len();
-        self.indices.extend(polygon);
+        let start = self.len();
+        for index in polygon {
+            self.push(index);
+        }
         self.end_polygon(start);
     }
 
-    /// Records that the polygon starting at `start` in `indices` ends at their end.
+    /// Number of indices in the block being filled: a polygon's start, for
+    /// [`end_polygon`](Self::end_polygon).
+    pub(crate) fn len(&self) -> usize {
+        self.block.indices.len()
+    }
+
+    /// Appends one index of the polygon being read.
+    pub(crate) fn push(&mut self, index: u32) {
+        if self.block.indices.capacity() == 0 {
+            self.block.indices.reserve_exact(Self::BLOCK + 64);
+        }
+        self.block.indices.push(index);
+    }
+
+    /// Records that the polygon starting at `start` (a former [`len`](Self::len)) ends
+    /// at the last index pushed; starts a new block once this one is full.
     fn end_polygon(&mut self, start: usize) {
-        let end = self.indices.len();
-        match &mut self.offsets {
-            Some(offsets) => offsets.push(end),
-            None if end - start == 3 => {}
-            None => {
-                let mut offsets: Vec<usize> = (0..=start).step_by(3).collect();
-                offsets.push(end);
-                self.offsets = Some(offsets);
-            }
+        self.block.end_polygon(start);
+        if self.block.indices.len() >= Self::BLOCK {
+            self.full.push(std::mem::take(&mut self.block));
         }
     }
 
     /// Builds the mesh; builder errors are turned into format errors naming the file.
-    pub(crate) fn build(&self, path: &Path) -> Result<(Mesh, BuildReport)> {
+    pub(crate) fn build(self, path: &Path) -> Result<(Mesh, BuildReport)> {
         let format = |message: String| Error::Format {
             path: path.to_owned(),
             message,
@@ -97,14 +113,9 @@ impl PolygonSoup {
         if self.positions.is_empty() {
             return Err(format("no vertices (the vertex element is empty)".into()));
         }
-        let built = match &self.offsets {
-            None => Mesh::from_polygons(&self.positions, self.indices.chunks_exact(3)),
-            Some(offsets) => Mesh::from_polygons(
-                &self.positions,
-                offsets.windows(2).map(|w| &self.indices[w[0]..w[1]]),
-            ),
-        };
-        built.map_err(|e| match e {
+        let mut blocks = self.full;
+        blocks.push(self.block);
+        Mesh::from_polygon_blocks(self.positions, blocks).map_err(|e| match e {
             Error::IndexOutOfRange {
                 face,
                 index,
@@ -319,10 +330,9 @@ pub(crate) fn push_face(
     n_vertices: usize,
     format: &dyn Fn(String) -> Error,
 ) -> Result<()> {
-    let start = soup.indices.len();
+    let start = soup.len();
     for index in indices {
-        soup.indices
-            .push(check_index(index, n_vertices, "face", face, format)?);
+        soup.push(check_index(index, n_vertices, "face", face, format)?);
     }
     soup.end_polygon(start);
     Ok(())

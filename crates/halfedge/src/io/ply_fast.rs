@@ -315,9 +315,6 @@ fn read<O: ByteOrder, R: Read>(
             }
             Plan::Lists { kind, count, index } => {
                 let (count_size, index_size) = (size_of(count), size_of(index));
-                if kind == FaceKind::Polygons {
-                    soup.indices.reserve(3 * element.count.min(1 << 22));
-                }
                 let mut list: Vec<i64> = Vec::new();
                 for number in 0..element.count {
                     let start = input.position();
