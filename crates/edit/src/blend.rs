@@ -415,8 +415,9 @@ impl BlendSession {
                 if roles[ia] != Role::Deformable && roles[ib] != Role::Deformable {
                     continue;
                 }
-                self.split(mesh, h, ia, ib);
-                report.new_vertices += 1;
+                if self.split(mesh, h, ia, ib) {
+                    report.new_vertices += 1;
+                }
             }
             if report.passes >= 64 {
                 break;
@@ -434,8 +435,10 @@ impl BlendSession {
         Ok(report)
     }
 
-    /// Splits the edge `h = (a → b)` at the blended image of the original midpoint.
-    fn split(&mut self, mesh: &mut Mesh, h: halfedge::HalfedgeId, ia: usize, ib: usize) {
+    /// Splits the edge `h = (a → b)` at the blended image of the original midpoint;
+    /// false (nothing changed) when the kernel refuses the split (the two triangles beside
+    /// the edge share their third vertex, or the image is not finite).
+    fn split(&mut self, mesh: &mut Mesh, h: halfedge::HalfedgeId, ia: usize, ib: usize) -> bool {
         let (pa, pb) = (self.original[ia], self.original[ib]);
         let origin = 0.5 * (pa + pb);
         let length = pa.distance(pb);
@@ -456,7 +459,9 @@ impl BlendSession {
         };
         let alpha = self.shape.eval(blend_ratio(df, dh));
         let position = self.power.transform_point(alpha, origin);
-        let m = mesh.split_edge(h, position);
+        let Ok(m) = mesh.split_edge(h, position) else {
+            return false;
+        };
         let i = mesh.vertex_index(m);
         let slots = mesh.vertex_slots();
         if self.original.len() < slots {
@@ -475,6 +480,7 @@ impl BlendSession {
         self.alpha[i] = alpha;
         self.regions.push_deformable(mesh, m);
         self.n_vertices += 1;
+        true
     }
 }
 

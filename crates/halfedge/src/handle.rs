@@ -51,7 +51,7 @@ const PER_WORD: usize = 32;
 /// mesh take a few hundred kilobytes and stay in cache while collapses and splits flip
 /// them. Generations (how often a slot was reused) live apart and are read only once a
 /// freed slot has been reused.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub(crate) struct Slots {
     states: Vec<u64>,
     generations: Vec<u32>,
