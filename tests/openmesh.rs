@@ -6,7 +6,9 @@
 //! the vertex counts must agree and this kernel must find faces.
 //!
 //! Also: OpenMesh reads the files this kernel writes (OBJ, ASCII PLY, binary PLY) with
-//! the same counts as the mesh that was written.
+//! the same counts as the mesh that was written; and files whose faces repeat vertex
+//! indices, generated here, give the very same triangles with both readers
+//! (`tests/openmesh/faces.py`).
 //!
 //! Without python3 or the openmesh module these tests fail with instructions; set
 //! `MULTIRES_SKIP_OPENMESH=1` to skip them deliberately.
@@ -202,4 +204,136 @@ fn openmesh_reads_what_we_write() {
         "OpenMesh reads our files differently:\n{}",
         problems.join("\n")
     );
+}
+
+/// Faces that name a vertex more than once, in every pattern (a repeat next to itself, at
+/// the ends, in the middle, several, everything the same) and on top of each other so that
+/// some become non-manifold: written as OBJ, ASCII PLY and binary PLY, our reader and
+/// OpenMesh's must give the same triangles in the same order. OpenMesh's OBJ reader drops
+/// the repeats of a face (`f 1 2 4 2 3` is `1 2 4 3`); its PLY reader drops such faces.
+/// The OBJ file also has polylines (`l`), which neither reads as faces.
+#[test]
+fn repeated_face_indices_read_as_openmesh_reads_them() {
+    use rand::{Rng, SeedableRng};
+    if !openmesh_available() {
+        return;
+    }
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(14);
+    let n = 6usize;
+    let positions: Vec<[f64; 3]> = (0..n * n)
+        .map(|i| [(i % n) as f64, (i / n) as f64, ((i * 7) % 5) as f64 * 0.1])
+        .collect();
+    let mut polygons: Vec<Vec<u32>> = vec![
+        vec![0, 1, 1, 7],
+        vec![1, 2, 8, 1],
+        vec![2, 3, 2, 9],
+        vec![3, 4, 10, 10, 3],
+        vec![4, 5, 11, 5, 10],
+        vec![6, 6, 7],
+        vec![12, 13, 12],
+        vec![14, 14, 14],
+        vec![15, 16, 22, 16, 21, 15],
+    ];
+    for _ in 0..60 {
+        // A quad or triangle of the grid, with repeats put in at random.
+        let (x, y) = (rng.random_range(0..n - 1), rng.random_range(0..n - 1));
+        let c = (x + y * n) as u32;
+        let mut p = if rng.random_bool(0.5) {
+            vec![c, c + 1, c + 1 + n as u32, c + n as u32]
+        } else {
+            vec![c, c + 1, c + 1 + n as u32]
+        };
+        for _ in 0..rng.random_range(0..3) {
+            let from = rng.random_range(0..p.len());
+            let to = rng.random_range(0..=p.len());
+            p.insert(to, p[from]);
+        }
+        if rng.random_bool(0.2) {
+            p.reverse();
+        }
+        polygons.push(p);
+    }
+    let dir = std::env::temp_dir().join(format!("multires-repeats-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let obj = dir.join("repeats.obj");
+    let mut text = String::new();
+    for p in &positions {
+        text.push_str(&format!("v {} {} {}\n", p[0], p[1], p[2]));
+    }
+    for f in &polygons {
+        let indices: Vec<String> = f.iter().map(|i| (i + 1).to_string()).collect();
+        text.push_str(&format!("f {}\n", indices.join(" ")));
+    }
+    // Polylines: OpenMesh ignores them.
+    text.push_str("l 1 2 3\nl 4 5 11 10\n");
+    std::fs::write(&obj, text).unwrap();
+    let mut files = vec![obj];
+    for (name, format) in [("ascii", "ascii"), ("binary", "binary_little_endian")] {
+        let mut bytes = format!(
+            "ply\nformat {format} 1.0\nelement vertex {}\nproperty double x\nproperty double y\n\
+             property double z\nelement face {}\nproperty list uchar int vertex_indices\nend_header\n",
+            positions.len(),
+            polygons.len()
+        )
+        .into_bytes();
+        for p in &positions {
+            if name == "ascii" {
+                bytes.extend(format!("{} {} {}\n", p[0], p[1], p[2]).bytes());
+            } else {
+                p.iter().for_each(|c| bytes.extend(c.to_le_bytes()));
+            }
+        }
+        for f in &polygons {
+            if name == "ascii" {
+                let indices: Vec<String> = f.iter().map(u32::to_string).collect();
+                bytes.extend(format!("{} {}\n", f.len(), indices.join(" ")).bytes());
+            } else {
+                bytes.push(f.len() as u8);
+                f.iter()
+                    .for_each(|&i| bytes.extend((i as i32).to_le_bytes()));
+            }
+        }
+        let file = dir.join(format!("repeats-{name}.ply"));
+        std::fs::write(&file, bytes).unwrap();
+        files.push(file);
+    }
+    let out = Command::new("python3")
+        .arg(root().join("tests/openmesh/faces.py"))
+        .args(&files)
+        .output()
+        .expect("cannot start python3");
+    assert!(
+        out.status.success(),
+        "faces.py failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let theirs: Vec<Value> = String::from_utf8(out.stdout)
+        .unwrap()
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(theirs.len(), files.len());
+    let mut kept = [0usize; 2];
+    for (file, theirs) in files.iter().zip(&theirs) {
+        let (mesh, _) = io::read(file).unwrap();
+        mesh.check().unwrap();
+        let faces: Vec<Vec<usize>> = mesh
+            .faces()
+            .map(|f| {
+                let t: Vec<usize> = mesh
+                    .triangle(f)
+                    .iter()
+                    .map(|&v| mesh.vertex_index(v))
+                    .collect();
+                let k = (0..3).min_by_key(|&i| t[i]).unwrap();
+                vec![t[k], t[(k + 1) % 3], t[(k + 2) % 3]]
+            })
+            .collect();
+        let ours = serde_json::json!({ "vertices": mesh.n_vertices(), "faces": faces });
+        assert_eq!(&ours, theirs, "{}", file.display());
+        kept[usize::from(file.extension().unwrap() == "ply")] = faces.len();
+    }
+    std::fs::remove_dir_all(&dir).ok();
+    // OBJ keeps the faces that have three distinct vertices after dropping repeats.
+    assert!(kept[0] > kept[1], "{kept:?}");
 }

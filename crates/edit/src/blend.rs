@@ -417,8 +417,9 @@ impl BlendSession {
                 if roles[ia] != Role::Deformable && roles[ib] != Role::Deformable {
                     continue;
                 }
-                self.split(mesh, h, ia, ib);
-                report.new_vertices += 1;
+                if self.split(mesh, h, ia, ib) {
+                    report.new_vertices += 1;
+                }
             }
             if report.passes >= 64 {
                 break;
@@ -513,8 +514,10 @@ impl BlendSession {
         Ok(report)
     }
 
-    /// Splits the edge `h = (a → b)` at the blended image of the original midpoint.
-    fn split(&mut self, mesh: &mut Mesh, h: halfedge::HalfedgeId, ia: usize, ib: usize) {
+    /// Splits the edge `h = (a → b)` at the blended image of the original midpoint;
+    /// false (nothing changed) when the kernel refuses the split (the two triangles beside
+    /// the edge share their third vertex, or the image is not finite).
+    fn split(&mut self, mesh: &mut Mesh, h: halfedge::HalfedgeId, ia: usize, ib: usize) -> bool {
         let (pa, pb) = (self.original[ia], self.original[ib]);
         let origin = 0.5 * (pa + pb);
         let length = pa.distance(pb);
@@ -535,7 +538,9 @@ impl BlendSession {
         };
         let alpha = self.shape.eval(blend_ratio(df, dh));
         let position = self.power.transform_point(alpha, origin);
-        let m = mesh.split_edge(h, position);
+        let Ok(m) = mesh.split_edge(h, position) else {
+            return false;
+        };
         let i = mesh.vertex_index(m);
         let slots = mesh.vertex_slots();
         if self.original.len() < slots {
@@ -554,6 +559,7 @@ impl BlendSession {
         self.alpha[i] = alpha;
         self.regions.push_deformable(mesh, m);
         self.n_vertices += 1;
+        true
     }
 }
 
@@ -631,8 +637,11 @@ fn split_long_edges(mesh: &mut Mesh, moving: &[bool], max: f64, budget: usize) -
             if mesh.edge_length(h) > max {
                 let midpoint =
                     0.5 * (mesh.position(mesh.from_vertex(h)) + mesh.position(mesh.to_vertex(h)));
-                mesh.split_edge(h, midpoint);
-                report.new_vertices += 1;
+                // A refused split (the two triangles share their third vertex) leaves the
+                // edge as it is.
+                if mesh.split_edge(h, midpoint).is_ok() {
+                    report.new_vertices += 1;
+                }
             }
         }
     }

@@ -134,6 +134,12 @@ impl AttributeStore {
             Ok(self.columns.len() - 1)
         }
     }
+    fn has<T: AttributeValue>(&self, column: usize) -> bool {
+        self.columns
+            .get(column)
+            .and_then(Option::as_ref)
+            .is_some_and(|c| c.column.as_any().is::<TypedColumn<T>>())
+    }
     fn find<T: AttributeValue>(&self, name: &str) -> Option<usize> {
         self.columns.iter().position(|c| {
             c.as_ref()
@@ -164,6 +170,11 @@ impl AttributeStore {
             .downcast_mut::<TypedColumn<T>>()
             .expect("attribute of another type")
             .data
+    }
+    /// Number of attributes (columns not removed).
+    #[cfg(test)]
+    pub(crate) fn column_count(&self) -> usize {
+        self.columns.iter().flatten().count()
     }
     fn remove(&mut self, column: usize) {
         if let Some(c) = self.columns.get_mut(column) {
@@ -264,6 +275,12 @@ impl Mesh {
             column,
             _marker: PhantomData,
         })
+    }
+    /// True when `attribute` is an attribute of this mesh: it was not removed (and its
+    /// place was not taken by an attribute of another type since). The accessors below
+    /// panic on an attribute for which this is false.
+    pub fn has_attribute<K: Element, T: AttributeValue>(&self, attribute: Attribute<K, T>) -> bool {
+        K::store(self).has::<T>(attribute.column)
     }
     /// Removes an attribute; its handle must not be used afterwards.
     pub fn remove_attribute<K: Element, T: AttributeValue>(&mut self, attribute: Attribute<K, T>) {

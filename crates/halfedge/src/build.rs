@@ -54,6 +54,11 @@ pub enum AddFaceError {
     ComplexEdge(VertexId, VertexId),
     /// The fans around a vertex could not be re-linked to make room for the face.
     PatchRelinkingFailed(VertexId),
+    /// A vertex of the face is not a live vertex of this mesh (removed by a collapse,
+    /// freed, or a handle of another mesh).
+    InvalidVertex(VertexId),
+    /// The face names this vertex twice.
+    RepeatedVertex(VertexId),
 }
 
 impl std::fmt::Display for AddFaceError {
@@ -62,6 +67,8 @@ impl std::fmt::Display for AddFaceError {
             Self::ComplexVertex(v) => write!(f, "complex vertex {v}"),
             Self::ComplexEdge(a, b) => write!(f, "complex edge {a}-{b}"),
             Self::PatchRelinkingFailed(v) => write!(f, "patch re-linking failed at {v}"),
+            Self::InvalidVertex(v) => write!(f, "{v} is not a live vertex of this mesh"),
+            Self::RepeatedVertex(v) => write!(f, "the face names {v} twice"),
         }
     }
 }
@@ -143,14 +150,25 @@ impl Mesh {
 
     /// Adds a triangle on existing vertices by the add-face algorithm; on error nothing
     /// is changed.
+    ///
+    /// # Errors
+    /// [`AddFaceError::InvalidVertex`] for a vertex that is not live in this mesh,
+    /// [`AddFaceError::RepeatedVertex`] for a vertex named twice, and the add-face
+    /// algorithm's refusals.
     pub fn add_triangle(
         &mut self,
         a: VertexId,
         b: VertexId,
         c: VertexId,
     ) -> Result<FaceId, AddFaceError> {
-        for v in [a, b, c] {
-            assert!(self.is_valid_vertex(v), "stale vertex handle {v}");
+        if let Some(&v) = [a, b, c].iter().find(|&&v| !self.is_valid_vertex(v)) {
+            return Err(AddFaceError::InvalidVertex(v));
+        }
+        if a == b || a == c {
+            return Err(AddFaceError::RepeatedVertex(a));
+        }
+        if b == c {
+            return Err(AddFaceError::RepeatedVertex(b));
         }
         add_face(self, &[a, b, c], &mut Scratch::default()).map_err(AddFaceError::from)
     }

@@ -18,9 +18,21 @@
 //! Removed elements become tombstones that keep their handles and fields, and the
 //! [`CollapseRecord`] (OpenMesh / Hoppe names: `v0v1, v1v0, v0, v1, vl, vr, fl, fr, p0, p1`)
 //! remembers every link the collapse rewrote, so [`Mesh::vertex_split`] restores the same
-//! connectivity, orientation and handles, the very `VertexId` of `v0` included. Splits must
-//! undo collapses in reverse order (as a hierarchy does); a split whose neighbourhood no
-//! longer looks as the collapse left it is refused and changes nothing.
+//! connectivity, orientation and handles, the very `VertexId` of `v0` included. Splits
+//! undo collapses in reverse order (as a hierarchy does), or out of order where the
+//! collapses in between did not touch the record's neighbourhood.
+//!
+//! **A split whose record does not fit the mesh is refused before anything changes**
+//! ([`Error::SplitRefused`], saying why): a record of another mesh instance (a clone made
+//! before the collapse shares its history and accepts it; records made on a clone after
+//! cloning, or on an unrelated mesh, are refused), a record already split, a record
+//! whose removed elements were freed by [`Mesh::garbage_collection`], and a record whose
+//! neighbourhood changed since the collapse (a later collapse or split nearby that was not
+//! undone, [`Mesh::split_edge`], [`Mesh::add_triangle`]). The neighbourhood is compared
+//! exactly where the record remembers it (every link, face and vertex halfedge the collapse
+//! rewrote) and through a 64-bit fingerprint for the rest: the removed elements as the
+//! collapse left them, the halfedges it moved from `v0` to `v1` with their links, and the
+//! record's own handles.
 
 use glam::DVec3;
 
@@ -72,6 +84,30 @@ impl std::fmt::Display for CollapseVeto {
 /// One rewritten `next` link, as slot indices: `[halfedge, next before, next after]`.
 type Link = [u32; 3];
 
+/// A multilinear hash of a fixed sequence of words: `Σ word_i · K_i` with distinct odd
+/// constants, so that any change of a single word changes the sum, and the words are
+/// independent of each other (no dependency chain).
+#[derive(Default)]
+struct Multilinear {
+    sum: u64,
+    i: u64,
+}
+
+impl Multilinear {
+    #[inline]
+    fn add(&mut self, word: u64) {
+        self.i += 1;
+        let k = self.i.wrapping_mul(0x9e37_79b9_7f4a_7c15) | 1;
+        self.sum = self.sum.wrapping_add(word.wrapping_mul(k));
+    }
+}
+
+/// A handle as a word of the fingerprint (0 for none).
+#[inline]
+fn word<K: slotmap::Key>(k: Option<K>) -> u64 {
+    k.map_or(0, |k| k.data().as_ffi())
+}
+
 /// Everything [`Mesh::vertex_split`] needs to undo a [`Mesh::collapse`], with OpenMesh's
 /// names for the parts of the collapse.
 #[derive(Clone, Debug)]
@@ -116,6 +152,13 @@ pub struct CollapseRecord {
     start: u32,
     /// Number of halfedges moved from `v0` to `v1`.
     moved: u32,
+    /// The mesh instance the collapse was made on ([`Mesh::topology_stamp`]'s id) and its
+    /// change count right after the collapse: see `Mesh::is_own_history`.
+    mesh: u64,
+    count: u64,
+    /// Fingerprint of what the split relies on beyond the fields above (see
+    /// [`Mesh::split_fingerprint`]), as the collapse left it.
+    fingerprint: u64,
 }
 
 impl CollapseRecord {
@@ -235,6 +278,22 @@ impl Mesh {
     /// [`collapse`](Self::collapse) without the [`is_collapse_ok`](Self::is_collapse_ok)
     /// test, for callers that have just made it (the hierarchy's legality layer).
     pub(crate) fn collapse_unchecked(&mut self, h: HalfedgeId) -> CollapseRecord {
+        self.collapse_with(h, None)
+    }
+
+    /// [`collapse_unchecked`](Self::collapse_unchecked) of the edge of `old` again, for a
+    /// hierarchy that knows the connectivity is exactly the one `old` was made in (its
+    /// mesh kept its [`topology_stamp`](Self::topology_stamp) since its own last step, and
+    /// splits are exact inverses): the new record's fingerprint is `old`'s, so it is not
+    /// computed again.
+    pub(crate) fn recollapse_unchecked(&mut self, old: &CollapseRecord) -> CollapseRecord {
+        let record = self.collapse_with(old.v0v1, Some(old.fingerprint));
+        debug_assert_eq!(self.split_fingerprint(&record), Some(old.fingerprint));
+        record
+    }
+
+    /// The collapse; the record's fingerprint is `fingerprint` if known, else computed.
+    fn collapse_with(&mut self, h: HalfedgeId, fingerprint: Option<u64>) -> CollapseRecord {
         debug_assert_eq!(self.is_collapse_ok(h), Ok(()));
         let o = self.opposite(h);
         let v0 = self.to_vertex(o);
@@ -393,7 +452,7 @@ impl Mesh {
                 self.vertex_conn[slot(record_vertices[i])],
             ];
         }
-        CollapseRecord {
+        let mut record = CollapseRecord {
             v0v1: h,
             v1v0: o,
             v0,
@@ -414,7 +473,96 @@ impl Mesh {
             vertex_halfedges,
             start: ix(start),
             moved,
+            mesh: self.stamp_id,
+            count: self.stamp_count,
+            fingerprint: 0,
+        };
+        // (Never `None` on the mesh the collapse has just left; 0 would only make the
+        // split refuse.)
+        record.fingerprint =
+            fingerprint.unwrap_or_else(|| self.split_fingerprint(&record).unwrap_or_default());
+        record
+    }
+
+    /// The fingerprint of everything a split of `r` reads or restores beyond what the
+    /// record compares exactly: the record's public handles (so that a record whose fields
+    /// were changed does not fit), and, as they are in the mesh now, both halfedges of
+    /// every edge the split relinks, revives or walks over (the removed edges, the kept
+    /// edges `v1vl`, `vrv1`, the rewritten links, the vertex halfedges before and after,
+    /// the halfedges moved from `v0` to `v1`), the halfedges of the removed faces and of
+    /// the faces beside the removed edges, and the outgoing halfedges of the record's
+    /// vertices. The collapse stores it; the split recomputes it and compares. `None` when the walk around `v1` leaves the mesh (only
+    /// possible on a mesh the record does not fit); otherwise the record's slots must
+    /// exist.
+    fn split_fingerprint(&self, r: &CollapseRecord) -> Option<u64> {
+        let mut m = Multilinear::default();
+        for w in [
+            word(Some(r.v0v1)),
+            word(Some(r.v1v0)),
+            word(Some(r.v0)),
+            word(Some(r.v1)),
+            word(r.vl),
+            word(r.vr),
+            word(r.fl),
+            word(r.fr),
+            word(r.v1vl),
+            word(r.vlv0),
+            word(r.v0vr),
+            word(r.vrv1),
+        ] {
+            m.add(w);
         }
+        let edge = |m: &mut Multilinear, i: u32| -> Option<()> {
+            let i = (i & !1) as usize;
+            for rec in self.he.get(i..i + 2)? {
+                m.add(u64::from(rec.to) << 32 | u64::from(rec.next));
+                m.add(u64::from(rec.prev) << 32 | u64::from(rec.face));
+            }
+            Some(())
+        };
+        for x in [Some(r.v0v1), r.vlv0, r.v0vr, r.v1vl, r.vrv1]
+            .into_iter()
+            .flatten()
+        {
+            edge(&mut m, Self::ix(x))?;
+        }
+        for &[x, old, new] in &r.links[..usize::from(r.n_links)] {
+            for i in [x, old, new] {
+                edge(&mut m, i)?;
+            }
+        }
+        for &[g, _, _] in &r.face_halfedges {
+            if g != NONE {
+                m.add(u64::from(*self.face_conn.get(g as usize)?));
+            }
+        }
+        for f in [r.fl, r.fr].into_iter().flatten() {
+            m.add(u64::from(self.face_conn[slot(f)]));
+        }
+        // The faces beside the removed edges, whose loops the split gives back their
+        // removed halfedge: the faces of `v1vl` and `vrv1` now.
+        for x in [r.v1vl, r.vrv1].into_iter().flatten() {
+            let g = self.he[slot(x)].face;
+            if g != NONE {
+                m.add(u64::from(*self.face_conn.get(g as usize)?));
+            }
+        }
+        for (v, &[old, new]) in r.record_vertices().into_iter().zip(&r.vertex_halfedges) {
+            m.add(u64::from(self.vertex_conn[slot(v)]));
+            for i in [old, new] {
+                if i != NONE {
+                    edge(&mut m, i)?;
+                }
+            }
+        }
+        // The walk the split makes around v1.
+        let mut k = r.start;
+        edge(&mut m, k)?;
+        for _ in 0..r.moved {
+            k = self.he.get(k as usize)?.prev ^ 1;
+            edge(&mut m, k)?;
+        }
+        Some(m.sum)
     }
 
     /// The first outgoing halfedge of `v` counter-clockwise after `h` that is not `h`.
@@ -425,60 +573,122 @@ impl Mesh {
 
     /// Undoes [`collapse`](Self::collapse): revives `v0` (same handle), its edges and the
     /// faces `fl`, `fr`, restores every link, and puts `v0` at `p0` and `v1` at `p1`.
-    /// Refused with [`Error::SplitRefused`] (nothing changed) when the neighbourhood is not
-    /// as the collapse left it (splits must undo collapses in reverse order).
+    ///
+    /// # Errors
+    /// [`Error::SplitRefused`], saying why, when the record does not fit the mesh (see
+    /// the [module docs](self)): made on another mesh, already split, freed by garbage
+    /// collection, or its neighbourhood changed since the collapse. Nothing is changed
+    /// then.
     pub fn vertex_split(&mut self, r: &CollapseRecord) -> Result<()> {
-        let refuse = |what: &str| {
-            Err(Error::SplitRefused(format!(
-                "{what} (record of {} → {})",
+        if let Err(why) = self.split_fits(r) {
+            return Err(Error::SplitRefused(format!(
+                "{why} (record of {} → {})",
                 r.v0, r.v1
-            )))
-        };
-        if !self.is_deleted_vertex(r.v0) || !self.is_valid_vertex(r.v1) {
-            return refuse("v0 is not a removed vertex or v1 is not live");
+            )));
         }
+        self.vertex_split_unchecked(r);
+        Ok(())
+    }
+
+    /// Whether [`vertex_split_unchecked`](Self::vertex_split_unchecked) of `r` gives back
+    /// exactly the neighbourhood the collapse of `r` removed, and so a valid mesh: every
+    /// element the split reads or restores is as the collapse left it. Reads only
+    /// (bounds-checked where the mesh might not be the record's).
+    fn split_fits(&self, r: &CollapseRecord) -> std::result::Result<(), &'static str> {
+        if !self.is_own_history(r.mesh, r.count) {
+            return Err(
+                "the record was made on another mesh (another instance, or a clone \
+                        made after the collapse)",
+            );
+        }
+        // From here on the record's slot indices are in range: the mesh's arrays only
+        // grow, and they were this long when the collapse was made.
+        if self.is_valid_vertex(r.v0) {
+            return Err("v0 is live: the record was already split");
+        }
+        if !self.is_deleted_vertex(r.v0) {
+            return Err("v0 is not a removed vertex any more (freed by garbage_collection)");
+        }
+        if !self.is_valid_vertex(r.v1) {
+            return Err("v1 is not a live vertex (a later collapse removed it)");
+        }
+        let hs = &self.halfedge_slots_;
         for x in [Some(r.v0v1), Some(r.v1v0), r.vlv0, r.v0vr]
             .into_iter()
             .flatten()
         {
-            if !self.halfedge_slots_.is_tombstone(x) {
-                return refuse("a removed halfedge is not a tombstone any more");
+            if !hs.is_tombstone(x) || !hs.is_tombstone(self.hh(Self::ix(x) ^ 1)) {
+                return Err("a halfedge the collapse removed is live again or was freed");
             }
         }
         for f in [r.fl, r.fr].into_iter().flatten() {
             if !self.face_slots_.is_tombstone(f) {
-                return refuse("a removed face is not a tombstone any more");
+                return Err("a face the collapse removed is live again or was freed");
             }
         }
-        let hs = &self.halfedge_slots_;
+        for x in [r.v1vl, r.vrv1].into_iter().flatten() {
+            if !hs.is_live(x) {
+                return Err("an edge the collapse kept was removed since");
+            }
+        }
+        if !(r.p0.is_finite() && r.p1.is_finite()) {
+            return Err("the record's positions are not finite");
+        }
+        let live = |i: u32| hs.is_live_index(i as usize);
         for &[x, _, new] in &r.links[..usize::from(r.n_links)] {
-            if !hs.is_live_index(x as usize) || self.he[x as usize].next != new {
-                return refuse("a link the collapse wrote has changed");
+            if !live(x) || self.he[x as usize].next != new {
+                return Err(
+                    "a link the collapse wrote has changed (a later collapse, split \
+                            or edit nearby was not undone)",
+                );
             }
         }
-        for (v, &[_, new]) in r.record_vertices().into_iter().zip(&r.vertex_halfedges) {
-            if v == r.v0 {
-                continue;
+        for &[g, _, new] in &r.face_halfedges {
+            if g != NONE
+                && (!self.face_slots_.is_live_index(g as usize)
+                    || self.face_conn[g as usize] != new)
+            {
+                return Err("a face beside the collapsed edge has changed");
             }
-            if !self.is_valid_vertex(v) {
-                return refuse("a neighbour vertex was removed");
+        }
+        let revived = |i: u32| {
+            [Some(r.v0v1), r.vlv0, r.v0vr]
+                .into_iter()
+                .flatten()
+                .any(|x| Self::ix(x) & !1 == i & !1)
+        };
+        for (v, &[old, new]) in r.record_vertices().into_iter().zip(&r.vertex_halfedges) {
+            if v != r.v0 && !self.is_valid_vertex(v) {
+                return Err("a neighbour vertex was removed");
             }
             if self.vertex_conn[slot(v)] != new {
-                return refuse("a vertex halfedge the collapse set has changed");
+                return Err("a vertex halfedge the collapse set has changed");
+            }
+            if old != NONE && !live(old) && !revived(old) {
+                return Err("a halfedge the split would give back to a vertex was removed");
             }
         }
         let start = r.start as usize;
-        if !hs.is_live_index(start) || self.he[start ^ 1].to != Self::ix(r.v1) {
-            return refuse("the anchor halfedge around v1 has changed");
+        if !live(r.start) || self.he[start ^ 1].to != Self::ix(r.v1) {
+            return Err("the anchor halfedge around v1 has changed");
         }
         let mut k = start;
         for _ in 0..r.moved {
-            k = (self.he[k].prev ^ 1) as usize;
-            if k == start {
-                return refuse("v1 has fewer edges than the collapse moved to it");
+            match self.he.get(k) {
+                Some(rec) if live(rec.prev) => k = (rec.prev ^ 1) as usize,
+                _ => return Err("the ring of v1 is broken"),
+            }
+            if k == start || self.he[k ^ 1].to != Self::ix(r.v1) {
+                return Err("v1 has fewer edges than the collapse moved to it");
             }
         }
-        self.vertex_split_unchecked(r);
+        if self.split_fingerprint(r) != Some(r.fingerprint) {
+            return Err(
+                "the neighbourhood of the collapsed edge has changed since the \
+                        collapse (the ring of v1, the edges beside the removed ones, or the \
+                        removed elements)",
+            );
+        }
         Ok(())
     }
 

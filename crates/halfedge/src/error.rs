@@ -80,6 +80,11 @@ pub enum Error {
     /// changed.
     #[error("cancelled: {0}")]
     Cancelled(String),
+    /// A computed position would not be finite: the coordinates (or an edit's
+    /// translations) are too large for the operation, or a position is already NaN or
+    /// infinite. Nothing was changed.
+    #[error("overflow: {0}")]
+    Overflow(String),
     /// A sub-mesh frontier does not separate the mesh or is not a closed loop.
     #[error("invalid frontier: {0}")]
     InvalidFrontier(String),

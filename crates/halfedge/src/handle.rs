@@ -53,7 +53,7 @@ const PER_WORD: usize = 32;
 /// garbage collection first frees a slot, and are read only once a freed slot has been
 /// reused: a mesh that never collected garbage (every mesh just read or built, and every
 /// hierarchy) has none, and neither have its clones.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub(crate) struct Slots {
     states: Vec<u64>,
     /// Number of slots.

@@ -398,13 +398,20 @@ impl Mesh {
 
     /// The label attribute ([`LABEL_ATTRIBUTE`]), created with every vertex labelled `0`
     /// if the mesh has none.
-    pub fn label_attribute(&mut self) -> Attribute<VertexId, Label> {
-        match self.find_attribute::<VertexId, Label>(LABEL_ATTRIBUTE) {
-            Some(a) => a,
-            None => self
-                .add_vertex_attribute(LABEL_ATTRIBUTE, 0)
-                .expect("the name is free"),
+    ///
+    /// # Errors
+    /// [`Error::InvalidArgument`] when the mesh has a vertex attribute of that name with
+    /// values of another type than [`Label`] (nothing is changed).
+    pub fn label_attribute(&mut self) -> Result<Attribute<VertexId, Label>> {
+        if let Some(a) = self.find_attribute::<VertexId, Label>(LABEL_ATTRIBUTE) {
+            return Ok(a);
         }
+        self.add_vertex_attribute(LABEL_ATTRIBUTE, 0).map_err(|_| {
+            Error::InvalidArgument(format!(
+                "the mesh has a vertex attribute named {LABEL_ATTRIBUTE:?} whose values \
+                     are not sub-mesh labels (u32)"
+            ))
+        })
     }
 
     /// Labels the two sides of `frontier`: vertices of faces left of the loop get `left`,
@@ -413,7 +420,8 @@ impl Mesh {
     /// the counts.
     ///
     /// # Errors
-    /// [`Error::InvalidArgument`] when `left == right` or either is [`FRONTIER`];
+    /// [`Error::InvalidArgument`] when `left == right` or either is [`FRONTIER`], or when
+    /// an attribute named [`LABEL_ATTRIBUTE`] holds values of another type;
     /// [`Error::InvalidFrontier`] when the loop does not separate the mesh (some part of
     /// the mesh lies on both of its sides) or a frontier halfedge is stale. Nothing is
     /// changed on error.
@@ -454,7 +462,7 @@ impl Mesh {
                 "the loop has no face on its left side".into(),
             ));
         }
-        let attribute = self.label_attribute();
+        let attribute = self.label_attribute()?;
         let mut labels = vec![right; self.vertex_slots()];
         let mut counts = SideCounts {
             left_faces: 0,

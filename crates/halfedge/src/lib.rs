@@ -33,6 +33,8 @@ pub mod generators;
 mod geometry;
 mod handle;
 pub mod hierarchy;
+#[cfg(test)]
+mod hostile_tests;
 pub mod io;
 pub mod iter;
 pub mod labels;

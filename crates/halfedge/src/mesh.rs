@@ -64,6 +64,11 @@ pub struct Mesh {
     /// See [`Mesh::topology_stamp`]: this mesh instance's id and its count of changes.
     pub(crate) stamp_id: u64,
     pub(crate) stamp_count: u64,
+    /// The instances this mesh was cloned from, oldest first, each with its change count
+    /// when the clone was made (at most `MAX_LINEAGE` of them, the most recent): a
+    /// collapse record made on an ancestor before the clone describes this mesh's own
+    /// history, and [`Mesh::vertex_split`] accepts it (see `Mesh::is_own_history`).
+    pub(crate) lineage: Vec<(u64, u64)>,
     /// Number of calls that handed out write access to positions from outside the crate
     /// ([`Mesh::positions_mut`], [`Mesh::set_position`]): a hierarchy compares it to know
     /// whether positions are exactly as its own steps left them.
@@ -90,6 +95,11 @@ fn next_mesh_id() -> u64 {
     NEXT_MESH_ID.fetch_add(1, std::sync::atomic::Ordering::Relaxed)
 }
 
+/// How many ancestors a mesh remembers (see `Mesh::lineage`): records older than that
+/// many generations of clones are refused, which is safe, and a long chain of clones
+/// (an undo stack) does not make every clone longer.
+const MAX_LINEAGE: usize = 16;
+
 impl Default for Mesh {
     fn default() -> Self {
         Self {
@@ -105,6 +115,7 @@ impl Default for Mesh {
             n_faces: 0,
             stamp_id: next_mesh_id(),
             stamp_count: 0,
+            lineage: Vec::new(),
             position_edits: 0,
             vertex_attributes: AttributeStore::default(),
             halfedge_attributes: AttributeStore::default(),
@@ -117,6 +128,10 @@ impl Default for Mesh {
 /// [`topology_stamp`](Mesh::topology_stamp).
 impl Clone for Mesh {
     fn clone(&self) -> Self {
+        let skip = (self.lineage.len() + 1).saturating_sub(MAX_LINEAGE);
+        let mut lineage = Vec::with_capacity(self.lineage.len() + 1 - skip);
+        lineage.extend_from_slice(&self.lineage[skip..]);
+        lineage.push((self.stamp_id, self.stamp_count));
         Self {
             vertex_conn: self.vertex_conn.clone(),
             vertex_slots_: self.vertex_slots_.clone(),
@@ -130,6 +145,7 @@ impl Clone for Mesh {
             n_faces: self.n_faces,
             stamp_id: next_mesh_id(),
             stamp_count: self.stamp_count,
+            lineage,
             position_edits: self.position_edits,
             vertex_attributes: self.vertex_attributes.clone(),
             halfedge_attributes: self.halfedge_attributes.clone(),
@@ -144,6 +160,17 @@ impl Mesh {
     #[inline]
     pub(crate) fn touch_topology(&mut self) {
         self.stamp_count += 1;
+    }
+    /// True when the connectivity change number `count` of mesh instance `mesh` is part
+    /// of this mesh's history: `mesh` is this mesh, or an instance it was cloned from
+    /// (directly or through clones) at a time when that instance had made at most
+    /// `count` changes.
+    pub(crate) fn is_own_history(&self, mesh: u64, count: u64) -> bool {
+        mesh == self.stamp_id
+            || self
+                .lineage
+                .iter()
+                .any(|&(id, forked_at)| id == mesh && count <= forked_at)
     }
     /// Vertex handle of slot `i`.
     #[inline]

@@ -7,7 +7,7 @@
 
 use glam::DVec3;
 
-use crate::{HalfedgeId, Mesh, VertexId};
+use crate::{Error, HalfedgeId, Mesh, Result, VertexId};
 
 /// # Edge split
 impl Mesh {
@@ -33,19 +33,28 @@ impl Mesh {
     /// of new elements take their defaults (the kernel's creation helpers grow every
     /// attribute column).
     ///
-    /// # Panics
-    /// If `h` is not a live halfedge of this mesh (a programming error, like the
-    /// navigation methods), or if a face beside the edge is not a triangle.
-    pub fn split_edge(&mut self, h: HalfedgeId, p: DVec3) -> VertexId {
-        assert!(self.is_valid_halfedge(h), "stale halfedge handle {h}");
-        assert!(
-            self.face(h).is_some() || self.face(self.opposite(h)).is_some(),
-            "split_edge: the edge of {h} has no face"
-        );
+    /// # Errors
+    /// Nothing is changed on error: [`Error::InvalidHandle`] if `h` is not a live
+    /// halfedge of this mesh, [`Error::InvalidArgument`] for a non-finite `p`, for an edge
+    /// without a face or beside a face that is not a triangle, and when the triangles on
+    /// both sides have the same third vertex (`c == d`, as on a closed mesh of two
+    /// faces): the two new edges would join the same two vertices.
+    pub fn split_edge(&mut self, h: HalfedgeId, p: DVec3) -> Result<VertexId> {
+        self.ensure_halfedge(h)?;
+        if !p.is_finite() {
+            return Err(Error::InvalidArgument(format!(
+                "split_edge: the new vertex's position {p} is not finite"
+            )));
+        }
         let o = self.opposite(h);
         let b = self.to_vertex(h);
         let f = self.face(h);
         let g = self.face(o);
+        if f.is_none() && g.is_none() {
+            return Err(Error::InvalidArgument(format!(
+                "split_edge: the edge of {h} has no face"
+            )));
+        }
         // Remember the links before any change.
         let h_next = self.next(h);
         let h_prev = self.prev(h);
@@ -54,11 +63,19 @@ impl Mesh {
         for (face, first) in [(f, h), (g, o)] {
             if face.is_some() {
                 let n = self.next(first);
-                assert!(
-                    self.next(self.next(n)) == first,
-                    "split_edge needs triangles beside the edge of {first}"
-                );
+                if self.next(self.next(n)) != first {
+                    return Err(Error::InvalidArgument(format!(
+                        "split_edge needs triangles beside the edge of {first}"
+                    )));
+                }
             }
+        }
+        if f.is_some() && g.is_some() && self.to_vertex(h_next) == self.to_vertex(o_next) {
+            return Err(Error::InvalidArgument(format!(
+                "split_edge: both triangles beside the edge of {h} have the third vertex {}, \
+                 the split would join it twice to the new vertex",
+                self.to_vertex(h_next)
+            )));
         }
         let b_was_on_o = self.vertex_halfedge(b) == Some(o);
 
@@ -133,7 +150,7 @@ impl Mesh {
         self.set_vertex_halfedge(m, Some(t));
         self.adjust_outgoing_halfedge(m);
         self.adjust_outgoing_halfedge(b);
-        m
+        Ok(m)
     }
 }
 
@@ -153,7 +170,7 @@ mod tests {
         let h = mesh.edges().next().unwrap();
         let (a, b) = (mesh.from_vertex(h), mesh.to_vertex(h));
         let mid = 0.5 * (mesh.position(a) + mesh.position(b));
-        let m = mesh.split_edge(h, mid);
+        let m = mesh.split_edge(h, mid).unwrap();
         mesh.check().unwrap();
         assert_eq!(
             (mesh.n_vertices(), mesh.n_edges(), mesh.n_faces()),
@@ -180,7 +197,7 @@ mod tests {
             let (a, b) = (mesh.from_vertex(h), mesh.to_vertex(h));
             let mid = 0.5 * (mesh.position(a) + mesh.position(b));
             let (v, e, f) = (mesh.n_vertices(), mesh.n_edges(), mesh.n_faces());
-            let m = mesh.split_edge(h, mid);
+            let m = mesh.split_edge(h, mid).unwrap();
             mesh.check().unwrap();
             assert_eq!(
                 (mesh.n_vertices(), mesh.n_edges(), mesh.n_faces()),
@@ -207,7 +224,7 @@ mod tests {
             let h = mesh.halfedges().nth(k).unwrap();
             let (a, b) = (mesh.from_vertex(h), mesh.to_vertex(h));
             let mid = 0.5 * (mesh.position(a) + mesh.position(b));
-            mesh.split_edge(h, mid);
+            mesh.split_edge(h, mid).unwrap();
             mesh.check().unwrap();
         }
         assert!((total_area(&mesh) - area).abs() < 1e-12);
@@ -222,7 +239,7 @@ mod tests {
         let label = mesh.add_vertex_attribute("label", 7u32).unwrap();
         let flabel = mesh.add_face_attribute("flabel", 3u8).unwrap();
         let h = mesh.halfedges().next().unwrap();
-        let m = mesh.split_edge(h, DVec3::ZERO);
+        let m = mesh.split_edge(h, DVec3::ZERO).unwrap();
         assert_eq!(*mesh.attribute(label, m), 7);
         for f in mesh.faces() {
             assert_eq!(*mesh.attribute(flabel, f), 3);

@@ -398,7 +398,7 @@ fn garbage_collection_reuses_slots_under_new_versions() {
     for _ in 0..5 {
         let h = mesh.edges().next().unwrap();
         let p = 0.5 * (mesh.position(mesh.from_vertex(h)) + mesh.position(mesh.to_vertex(h)));
-        created.push(mesh.split_edge(h, p));
+        created.push(mesh.split_edge(h, p).unwrap());
         mesh.check().unwrap();
     }
     assert_eq!(mesh.vertex_slots(), slots, "freed slots are reused");

@@ -248,7 +248,7 @@ fn figure_4_rule_for_a_split_vertex() {
     // A 6 × 6 grid: sub-mesh 1 left of x = 0.5, sub-mesh 2 right of it, the column
     // x = 0.5 is the frontier.
     let mut mesh = generators::grid(6, 6, 1.0, 1.0);
-    let labels = mesh.label_attribute();
+    let labels = mesh.label_attribute().unwrap();
     let column = |p: DVec3| ((p.x * 6.0).round() as i32) - 3;
     let vertices: Vec<VertexId> = mesh.vertices().collect();
     for &v in &vertices {

@@ -287,6 +287,20 @@ pub(crate) fn report(
     }
 }
 
+/// [`Error::NonFiniteCoordinate`] for the first live vertex with a NaN or infinite
+/// coordinate: the build would spread it over the coarse levels.
+fn check_positions(mesh: &Mesh) -> Result<()> {
+    for v in mesh.vertices() {
+        if let Some(&value) = mesh.position(v).to_array().iter().find(|c| !c.is_finite()) {
+            return Err(Error::NonFiniteCoordinate {
+                vertex: mesh.vertex_index(v),
+                value,
+            });
+        }
+    }
+    Ok(())
+}
+
 /// Sub-mesh labels attached to a hierarchy: the vertex attribute and the number of
 /// collapsed records when they were defined.
 #[derive(Clone, Copy, Debug)]
@@ -376,7 +390,8 @@ impl Hierarchy {
     /// [module docs](self)); the mesh is left at the coarsest level.
     ///
     /// # Errors
-    /// [`Error::InvalidArgument`] for options out of range.
+    /// [`Error::InvalidArgument`] for options out of range,
+    /// [`Error::NonFiniteCoordinate`] for a vertex position that is NaN or infinite.
     pub fn build(mesh: Mesh, options: &HierarchyOptions) -> Result<Self> {
         Self::build_with_progress(mesh, options, &mut |_| {})
     }
@@ -411,6 +426,7 @@ impl Hierarchy {
         progress: &mut dyn FnMut(BuildProgress) -> ControlFlow<()>,
     ) -> Result<Self> {
         options.validate()?;
+        check_positions(&mesh)?;
         let faces = mesh.n_faces();
         let expected_records = mesh.n_vertices();
         let mut h = Self {
@@ -697,11 +713,16 @@ impl Hierarchy {
             let residual = placed - (old.p1 + t * (old.p0 - old.p1));
             p1 + t * (p0 - p1) + residual
         };
+        if !p.is_finite() {
+            return Err(Error::Overflow(format!(
+                "collapsing {v0} → {v1} would put {v1} at {p} (positions {p0} and {p1})"
+            )));
+        }
         // While the hierarchy trusts its mesh, the topology is exactly the one the build
         // collapsed this record in (every step since was its own, and splits are exact
         // inverses), so the collapse is as legal as it was then.
         let record = if self.stamp.is_some() {
-            self.mesh.collapse_unchecked(h)
+            self.mesh.recollapse_unchecked(old)
         } else {
             self.mesh.collapse(h)?
         };
@@ -808,6 +829,25 @@ impl Hierarchy {
             }
         }
         let record = &self.records[r];
+        // Checked before the split: nothing may change if the step cannot complete.
+        if let Placement::At([q0, q1]) = placement {
+            if !(q0.is_finite() && q1.is_finite()) {
+                return Err(Error::Overflow(format!(
+                    "splitting {} → {} would put them at {q0} and {q1}",
+                    record.v0, record.v1
+                )));
+            }
+        }
+        let classify = self.labels.filter(|b| r < b.defined_at);
+        if let Some(binding) = classify {
+            if !self.mesh.has_attribute(binding.attribute) {
+                return Err(Error::InvalidArgument(
+                    "the label attribute attached to the hierarchy was removed from its mesh \
+                     (detach_labels, or attach_labels again)"
+                        .into(),
+                ));
+            }
+        }
         if trusted {
             self.mesh.vertex_split_unchecked(record);
         } else {
@@ -822,10 +862,8 @@ impl Hierarchy {
             self.marks.set(i0, mark);
             self.marks.set(i1, mark);
         }
-        if let Some(binding) = self.labels {
-            if r < binding.defined_at {
-                labels::classify_split(&mut self.mesh, binding.attribute, record.v0);
-            }
+        if let Some(binding) = classify {
+            labels::classify_split(&mut self.mesh, binding.attribute, record.v0);
         }
         self.applied = r;
         self.stamp = self.stamp.map(|_| self.mesh.topology_stamp());

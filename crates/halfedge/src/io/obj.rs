@@ -5,6 +5,11 @@
 //! as one object (`o`, `g`, `usemtl` and `mtllib` lines are left out) preceded by one
 //! synthetic polygon `f 1 2 … n` that names every vertex once in file order: `tobj`'s
 //! numbering is then the file's, and the synthetic polygon is skipped afterwards.
+//!
+//! As in OpenMesh's OBJ reader, a face that names a vertex more than once keeps the
+//! first mention of each vertex (`f 1 2 4 2 3` is read as `f 1 2 4 3`) and is dropped
+//! when fewer than three vertices remain; polylines (`l`) are ignored. Every error names
+//! the line.
 
 use std::path::Path;
 
@@ -21,15 +26,22 @@ pub fn read_obj(path: impl AsRef<Path>) -> Result<(Mesh, BuildReport)> {
 }
 
 /// Reads OBJ text from memory; `path` is only used in error messages.
+///
+/// Errors name the file and the line (for text that is not UTF-8: the line and the byte
+/// where it stops being UTF-8).
 pub fn read_obj_from_bytes(bytes: &[u8], path: &Path) -> Result<(Mesh, BuildReport)> {
     let format = |message: String| Error::Format {
         path: path.to_owned(),
         message,
     };
     if bytes.is_empty() {
-        return Err(format("empty file".into()));
+        return Err(format("line 1: empty file".into()));
     }
-    let text = std::str::from_utf8(bytes).map_err(|e| format(format!("not UTF-8 text: {e}")))?;
+    let text = std::str::from_utf8(bytes).map_err(|e| {
+        let at = e.valid_up_to();
+        let line = bytes[..at].iter().filter(|&&b| b == b'\n').count() + 1;
+        format(format!("line {line} (byte {at}): not UTF-8 text"))
+    })?;
 
     // Count vertices, check face indices (so that errors can name the line) and keep the
     // lines tobj needs, as one object.
@@ -37,17 +49,16 @@ pub fn read_obj_from_bytes(bytes: &[u8], path: &Path) -> Result<(Mesh, BuildRepo
     // The largest positive face index and its line.
     let mut largest = (0u64, 0usize);
     let mut body = String::with_capacity(text.len() + 16);
-    for (number, line) in text.lines().enumerate() {
+    for (number, line) in kept_lines(text) {
         let mut tokens = line.split_whitespace();
         match tokens.next().unwrap_or("") {
-            "o" | "g" | "usemtl" | "mtllib" => continue,
             "v" => n_vertices += 1,
             "f" => {
                 for token in tokens {
                     let index = face_index(token, n_vertices)
-                        .map_err(|message| format(format!("line {}: {message}", number + 1)))?;
+                        .map_err(|message| format(format!("line {number}: {message}")))?;
                     if index > largest.0 {
-                        largest = (index, number + 1);
+                        largest = (index, number);
                     }
                 }
             }
@@ -57,7 +68,10 @@ pub fn read_obj_from_bytes(bytes: &[u8], path: &Path) -> Result<(Mesh, BuildRepo
         body.push('\n');
     }
     if n_vertices == 0 {
-        return Err(format("no vertices (no 'v' lines)".into()));
+        return Err(format(format!(
+            "line {} (end of file): no vertices (no 'v' lines)",
+            text.lines().count().max(1)
+        )));
     }
     if largest.0 > n_vertices as u64 {
         return Err(format(format!(
@@ -74,19 +88,15 @@ pub fn read_obj_from_bytes(bytes: &[u8], path: &Path) -> Result<(Mesh, BuildRepo
     prefix.push('\n');
     let source = prefix + &body;
 
-    let options = tobj::LoadOptions {
-        single_index: false,
-        triangulate: false,
-        ..Default::default()
+    let model = match load_tobj(&source) {
+        Ok(model) => model,
+        // Vertex colours on some `v` lines only: tobj refuses them, colours are not read
+        // anyway.
+        Err(tobj::LoadError::FaceColorOutOfBounds) => {
+            load_tobj(&without_colours(&source)).map_err(|e| tobj_error(text, e, &format))?
+        }
+        Err(e) => return Err(tobj_error(text, e, &format)),
     };
-    let (models, _) = tobj::load_obj_buf(&mut source.as_bytes(), &options, |_| {
-        Err(tobj::LoadError::GenericFailure)
-    })
-    .map_err(|e| format(format!("OBJ parse error: {e}")))?;
-    let model = models
-        .into_iter()
-        .next()
-        .ok_or_else(|| format("no geometry".into()))?;
     let mesh = model.mesh;
     if mesh.positions.len() != 3 * n_vertices {
         return Err(format(format!(
@@ -117,22 +127,131 @@ pub fn read_obj_from_bytes(bytes: &[u8], path: &Path) -> Result<(Mesh, BuildRepo
             "face index count does not match the face arities".into(),
         ));
     }
-    let faces = offsets[1..].iter().map(|&(a, b)| &mesh.indices[a..b]);
+    // OpenMesh's OBJ reader drops the repeated indices of a face (keeping the first of
+    // each) and keeps the face when three or more vertices remain.
+    let faces = offsets[1..]
+        .iter()
+        .map(|&(a, b)| without_repeats(&mesh.indices[a..b]));
     Mesh::from_polygons(&positions, faces).map_err(|e| match e {
         Error::IndexOutOfRange {
             face,
             index,
             vertex_count,
         } => format(format!(
-            "face {face} refers to vertex {} but the file has {vertex_count} vertices",
+            "line {}: face refers to vertex {} but the file has {vertex_count} vertices",
+            nth_line_of(text, "f", face),
             index + 1
         )),
         Error::NonFiniteCoordinate { vertex, value } => format(format!(
-            "vertex {} has a non-finite coordinate ({value})",
+            "line {}: vertex {} has a non-finite coordinate ({value})",
+            nth_line_of(text, "v", vertex),
             vertex + 1
         )),
-        other => other,
+        other => format(other.to_string()),
     })
+}
+
+/// The lines tobj is given, numbered from 1 as in the file: all but `o`, `g`, `usemtl`
+/// and `mtllib` (the file is read as one object) and `l` (polylines, which OpenMesh
+/// ignores and tobj would read as faces).
+fn kept_lines(text: &str) -> impl Iterator<Item = (usize, &str)> {
+    text.lines().enumerate().filter_map(|(i, line)| {
+        match line.split_whitespace().next().unwrap_or("") {
+            "o" | "g" | "usemtl" | "mtllib" | "l" => None,
+            _ => Some((i + 1, line)),
+        }
+    })
+}
+
+/// The file's line of the `k`-th (0-based) line starting with `keyword` among the kept
+/// lines (0 when there is none, which the callers never ask for).
+fn nth_line_of(text: &str, keyword: &str, k: usize) -> usize {
+    kept_lines(text)
+        .filter(|(_, l)| l.split_whitespace().next() == Some(keyword))
+        .nth(k)
+        .map_or(0, |(n, _)| n)
+}
+
+/// tobj's parse of `source` as one model (materials are not loaded).
+fn load_tobj(source: &str) -> std::result::Result<tobj::Model, tobj::LoadError> {
+    let options = tobj::LoadOptions {
+        single_index: false,
+        triangulate: false,
+        ..Default::default()
+    };
+    let (models, _) = tobj::load_obj_buf(&mut source.as_bytes(), &options, |_| {
+        Err(tobj::LoadError::GenericFailure)
+    })?;
+    models
+        .into_iter()
+        .next()
+        .ok_or(tobj::LoadError::GenericFailure)
+}
+
+/// A tobj error as a format error naming its line. tobj does not say where it failed:
+/// the line is the first one whose addition makes tobj fail on the kept lines up to it
+/// (found by bisection, only on this error path).
+fn tobj_error(text: &str, e: tobj::LoadError, format: &dyn Fn(String) -> Error) -> Error {
+    let lines: Vec<(usize, &str)> = kept_lines(text).collect();
+    let fails = |k: usize| {
+        let mut prefix = String::new();
+        for (_, l) in &lines[..k] {
+            prefix.push_str(l);
+            prefix.push('\n');
+        }
+        load_tobj(&prefix).is_err()
+    };
+    let place = if fails(lines.len()) {
+        // Smallest k with fails(k): lo never fails, hi fails.
+        let (mut lo, mut hi) = (0, lines.len());
+        if fails(0) {
+            hi = 0;
+        }
+        while hi > lo + 1 {
+            let mid = lo + (hi - lo) / 2;
+            if fails(mid) {
+                hi = mid;
+            } else {
+                lo = mid;
+            }
+        }
+        format!("line {}", lines.get(hi.max(1) - 1).map_or(1, |l| l.0))
+    } else {
+        // Only the whole file as tobj is given it fails: the error is about all of it.
+        format!("line {} (end of file)", text.lines().count().max(1))
+    };
+    format(format!("{place}: OBJ parse error: {e}"))
+}
+
+/// The `v` lines of `source` without vertex colours (`v x y z r g b` → `v x y z`).
+fn without_colours(source: &str) -> String {
+    let mut out = String::with_capacity(source.len());
+    for line in source.lines() {
+        let tokens: Vec<&str> = line.split_whitespace().collect();
+        if tokens.first() == Some(&"v") && tokens.len() == 7 {
+            out.push_str(&tokens[..4].join(" "));
+        } else {
+            out.push_str(line);
+        }
+        out.push('\n');
+    }
+    out
+}
+
+/// A face's indices without repeats, the first of each kept in order (OpenMesh's OBJ
+/// reader: `f 1 2 4 2 3` is the polygon `1 2 4 3`); borrowed when nothing repeats.
+fn without_repeats(face: &[u32]) -> std::borrow::Cow<'_, [u32]> {
+    let repeats = (1..face.len()).any(|i| face[..i].contains(&face[i]));
+    if !repeats {
+        return std::borrow::Cow::Borrowed(face);
+    }
+    let mut kept: Vec<u32> = Vec::with_capacity(face.len());
+    for &i in face {
+        if !kept.contains(&i) {
+            kept.push(i);
+        }
+    }
+    std::borrow::Cow::Owned(kept)
 }
 
 /// The 1-based vertex index of a face token (`v`, `v/vt`, `v//vn`, `v/vt/vn`); negative

@@ -235,13 +235,35 @@ pub(crate) fn read_ply_soup<R: BufRead>(mut input: R, path: &Path) -> Result<Pol
         source,
     };
     if input.fill_buf().map_err(io)?.is_empty() {
-        return Err(format("empty file".into()));
+        return Err(format("line 1: empty file".into()));
     }
     let mut reader = Reader::new(input);
     let header = Parser::<SkippedElement>::new()
         .read_header(&mut reader)
-        .map_err(|e| format(format!("malformed PLY header: {e}")))?;
-    let layout = check_header(&header, &format)?;
+        .map_err(|e| {
+            // Errors of the line reader (text that is not UTF-8) carry no line: the
+            // parser's line is the one it was reading.
+            // (The header's own checks after its last line say where they stopped: on
+            // the line after `end_header`.)
+            let line = e.line().unwrap_or(match e.kind() {
+                ErrorKind::InvalidInput => reader.line().saturating_sub(1).max(1),
+                _ => reader.line().max(1),
+            });
+            let message = e.to_string();
+            let message = message
+                .strip_prefix(&format!("Line {line}: "))
+                .unwrap_or(&message);
+            format(format!("line {line}: malformed PLY header: {message}"))
+        })?;
+    // What is wrong with the header as a whole is reported at its last line.
+    let end_header = reader.line().saturating_sub(1).max(1);
+    let in_header = |message: String| format(format!("line {end_header} (end_header): {message}"));
+    let layout = check_header(&header, &in_header)?;
+    if layout.n_vertices == 0 {
+        return Err(in_header(
+            "no vertices (the vertex element is empty)".into(),
+        ));
+    }
     if let Some(plans) = super::ply_fast::plans(&header) {
         return super::ply_fast::read_binary(&header, &plans, reader.get_mut(), &layout, path);
     }
@@ -266,28 +288,47 @@ fn read_general<R: BufRead>(
         positions: Vec::with_capacity(layout.n_vertices.min(1 << 20)),
         ..PolygonSoup::default()
     };
-    let payload_error = |element: &ElementDef, e: ply_rs_bw::parser::ParseError| {
-        let what = match e.kind() {
-            ErrorKind::UnexpectedEof => "truncated file",
-            ErrorKind::InvalidInput | ErrorKind::InvalidData => "malformed data",
-            _ => {
-                return Error::Io {
-                    path: path.to_owned(),
-                    source: e.into(),
+    let ascii = header.encoding == ply_rs_bw::ply::Encoding::Ascii;
+    // `first`: the parser's line when the element started (ply-rs-bw counts one "line"
+    // per element in binary files too); errors of the line reader carry no line, the
+    // parser's is the one it was reading.
+    let payload_error =
+        |element: &ElementDef, first: usize, now: usize, e: ply_rs_bw::parser::ParseError| {
+            let what = match e.kind() {
+                ErrorKind::UnexpectedEof => "truncated file",
+                ErrorKind::InvalidInput | ErrorKind::InvalidData => "malformed data",
+                _ => {
+                    return Error::Io {
+                        path: path.to_owned(),
+                        source: e.into(),
+                    }
                 }
-            }
+            };
+            let line = e.line().unwrap_or(now);
+            let message = e.to_string();
+            let message = message
+                .strip_prefix(&format!("Line {line}: "))
+                .unwrap_or(&message);
+            let number = line.saturating_sub(first);
+            let place = if ascii {
+                format!("line {line}, {} {number}", element.name)
+            } else {
+                format!("{} {number}", element.name)
+            };
+            format(format!(
+                "{place}: {what} in element '{}' ({} declared): {message}",
+                element.name, element.count
+            ))
         };
-        format(format!(
-            "{what} in element '{}' ({} declared): {e}",
-            element.name, element.count
-        ))
-    };
     for (name, element) in &header.elements {
+        // The parser's line when the element starts (after the header: the line after
+        // `end_header`).
+        let first = reader.line();
         match name.as_str() {
             "vertex" => {
                 let vertices = Parser::<PlyVertex>::new()
                     .read_payload_for_element(&mut reader, element, header)
-                    .map_err(|e| payload_error(element, e))?;
+                    .map_err(|e| payload_error(element, first, reader.line(), e))?;
                 soup.positions
                     .extend(vertices.iter().map(|v| DVec3::from_array(v.0)));
             }
@@ -299,7 +340,7 @@ fn read_general<R: BufRead>(
                 };
                 let faces = Parser::<PlyIndexList>::new()
                     .read_payload_for_element(&mut reader, element, header)
-                    .map_err(|e| payload_error(element, e))?;
+                    .map_err(|e| payload_error(element, first, reader.line(), e))?;
                 for (i, face) in faces.iter().enumerate() {
                     let indices = face.indices();
                     match kind {
@@ -315,7 +356,7 @@ fn read_general<R: BufRead>(
             _ => {
                 Parser::<SkippedElement>::new()
                     .read_payload_for_element(&mut reader, element, header)
-                    .map_err(|e| payload_error(element, e))?;
+                    .map_err(|e| payload_error(element, first, reader.line(), e))?;
             }
         }
     }

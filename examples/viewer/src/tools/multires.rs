@@ -493,7 +493,7 @@ impl Multires {
         h.go_to_level(0)?;
         if let Some(labels) = pending.labels {
             // Labels made on the input: attach them at level 0.
-            let attribute = h.mesh_mut().label_attribute();
+            let attribute = h.mesh_mut().label_attribute()?;
             let n = labels.labels.len();
             h.mesh_mut().attribute_values_mut(attribute)[..n].copy_from_slice(&labels.labels);
             h.attach_labels(attribute);
