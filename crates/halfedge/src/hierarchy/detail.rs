@@ -132,6 +132,16 @@ impl Frame {
         Self::from_tangents(x, y)
     }
 
+    /// True when ring `ring`'s tangents are not finite (its coordinates overflow).
+    fn overflows(positions: &[DVec3], lists: Lists<'_>, ring: Ring) -> bool {
+        let list = match ring {
+            1 => lists.l0,
+            2 => lists.l1,
+            _ => lists.link,
+        };
+        ring_tangents(positions, list).is_some_and(|(x, y)| !(x.is_finite() && y.is_finite()))
+    }
+
     #[inline]
     fn from_tangents(x: DVec3, y: DVec3) -> Option<Self> {
         let normal = x.cross(y);
@@ -392,6 +402,11 @@ impl Details {
                 }
                 match Frame::of_ring(positions, self.record_lists(r), ring) {
                     Some(f) => Placement::At([anchor + f.world(a), anchor + f.world(b)]),
+                    // Coordinates so large that the frame overflows: the caller refuses
+                    // the non-finite placement.
+                    None if Frame::overflows(positions, self.record_lists(r), ring) => {
+                        Placement::At([DVec3::INFINITY; 2])
+                    }
                     // The edit flattened the neighbourhood to a line or a point: its
                     // detail has no frame to live in and shrinks to the survivor.
                     None => Placement::At([anchor; 2]),
