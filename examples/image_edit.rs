@@ -52,7 +52,7 @@ struct Args {
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     rotate: f64,
     /// Uniform scale.
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = 1.0, allow_hyphen_values = true)]
     scale: f64,
     /// Centre of rotation and scale "x,y". Default: the handle polygon's centroid.
     #[arg(long)]

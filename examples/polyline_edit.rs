@@ -66,7 +66,7 @@ struct Args {
     #[arg(long, default_value = "0,0,1", allow_hyphen_values = true)]
     axis: String,
     /// Uniform scale about the pivot.
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = 1.0, allow_hyphen_values = true)]
     scale: f64,
     /// Pivot "x,y[,z]". Default: the handle's centroid.
     #[arg(long, allow_hyphen_values = true)]

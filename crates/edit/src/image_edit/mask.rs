@@ -79,8 +79,8 @@ impl Mask {
                 }
                 crossings.sort_by(f64::total_cmp);
                 for pair in crossings.chunks_exact(2) {
-                    // Pixel centres strictly right of the first and left of or on ...
-                    // the second crossing: x0 < x <= x1, clipped to the row.
+                    // Pixel centres strictly right of the first crossing and not right
+                    // of the second: x0 < x <= x1, clipped to the row.
                     let first = (pair[0].floor() + 1.0).max(0.0);
                     let last = pair[1].floor().min((w - 1) as f64);
                     if first <= last {

@@ -36,7 +36,7 @@ impl Default for ImageOptions {
 /// What one [`ImageSession::render_into`] did.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct RenderStats {
-    /// Deformed triangles drawn (those with a vertex that moved).
+    /// Triangles drawn: the two of every grid cell with a corner that moved.
     pub triangles: usize,
     /// Output pixels resampled (neither fixed nor under an unmoved triangle).
     pub pixels: usize,

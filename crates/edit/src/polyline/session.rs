@@ -62,7 +62,8 @@ impl<P: CurvePoint> PolylineSession<P> {
     /// the weights. The points start at their original positions.
     ///
     /// # Errors
-    /// [`CurveError::Mismatch`] when the regions were made for another polyline.
+    /// [`CurveError::Mismatch`](super::CurveError::Mismatch) when the regions were
+    /// made for another polyline.
     pub fn new(
         curve: &Polyline<P>,
         regions: &CurveRegions,
@@ -148,9 +149,9 @@ impl<P: CurvePoint> PolylineSession<P> {
     /// written. `log A` is computed once. On error nothing changes.
     ///
     /// # Errors
-    /// [`CurveError::Edit`] with [`EditError::NoRealLogarithm`] (a reflection, a
-    /// singular map, a half turn), [`EditError::NotAffine`] or
-    /// [`EditError::NonFiniteMatrix`].
+    /// [`CurveError::Edit`](super::CurveError::Edit) with
+    /// [`EditError::NoRealLogarithm`] (a reflection, a singular map, a half turn),
+    /// [`EditError::NotAffine`] or [`EditError::NonFiniteMatrix`].
     pub fn apply(&mut self, a: P::Affine) -> CurveResult<()> {
         self.power = AffinePower::new(P::embed(a))?;
         self.transform = a;
@@ -217,8 +218,9 @@ impl<P: CurvePoint> PolylineSession<P> {
     /// indices of the points after them.
     ///
     /// # Errors
-    /// [`CurveError::Edit`] with [`EditError::InvalidParameter`] for a threshold that is
-    /// not finite and positive; nothing changes then.
+    /// [`CurveError::Edit`](super::CurveError::Edit) with
+    /// [`EditError::InvalidParameter`] for a threshold that is not finite and positive;
+    /// nothing changes then.
     pub fn refine(&mut self, options: RefineOptions) -> CurveResult<RefineReport> {
         let max = options.max_edge_length;
         if !(max.is_finite() && max > 0.0) {
