@@ -1,12 +1,14 @@
 //! Builds the progressive hierarchy of a mesh file (issue 3) and prints one JSON object:
 //! `levels` (face count per level, finest first), `coarsen_seconds`, `refine_seconds` and
 //! `roundtrip_identical` (refining all the way back restored every position bit for bit
-//! and the same connectivity).
+//! and the same connectivity), `target_reached` and `outcome` (how the build ended, in a
+//! sentence: when the rounds had to widen their bounds to reach the target, and why a
+//! target was not reached). The outcome also goes to stderr when the target was missed.
 //!
 //! ```text
 //! cargo run --release --example hierarchy -- FILE [--method rounds|qem] [--target-faces N]
 //!     [--max-normal-deviation DEG] [--max-flip-angle DEG] [--max-levels N]
-//!     [--max-error D] [--subdivide K] [--progress]
+//!     [--max-error D] [--no-relax] [--subdivide K] [--progress]
 //! ```
 
 use std::path::PathBuf;
@@ -48,6 +50,10 @@ struct Args {
     /// Error bound (a distance; see `HierarchyOptions::max_error`).
     #[arg(long)]
     max_error: Option<f64>,
+    /// Rounds: stop at the first stalled round, as the paper does, instead of widening
+    /// the planarity and flip bounds until the target is reached.
+    #[arg(long)]
+    no_relax: bool,
     /// Subdivide the input 1-to-4 this many times first (to make large meshes).
     #[arg(long, default_value_t = 0)]
     subdivide: usize,
@@ -136,6 +142,7 @@ fn run(args: &Args) -> Result<(), halfedge::Error> {
     if let Some(e) = args.max_error {
         options.max_error = e;
     }
+    options.relax_when_stalled = !args.no_relax;
     let before = snapshot(&mesh);
     let input_faces = mesh.n_faces() as u64;
     let bar = progress::bar(
@@ -150,6 +157,7 @@ fn run(args: &Args) -> Result<(), halfedge::Error> {
     })?;
     let coarsen_seconds = start.elapsed().as_secs_f64();
     bar.finish_and_clear();
+    let outcome = hierarchy.build_outcome().clone();
     let start = Instant::now();
     progress::step(show, "refining back to the input", || {
         hierarchy.refine_to(0)
@@ -163,7 +171,12 @@ fn run(args: &Args) -> Result<(), halfedge::Error> {
         "coarsen_seconds": coarsen_seconds,
         "refine_seconds": refine_seconds,
         "roundtrip_identical": roundtrip_identical,
+        "target_reached": outcome.target_reached(),
+        "outcome": outcome.to_string(),
     });
+    if !outcome.target_reached() {
+        eprintln!("note: {outcome}");
+    }
     println!("{report}");
     Ok(())
 }

@@ -17,6 +17,16 @@
 //!   must skip. OpenMesh reads no faces from it.
 //! - `quads_hole.obj`: a curved 8 × 6 patch of quads and triangles with one quad missing
 //!   (two boundary loops) and an unreferenced vertex.
+//! - `creature.obj`: a character of several components: a bumpy head (closed, genus 0,
+//!   5,120 triangles) with two ears pointing up (+y) and a snout to the front (+z), and
+//!   two eyes that are separate spheres (320 triangles each).
+//! - `torus.obj`: a bumpy torus (genus 1, closed, 1,920 triangles) around the z axis.
+//! - `cup.obj`: an open surface: a sphere with its bottom cut away and two holes in its
+//!   side (three boundary loops, ragged as a scan's), 3,885 triangles.
+//! - `dirty.obj`: what scanners and modellers really write: quads, a pentagon, a fin of
+//!   three faces on one edge (non-manifold edge), two triangles meeting at one vertex (a
+//!   bow-tie), a face listed twice, a face with a repeated vertex, a zero-area face and
+//!   unreferenced vertices.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -135,6 +145,159 @@ fn quads_hole_obj() -> String {
     s
 }
 
+/// Moves each vertex of `mesh` along its direction from the origin to radius
+/// `radius(direction)`.
+fn displace_radially(mesh: &mut Mesh, radius: impl Fn(DVec3) -> f64) {
+    for p in mesh.positions_mut() {
+        let d = p.normalize();
+        *p = round6(d * radius(d));
+    }
+}
+
+/// A bump of height `height` around `centre` (a unit direction), Gaussian in the angle
+/// from it with width `width` radians.
+fn bump(d: DVec3, centre: DVec3, height: f64, width: f64) -> f64 {
+    let angle = d.dot(centre.normalize()).clamp(-1.0, 1.0).acos();
+    height * (-(angle / width).powi(2)).exp()
+}
+
+fn creature() -> Mesh {
+    let mut head = generators::icosphere(4);
+    let ears = [DVec3::new(-0.45, 1.0, -0.1), DVec3::new(0.45, 1.0, -0.1)];
+    displace_radially(&mut head, |d| {
+        1.0 + 0.03 * (7.0 * d.x).sin() * (5.0 * d.y + 1.0).sin() * (6.0 * d.z).sin()
+            + bump(d, ears[0], 0.9, 0.22)
+            + bump(d, ears[1], 0.9, 0.22)
+            + bump(d, DVec3::Z, 0.35, 0.35)
+    });
+    let eye = |x: f64| {
+        let mut eye = generators::icosphere(2);
+        let centre = DVec3::new(x, 0.35, 0.0);
+        let centre = 1.08 * DVec3::new(centre.x, centre.y, (1.0 - x * x - 0.35 * 0.35).sqrt());
+        for p in eye.positions_mut() {
+            *p = round6(*p * 0.13 + centre);
+        }
+        eye
+    };
+    generators::disjoint_union(&[&head, &eye(-0.32), &eye(0.32)]).expect("three meshes")
+}
+
+fn torus() -> Mesh {
+    let mut t = generators::torus(1.0, 0.4, 48, 20).expect("valid torus");
+    for p in t.positions_mut() {
+        let u = p.y.atan2(p.x);
+        let ring = DVec3::new(u.cos(), u.sin(), 0.0);
+        let tube = *p - ring;
+        let wave = 1.0 + 0.15 * (5.0 * u).sin() * (tube.z * 4.0).cos();
+        *p = round6(ring + tube * wave);
+    }
+    t
+}
+
+fn cup() -> Mesh {
+    let mut sphere = generators::icosphere(4);
+    displace_radially(&mut sphere, |d| {
+        1.0 + 0.04 * (6.0 * d.x).sin() * (4.0 * d.z + 0.5).sin()
+    });
+    let holes = [DVec3::new(1.0, 0.0, 0.2), DVec3::new(-0.5, 0.8, 0.0)];
+    let keep = |f| {
+        let c = sphere.face_centroid(f).normalize();
+        c.y > -0.55 && holes.iter().all(|h| c.dot(h.normalize()) < 0.985)
+    };
+    let (positions, triangles) = sphere.to_arrays();
+    let kept: Vec<[u32; 3]> = sphere
+        .faces()
+        .zip(triangles)
+        .filter(|&(f, _)| keep(f))
+        .map(|(_, t)| t)
+        .collect();
+    // Only the vertices the kept faces use, renumbered in order.
+    let mut index = vec![u32::MAX; positions.len()];
+    let mut used = Vec::new();
+    for t in &kept {
+        for &i in t {
+            if index[i as usize] == u32::MAX {
+                index[i as usize] = 0;
+            }
+        }
+    }
+    for (i, slot) in index.iter_mut().enumerate() {
+        if *slot == 0 {
+            *slot = used.len() as u32;
+            used.push(positions[i]);
+        }
+    }
+    let kept: Vec<[u32; 3]> = kept.iter().map(|t| t.map(|i| index[i as usize])).collect();
+    Mesh::from_arrays(&used, &kept)
+        .expect("a sphere with holes")
+        .0
+}
+
+fn dirty_obj() -> String {
+    let mut s = String::from(
+        "# dirty input, written by multires make_data: quads, a pentagon, a non-manifold\n\
+         # edge (a fin), a bow-tie vertex, a face listed twice, a face with a repeated\n\
+         # vertex, a zero-area face and unreferenced vertices\n",
+    );
+    let (nx, ny) = (6usize, 5usize);
+    for j in 0..=ny {
+        for i in 0..=nx {
+            let (x, y) = (i as f64 * 0.5, j as f64 * 0.5);
+            let z = 0.15 * (x * 1.1).sin() * (y * 0.9).cos();
+            writeln!(s, "v {x} {y} {}", round6(DVec3::splat(z)).x).unwrap();
+        }
+    }
+    let n = (nx + 1) * (ny + 1);
+    let v = |i: usize, j: usize| grid_index(i, j, nx) + 1;
+    for j in 0..ny {
+        for i in 0..nx {
+            let (a, b, c, d) = (v(i, j), v(i + 1, j), v(i + 1, j + 1), v(i, j + 1));
+            if (i, j) == (2, 2) {
+                continue; // room for the pentagon
+            }
+            if (i, j) == (3, 2) {
+                continue;
+            }
+            if (i + j) % 3 == 0 {
+                writeln!(s, "f {a} {b} {c}\nf {a} {c} {d}").unwrap();
+            } else {
+                writeln!(s, "f {a} {b} {c} {d}").unwrap();
+            }
+        }
+    }
+    // A pentagon and a triangle fill the two cells left out.
+    writeln!(
+        s,
+        "f {} {} {} {} {}",
+        v(2, 2),
+        v(3, 2),
+        v(4, 2),
+        v(4, 3),
+        v(3, 3)
+    )
+    .unwrap();
+    writeln!(s, "f {} {} {}", v(2, 2), v(3, 3), v(2, 3)).unwrap();
+    // A fin: a third face on the edge v(1,1)–v(2,1), standing up.
+    writeln!(s, "v 0.75 0.4 0.6").unwrap();
+    writeln!(s, "f {} {} {}", v(1, 1), v(2, 1), n + 1).unwrap();
+    // A bow-tie: two triangles hanging off the corner v(6,5), meeting only there.
+    writeln!(
+        s,
+        "v 3.4 2.6 0.2\nv 3.6 2.4 0.2\nv 3.4 2.4 -0.2\nv 3.2 2.6 -0.2"
+    )
+    .unwrap();
+    writeln!(s, "f {} {} {}", v(6, 5), n + 2, n + 3).unwrap();
+    writeln!(s, "f {} {} {}", v(6, 5), n + 4, n + 5).unwrap();
+    // The first face of the grid again, a face with a repeated vertex, a zero-area face.
+    writeln!(s, "f {} {} {}", v(0, 0), v(1, 0), v(1, 1)).unwrap();
+    writeln!(s, "f {} {} {}", v(1, 2), v(1, 2), v(2, 3)).unwrap();
+    writeln!(s, "v 0.25 2.75 0\nv 0.5 2.75 0\nv 0.75 2.75 0").unwrap();
+    writeln!(s, "f {} {} {}", n + 6, n + 7, n + 8).unwrap();
+    // Unreferenced vertices.
+    writeln!(s, "v 9 9 9\nv -9 -9 -9").unwrap();
+    s
+}
+
 fn write_text(path: &Path, text: &str) {
     std::fs::write(path, text).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
 }
@@ -156,6 +319,10 @@ fn main() -> halfedge::Result<()> {
     )?;
     write_text(&out.join("strips.ply"), &strips_ply());
     write_text(&out.join("quads_hole.obj"), &quads_hole_obj());
+    write_obj(out.join("creature.obj"), &creature())?;
+    write_obj(out.join("torus.obj"), &torus())?;
+    write_obj(out.join("cup.obj"), &cup())?;
+    write_text(&out.join("dirty.obj"), &dirty_obj());
     println!("wrote data meshes into {}", out.display());
     Ok(())
 }

@@ -1,7 +1,11 @@
 //! Runs the workflow example (the README's main job) on a `data/` mesh and checks its
 //! outputs: the files exist, the mesh passes `check()` with the input's connectivity
 //! counts, the edits moved part of the mesh and left the rest bit for bit, and the
-//! pictures are not blank.
+//! pictures are not blank. Then on every mesh of `data/` (closed, open, several
+//! components, genus 1, quads, dirty input) with its defaults, and — in the real-mesh
+//! tier — on every shared mesh: it must finish, and say why when it leaves a step out.
+
+mod common;
 
 use std::path::PathBuf;
 use std::process::Command;
@@ -34,6 +38,117 @@ fn png_pixel_spread(path: &PathBuf) -> f64 {
         .sum::<f64>()
         / bytes.len() as f64)
         .sqrt()
+}
+
+/// Runs the workflow with its defaults on `input` into a fresh folder; returns the
+/// folder and the printed table.
+fn run_workflow(input: &std::path::Path, tag: &str) -> (PathBuf, String) {
+    let out = std::env::temp_dir().join(format!("multires-workflow-{tag}-{}", std::process::id()));
+    let output = Command::new(workflow_binary())
+        .arg(input)
+        .arg("--out")
+        .arg(&out)
+        .arg("--picture")
+        .arg("160")
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&output.stdout).into_owned();
+    assert!(
+        output.status.success(),
+        "{}: {}\n{stdout}",
+        input.display(),
+        String::from_utf8_lossy(&output.stderr)
+    );
+    (out, stdout)
+}
+
+/// The workflow's result read back: same connectivity as the input, valid, pictures
+/// not blank; a step left out is explained in a note naming a flag.
+fn check_run(input: &std::path::Path, out: &std::path::Path, stdout: &str) -> usize {
+    let (before, _) = halfedge::io::read(input).unwrap();
+    let stem = input.file_stem().unwrap().to_str().unwrap();
+    let (after, _) = halfedge::io::read(out.join(format!("{stem}-edited.ply"))).unwrap();
+    after.check().unwrap();
+    assert_eq!(
+        (after.n_vertices(), after.n_faces()),
+        (before.n_vertices(), before.n_faces()),
+        "{}",
+        input.display()
+    );
+    for picture in ["before-after.png", "coarse-edit.png"] {
+        assert!(
+            png_pixel_spread(&out.join(picture)) > 5.0,
+            "{picture} is blank"
+        );
+    }
+    for line in stdout.lines().filter(|l| l.contains("skipped:")) {
+        if !line.contains("--skip") {
+            assert!(
+                stdout
+                    .lines()
+                    .any(|n| n.starts_with("note:") && n.contains("--")),
+                "{}: a step was left out without a note naming a flag:\n{stdout}",
+                input.display()
+            );
+        }
+    }
+    before
+        .vertices()
+        .filter(|&v| {
+            before.position(v) != after.position(after.vertex_at(before.vertex_index(v)).unwrap())
+        })
+        .count()
+}
+
+#[test]
+fn workflow_runs_with_its_defaults_on_every_data_mesh() {
+    let data = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("data");
+    let mut edited = 0;
+    for name in [
+        "blob.obj",
+        "creature.obj",
+        "torus.obj",
+        "cup.obj",
+        "patch.ply",
+        "quads_hole.obj",
+        "strips.ply",
+        "dirty.obj",
+    ] {
+        let input = data.join(name);
+        let (out, stdout) = run_workflow(&input, name);
+        let moved = check_run(&input, &out, &stdout);
+        // Meshes with room for the edits get all three.
+        if ["blob.obj", "creature.obj", "torus.obj", "cup.obj"].contains(&name) {
+            for step in ["Lee drag", "B&K rotate", "taper"] {
+                let row = stdout.lines().find(|l| l.starts_with(step)).unwrap();
+                assert!(!row.contains("skipped"), "{name}: {row}\n{stdout}");
+            }
+            assert!(moved > 0, "{name}: nothing moved");
+        }
+        edited += usize::from(moved > 0);
+        std::fs::remove_dir_all(&out).ok();
+    }
+    assert!(edited >= 6, "only {edited} data meshes were edited");
+}
+
+#[test]
+#[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
+fn workflow_runs_with_its_defaults_on_every_shared_mesh() {
+    let dir = common::shared_meshes();
+    let mut names: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "obj" || e == "ply"))
+        .collect();
+    names.sort();
+    assert!(names.len() >= 9, "{names:?}");
+    for input in names {
+        let tag = input.file_name().unwrap().to_str().unwrap().to_owned();
+        let (out, stdout) = run_workflow(&input, &tag);
+        let moved = check_run(&input, &out, &stdout);
+        assert!(moved > 0, "{tag}: nothing moved\n{stdout}");
+        std::fs::remove_dir_all(&out).ok();
+    }
 }
 
 #[test]

@@ -1,15 +1,45 @@
 //! The whole multiresolution job from the command line: load → simplify to a level →
 //! label a sub-mesh by a cutting plane → one edit of each family (a Lee 1999 area drag, a
-//! Bendels & Klein handle rotation, a sub-mesh taper) → refine back with the centroid
-//! detail coefficients → write the mesh and before/after pictures, with a summary table.
+//! Bendels & Klein handle rotation, a sub-mesh taper) → refine back with the detail
+//! coefficients → write the mesh and before/after pictures, with a summary table.
 //!
 //! ```text
-//! cargo run --release --example workflow -- [FILE] [--level N] [--method rounds|qem] [--out DIR]
+//! cargo run --release --example workflow -- [FILE] [--level N] [--method rounds|qem]
+//!     [--axis y] [--plane 0.72] [--skip lee,blend,taper] [--out DIR]
 //! ```
+//!
+//! It runs on any mesh — closed or open, one component or several, any genus — because
+//! each step chooses its region by rules that adapt to the mesh, and says which rule it
+//! used:
+//!
+//! - **Level**: `--level` (default 3), but never coarser than the coarsest level with at
+//!   least 500 faces (or the input's faces, when it has fewer): edits on a handful of
+//!   faces would mean nothing.
+//! - **Sub-mesh** (for the taper): the part cut off by a plane perpendicular to `--axis`
+//!   (default `y`, up) at `--plane` of the mesh's extent along it (default 0.72), near
+//!   the vertex furthest along the axis; the part on the axis' side is the sub-mesh, and
+//!   separate components go with the side their centroid lies on. Where that section
+//!   runs into the mesh boundary (an open mesh), does not separate the mesh (it goes
+//!   around a handle) or cuts off fewer than 4 vertices, the plane moves towards the tip
+//!   in steps of 4 % of the extent, then away from it; where no height works, the other
+//!   axes are tried (`y`, `z`, `x`, `-y`, `-z`, `-x`).
+//! - **Lee area** (dragged along the normal): a disk of about a twelfth of the coarse
+//!   vertices (30 to 5,000) around the vertex furthest to the front (+z). Where the disk
+//!   reaches the mesh boundary or wraps around a handle it is halved (down to a vertex
+//!   and its ring); then the extreme vertices along `x`, `-x`, `y`, `-y`, `-z` are tried, and
+//!   last the vertex farthest from the boundary.
+//! - **Bendels & Klein** (handle rotated 25° and pulled): the handle is the vertices
+//!   within an edge-path distance of 8 % of the bounding-box diagonal from the vertex
+//!   furthest along −x, the fixed region everything beyond 30 %; where the handle would
+//!   touch the fixed region or either is empty, both radii are halved (three times at
+//!   most).
+//!
+//! A step none of whose rules applies is left out with a note saying why and which flag
+//! changes it; the job goes on. The pictures are framed on the union of the before and
+//! after meshes, so a part an edit pulled out stays in the frame.
 
 #[path = "../support/progress.rs"]
 mod progress;
-mod render;
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -22,10 +52,14 @@ use edit::shape::ShapeFunction;
 use edit::submesh::{Edit, Propagation, SubMesh, Variation};
 use glam::{DMat4, DVec3};
 use halfedge::{BuildProgress, Hierarchy, HierarchyOptions, Mesh, VertexId};
+use multires::render::{self, Camera, Panel};
 
 /// Command-line options.
 #[derive(Parser, Debug)]
-#[command(about = "simplify → edit → refine a mesh with multires")]
+#[command(
+    about = "simplify → edit → refine a mesh with multires (OBJ or PLY; any mesh: the \
+             edit regions adapt, see the example's docs)"
+)]
 struct Args {
     /// Mesh to edit (OBJ or PLY); default: data/blob.obj.
     mesh: Option<PathBuf>,
@@ -41,13 +75,46 @@ struct Args {
     /// Output mesh format: obj or ply.
     #[arg(long, default_value = "ply")]
     format: String,
-    /// Height of the cutting plane that labels the sub-mesh, as a fraction of the
-    /// bounding box along y.
+    /// Axis of the cutting plane that labels the sub-mesh: the sub-mesh is the part
+    /// furthest along it (x, y, z, -x, -y or -z).
+    #[arg(long, default_value = "y", value_parser = parse_axis)]
+    axis: DVec3,
+    /// Height of the cutting plane, as a fraction of the mesh's extent along the axis
+    /// (it moves towards the tip when the section there cannot cut the mesh).
     #[arg(long, default_value_t = 0.72)]
     plane: f64,
-    /// Picture size in pixels (width; height is 3/4 of it).
+    /// Steps to leave out, comma-separated: lee, blend, taper.
+    #[arg(long, value_delimiter = ',', value_parser = ["lee", "blend", "taper"])]
+    skip: Vec<String>,
+    /// Picture size in pixels (width of one panel; height is 3/4 of it).
     #[arg(long, default_value_t = 640)]
     picture: usize,
+}
+
+fn parse_axis(s: &str) -> Result<DVec3, String> {
+    match s.trim() {
+        "x" | "+x" => Ok(DVec3::X),
+        "y" | "+y" => Ok(DVec3::Y),
+        "z" | "+z" => Ok(DVec3::Z),
+        "-x" => Ok(DVec3::NEG_X),
+        "-y" => Ok(DVec3::NEG_Y),
+        "-z" => Ok(DVec3::NEG_Z),
+        other => Err(format!("unknown axis {other:?} (x, y, z, -x, -y or -z)")),
+    }
+}
+
+fn axis_name(d: DVec3) -> &'static str {
+    [
+        (DVec3::X, "x"),
+        (DVec3::Y, "y"),
+        (DVec3::Z, "z"),
+        (DVec3::NEG_X, "-x"),
+        (DVec3::NEG_Y, "-y"),
+        (DVec3::NEG_Z, "-z"),
+    ]
+    .iter()
+    .find(|(a, _)| *a == d)
+    .map_or("?", |(_, n)| n)
 }
 
 struct Row {
@@ -56,6 +123,11 @@ struct Row {
     seconds: f64,
 }
 
+type BoxError = Box<dyn std::error::Error>;
+
+/// The edit level keeps at least this many faces (or all of a smaller input's).
+const MIN_EDIT_FACES: usize = 500;
+
 fn main() {
     if let Err(e) = run(Args::parse()) {
         eprintln!("error: {e}");
@@ -63,37 +135,52 @@ fn main() {
     }
 }
 
-fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
+fn run(args: Args) -> Result<(), BoxError> {
+    if !(args.plane >= 0.0 && args.plane < 1.0) {
+        return Err(format!("--plane must be in [0, 1), got {}", args.plane).into());
+    }
     let path = args
         .mesh
         .clone()
         .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("data/blob.obj"));
-    std::fs::create_dir_all(&args.out)?;
+    std::fs::create_dir_all(&args.out)
+        .map_err(|e| format!("cannot create {}: {e}", args.out.display()))?;
     let mut rows = Vec::new();
+    let mut notes: Vec<String> = Vec::new();
 
     let clock = Instant::now();
     let (input, report) = progress::read(&path)?;
     let large = progress::is_large(input.n_faces());
     progress::step(large, "checking the mesh", || input.check())?;
+    if input.n_faces() == 0 {
+        return Err(format!("{}: the mesh has no faces to edit", path.display()).into());
+    }
+    let topology = input.topology_report();
     rows.push(Row {
         step: "load",
         detail: format!(
-            "{}: {} vertices, {} faces ({} duplicated vertices)",
+            "{}: {} vertices, {} faces, {} component(s), {} boundary loop(s), Euler {} \
+             ({} duplicated vertices, {} dropped faces)",
             path.display(),
             input.n_vertices(),
             input.n_faces(),
-            report.duplicated_vertices
+            topology.components,
+            topology.boundary_loops,
+            topology.euler,
+            report.duplicated_vertices,
+            report.dropped_faces
         ),
         seconds: clock.elapsed().as_secs_f64(),
     });
     let original = input.clone();
-    let frame = input.bounding_box().ok_or("the mesh has no vertices")?;
+    let (lo, hi) = input.bounding_box().ok_or("the mesh has no vertices")?;
+    let diagonal = lo.distance(hi);
 
     // --- simplify ---------------------------------------------------------------
     let options = match args.method.as_str() {
         "rounds" => HierarchyOptions::rounds(),
         "qem" => HierarchyOptions::qem(),
-        other => return Err(format!("unknown method {other:?} (rounds or qem)").into()),
+        other => return Err(format!("unknown --method {other:?} (rounds or qem)").into()),
     };
     let bar = progress::bar(
         large,
@@ -109,7 +196,22 @@ fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
         })?;
     bar.finish_and_clear();
     let build_seconds = clock.elapsed().as_secs_f64();
-    let level = args.level.min(hierarchy.coarsest_level());
+    let min_faces = MIN_EDIT_FACES.min(input_faces);
+    let finest_enough = hierarchy
+        .level_face_counts()
+        .iter()
+        .rposition(|&f| f >= min_faces)
+        .unwrap_or(0);
+    let level = args.level.min(finest_enough);
+    if level < args.level {
+        notes.push(format!(
+            "editing at level {level} ({} faces) instead of {}: the levels above it have \
+             fewer than {min_faces} faces (--level chooses; {:?})",
+            hierarchy.level_face_counts()[level],
+            args.level,
+            hierarchy.level_face_counts()
+        ));
+    }
     let clock = Instant::now();
     hierarchy.go_to_level(level)?;
     rows.push(Row {
@@ -125,104 +227,102 @@ fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
 
     // --- label a sub-mesh by a cutting plane ------------------------------------
     let clock = Instant::now();
-    let (lo, hi) = frame;
-    let point = DVec3::new(
-        0.5 * (lo.x + hi.x),
-        lo.y + args.plane * (hi.y - lo.y),
-        0.5 * (lo.z + hi.z),
-    );
-    let mesh = hierarchy.mesh_mut();
-    let frontier = mesh.frontier_from_plane(point, DVec3::Y)?;
-    let (labels, counts) = mesh.label_sides(&frontier, 1, 2)?;
-    hierarchy.attach_labels(labels);
-    hierarchy.labels_defined_here();
-    let mesh = hierarchy.mesh();
-    let label_values = mesh.attribute_values(labels);
-    let above = pick_side(mesh, label_values, point)?;
-    let sub = SubMesh::from_labels(mesh, label_values, |&l| l == above)?;
-    rows.push(Row {
-        step: "label",
-        detail: format!(
-            "plane y = {:.3}: frontier of {} edges, sub-mesh above it {} vertices ({counts:?})",
-            point.y,
-            frontier.halfedges().len(),
-            sub.vertex_indices().len()
-        ),
-        seconds: clock.elapsed().as_secs_f64(),
-    });
+    let sub = if args.skip.iter().any(|s| s == "taper") {
+        rows.push(skipped("label", "left out (--skip taper)"));
+        None
+    } else {
+        match label_submesh(hierarchy.mesh_mut(), args.axis, args.plane) {
+            Ok(labelled) => {
+                hierarchy.attach_labels(labelled.attribute);
+                hierarchy.labels_defined_here();
+                notes.extend(labelled.note.clone());
+                rows.push(Row {
+                    step: "label",
+                    detail: labelled.detail.clone(),
+                    seconds: clock.elapsed().as_secs_f64(),
+                });
+                Some(labelled.sub)
+            }
+            Err(why) => {
+                notes.push(format!("sub-mesh taper left out: {why}"));
+                rows.push(skipped("label", "no cutting plane applies (see notes)"));
+                None
+            }
+        }
+    };
     let coarse_before = hierarchy.mesh().clone();
+    let mesh = hierarchy.mesh_mut();
 
     // --- Lee 1999: drag an editing area on the front ----------------------------
-    let clock = Instant::now();
-    let mesh = hierarchy.mesh_mut();
-    let diagonal = lo.distance(hi);
-    let front = extreme_vertex(mesh, DVec3::Z);
-    let area_size = (mesh.n_vertices() / 12).clamp(30, 5_000);
-    let area = EditingArea::disk_around(mesh, front, area_size)?;
-    let options = SessionOptions {
-        scale: 0.6,
-        ..SessionOptions::default()
-    };
-    let mut session = progress::step(large, "Lee: embedding the editing area", || {
-        EditingSession::new(mesh, area, &options)
-    })?;
-    session.set_primitive(mesh, &[front])?;
-    let pull = mesh.vertex_normal(front) * 0.15 * diagonal;
-    session.drag(mesh, pull)?;
-    session.commit(mesh)?;
-    rows.push(Row {
-        step: "Lee drag",
-        detail: format!(
-            "area of {} vertices around v{}, pulled by {:.3} at s = 0.6",
-            session.area().vertices().len(),
-            mesh.vertex_index(front),
-            pull.length()
-        ),
-        seconds: clock.elapsed().as_secs_f64(),
-    });
+    if args.skip.iter().any(|s| s == "lee") {
+        rows.push(skipped("Lee drag", "left out (--skip lee)"));
+    } else {
+        let clock = Instant::now();
+        match lee_drag(mesh, diagonal, large) {
+            Ok((detail, note)) => {
+                notes.extend(note);
+                rows.push(Row {
+                    step: "Lee drag",
+                    detail,
+                    seconds: clock.elapsed().as_secs_f64(),
+                });
+            }
+            Err(why) => {
+                notes.push(format!(
+                    "Lee area drag left out: {why} (--skip lee leaves it out without trying)"
+                ));
+                rows.push(skipped("Lee drag", "no editing area applies (see notes)"));
+            }
+        }
+    }
 
     // --- Bendels & Klein: rotate a handle on the side ----------------------------
-    let clock = Instant::now();
-    let side = extreme_vertex(mesh, -DVec3::X);
-    let centre = mesh.position(side);
-    let handle = ring_picks(mesh, centre, 0.08 * diagonal, 6);
-    let fixed = ring_picks(mesh, centre, 0.3 * diagonal, 10);
-    let regions = Regions::from_picks(mesh, &handle, &fixed)?;
-    let n_deformable = regions.deformable().len();
-    let options = BlendOptions {
-        distance: DistanceKind::Geodesic,
-        shape: ShapeFunction::Smoothstep,
-    };
-    let mut blend = progress::step(large, "B&K: geodesic distances (fast marching)", || {
-        BlendSession::new(mesh, regions, options)
-    })?;
-    let rotation = DMat4::from_translation(centre)
-        * DMat4::from_axis_angle(DVec3::Z, 25f64.to_radians())
-        * DMat4::from_translation(-centre)
-        * DMat4::from_translation(-DVec3::X * 0.05 * diagonal);
-    blend.apply(mesh, rotation)?;
-    rows.push(Row {
-        step: "B&K rotate",
-        detail: format!(
-            "handle around v{} rotated 25° and pulled, {n_deformable} deformable vertices",
-            mesh.vertex_index(side)
-        ),
-        seconds: clock.elapsed().as_secs_f64(),
-    });
+    if args.skip.iter().any(|s| s == "blend") {
+        rows.push(skipped("B&K rotate", "left out (--skip blend)"));
+    } else {
+        let clock = Instant::now();
+        match blend_rotate(mesh, diagonal, large) {
+            Ok((detail, note)) => {
+                notes.extend(note);
+                rows.push(Row {
+                    step: "B&K rotate",
+                    detail,
+                    seconds: clock.elapsed().as_secs_f64(),
+                });
+            }
+            Err(why) => {
+                notes.push(format!(
+                    "Bendels & Klein rotation left out: {why} (--skip blend leaves it out \
+                     without trying)"
+                ));
+                rows.push(skipped("B&K rotate", "no regions apply (see notes)"));
+            }
+        }
+    }
 
     // --- sub-mesh taper above the plane -----------------------------------------
-    let clock = Instant::now();
-    let taper = Edit::Taper {
-        axis: None,
-        factor: 0.6,
-        variation: Variation::Levels(None),
-    };
-    sub.apply(mesh, &taper, Propagation::linear(2))?;
-    rows.push(Row {
-        step: "taper",
-        detail: "sub-mesh above the plane tapered to 0.6, 2 propagation levels".to_string(),
-        seconds: clock.elapsed().as_secs_f64(),
-    });
+    if let Some(sub) = &sub {
+        let clock = Instant::now();
+        let taper = Edit::Taper {
+            axis: None,
+            factor: 0.6,
+            variation: Variation::Levels(None),
+        };
+        match sub.apply(mesh, &taper, Propagation::linear(2)) {
+            Ok(_) => rows.push(Row {
+                step: "taper",
+                detail: "sub-mesh tapered to 0.6, 2 propagation levels".to_string(),
+                seconds: clock.elapsed().as_secs_f64(),
+            }),
+            Err(e) => {
+                notes.push(format!(
+                    "sub-mesh taper left out: {e} (--axis and --plane choose another \
+                     sub-mesh, --skip taper leaves it out)"
+                ));
+                rows.push(skipped("taper", "the taper failed (see notes)"));
+            }
+        }
+    }
     mesh.check()?;
     let coarse_after = hierarchy.mesh().clone();
 
@@ -264,17 +364,23 @@ fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
         halfedge::io::write(&out_mesh, &result)
     })?;
     let (w, h) = (args.picture, args.picture * 3 / 4);
-    let view = render::View::default();
-    let before = render::render(&original, view, frame, None, w, h);
-    let colors = displacement_colors(&original, &result, diagonal);
-    let after = render::render(&result, view, frame, Some(&colors), w, h);
-    let coarse = render::render(&coarse_before, view, frame, None, w / 2, h / 2);
-    let coarse_edit = render::render(&coarse_after, view, frame, None, w / 2, h / 2);
-    before.save(&args.out.join("before.png"))?;
-    after.save(&args.out.join("after.png"))?;
-    render::Image::side_by_side(&[&before, &after]).save(&args.out.join("before-after.png"))?;
-    render::Image::side_by_side(&[&coarse, &coarse_edit])
-        .save(&args.out.join("coarse-edit.png"))?;
+    // One frame for every picture: the union of the before and after meshes.
+    let frame = render::union_bounds([&original, &result, &coarse_before, &coarse_after]);
+    let camera = Camera::default();
+    let colors = render::displacement_colors(&original, &result, 0.05 * diagonal);
+    let before = render::render(Panel::new(&original), &camera, frame, w, h)?;
+    let after = render::render(Panel::with_colors(&result, &colors), &camera, frame, w, h)?;
+    let coarse = render::render_side_by_side(
+        &[Panel::new(&coarse_before), Panel::new(&coarse_after)],
+        &camera,
+        frame,
+        (w / 2).max(1),
+        (h / 2).max(1),
+    )?;
+    before.save_png(args.out.join("before.png"))?;
+    after.save_png(args.out.join("after.png"))?;
+    render::Image::side_by_side(&[&before, &after]).save_png(args.out.join("before-after.png"))?;
+    coarse.save_png(args.out.join("coarse-edit.png"))?;
     rows.push(Row {
         step: "write",
         detail: format!(
@@ -294,71 +400,301 @@ fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
         "total",
         rows.iter().map(|r| r.seconds).sum::<f64>()
     );
+    for note in &notes {
+        println!("note: {note}");
+    }
     Ok(())
 }
 
-/// The label of the side of the frontier that lies above the plane point.
-fn pick_side(mesh: &Mesh, labels: &[u32], point: DVec3) -> Result<u32, Box<dyn std::error::Error>> {
-    let top = mesh
-        .vertices()
-        .filter(|&v| labels[mesh.vertex_index(v)] != halfedge::FRONTIER && !mesh.is_isolated(v))
-        .max_by(|&a, &b| mesh.position(a).y.total_cmp(&mesh.position(b).y))
-        .ok_or("no labelled vertex")?;
-    if mesh.position(top).y < point.y {
-        return Err("the cutting plane is above the mesh".into());
+fn skipped(step: &'static str, why: &str) -> Row {
+    Row {
+        step,
+        detail: format!("skipped: {why}"),
+        seconds: 0.0,
     }
-    Ok(labels[mesh.vertex_index(top)])
 }
 
-/// The non-isolated vertex furthest along `direction`.
-fn extreme_vertex(mesh: &Mesh, direction: DVec3) -> VertexId {
-    mesh.vertices()
-        .filter(|&v| !mesh.is_isolated(v))
-        .max_by(|&a, &b| {
-            mesh.position(a)
-                .dot(direction)
-                .total_cmp(&mesh.position(b).dot(direction))
-        })
-        .expect("a mesh with faces")
+/// The sub-mesh cut off by a plane, with what the table and the notes say about it.
+struct Labelled {
+    attribute: halfedge::Attribute<VertexId, halfedge::Label>,
+    sub: SubMesh,
+    detail: String,
+    note: Option<String>,
 }
 
-/// `n` vertices at geodesic-ish distance `radius` around `centre`, spread in angle: the
-/// picks of a closed border drawn around a point.
-fn ring_picks(mesh: &Mesh, centre: DVec3, radius: f64, n: usize) -> Vec<VertexId> {
-    let normal = mesh.vertex_normal(extreme_vertex(mesh, centre.normalize_or(DVec3::X)));
-    let u = normal.any_orthonormal_vector();
-    let w = normal.cross(u);
-    let near: Vec<VertexId> = mesh
-        .vertices()
-        .filter(|&v| !mesh.is_isolated(v))
-        .filter(|&v| (mesh.position(v).distance(centre) - radius).abs() < 0.2 * radius)
-        .collect();
-    let mut picks: Vec<VertexId> = (0..n)
-        .filter_map(|k| {
-            let t = k as f64 / n as f64 * std::f64::consts::TAU;
-            let target = u * t.cos() + w * t.sin();
-            near.iter().copied().max_by(|&a, &b| {
-                let da = (mesh.position(a) - centre).normalize_or_zero().dot(target);
-                let db = (mesh.position(b) - centre).normalize_or_zero().dot(target);
-                da.total_cmp(&db)
-            })
-        })
-        .collect();
-    picks.dedup();
-    picks
-}
+/// The smallest Lee area tried: a vertex and its ring.
+const MIN_AREA: usize = 7;
 
-/// Clay for unmoved vertices, shading to orange with the displacement.
-fn displacement_colors(before: &Mesh, after: &Mesh, diagonal: f64) -> Vec<DVec3> {
-    let clay = DVec3::new(0.78, 0.74, 0.68);
-    let hot = DVec3::new(0.95, 0.45, 0.15);
-    (0..after.vertex_slots())
-        .map(|i| match (before.positions().get(i), after.vertex_at(i)) {
-            (Some(&p), Some(v)) => {
-                let t = (after.position(v).distance(p) / (0.05 * diagonal)).min(1.0);
-                clay.lerp(hot, t)
+/// The smallest sub-mesh the taper is worth making on.
+const MIN_SUBMESH: usize = 4;
+
+/// The sub-mesh rule of the module docs: planes perpendicular to `axis` (then to the
+/// other axes), from `fraction` of the extent towards the tip.
+fn label_submesh(mesh: &mut Mesh, axis: DVec3, fraction: f64) -> Result<Labelled, String> {
+    let mut axes = vec![axis];
+    for a in [
+        DVec3::Y,
+        DVec3::Z,
+        DVec3::X,
+        DVec3::NEG_Y,
+        DVec3::NEG_Z,
+        DVec3::NEG_X,
+    ] {
+        if a != axis {
+            axes.push(a);
+        }
+    }
+    let mut first_failure: Option<String> = None;
+    for (k, &a) in axes.iter().enumerate() {
+        let tip = mesh
+            .extreme_vertex(a)
+            .map_err(|e| e.to_string())?
+            .ok_or("the mesh has no vertex with a face")?;
+        let top = mesh.position(tip).dot(a);
+        let bottom = mesh
+            .vertices()
+            .filter(|&v| !mesh.is_isolated(v))
+            .map(|v| mesh.position(v).dot(a))
+            .fold(f64::INFINITY, f64::min);
+        let start = if k == 0 { fraction } else { 0.72 };
+        // Towards the tip, then away from it, in steps of 4 % of the extent.
+        let up = (0..)
+            .map(|i| start + 0.04 * i as f64)
+            .take_while(|&f| f < 0.99);
+        let down = (1..)
+            .map(|i| start - 0.04 * i as f64)
+            .take_while(|&f| f > 0.01);
+        for f in up.chain(down) {
+            let height = bottom + f * (top - bottom);
+            let point = mesh.position(tip) - a * (top - height);
+            let attempt = mesh.frontier_from_plane(point, a).and_then(|frontier| {
+                let (attribute, counts) = mesh.label_sides(&frontier, 1, 2)?;
+                Ok((frontier, attribute, counts))
+            });
+            match attempt {
+                Ok((frontier, attribute, counts)) => {
+                    let values = mesh.attribute_values(attribute);
+                    if values[mesh.vertex_index(tip)] == 1 && counts.left_vertices >= MIN_SUBMESH {
+                        let sub = SubMesh::from_labels(mesh, values, |&l| l == 1)
+                            .map_err(|e| e.to_string())?;
+                        let moved = k > 0 || f != fraction;
+                        let detail = format!(
+                            "plane {} = {height:.3} ({:.0} % of the extent): frontier of {} \
+                             edges, sub-mesh on the {} side {} vertices, the rest {}",
+                            axis_name(a),
+                            100.0 * f,
+                            frontier.halfedges().len(),
+                            axis_name(a),
+                            counts.left_vertices,
+                            counts.right_vertices
+                        );
+                        let note = moved.then(|| {
+                            format!(
+                                "the cutting plane {} at {:.0} % could not cut off a part ({}); \
+                                 used {} at {:.0} % instead (--axis, --plane)",
+                                axis_name(axis),
+                                100.0 * fraction,
+                                first_failure.as_deref().unwrap_or("no part on its side"),
+                                axis_name(a),
+                                100.0 * f
+                            )
+                        });
+                        return Ok(Labelled {
+                            attribute,
+                            sub,
+                            detail,
+                            note,
+                        });
+                    }
+                    first_failure.get_or_insert_with(|| {
+                        format!(
+                            "the section nearest to the tip cuts off {} vertices without the tip",
+                            counts.left_vertices
+                        )
+                    });
+                }
+                Err(e) => {
+                    first_failure.get_or_insert_with(|| e.to_string());
+                }
             }
-            _ => clay,
-        })
-        .collect()
+        }
+    }
+    Err(format!(
+        "no plane perpendicular to ±x, ±y or ±z cuts off a part of the mesh (along {} at \
+         {:.0} %: {}); --axis and --plane choose the plane, --skip taper leaves the step out",
+        axis_name(axis),
+        100.0 * fraction,
+        first_failure.unwrap_or_default()
+    ))
+}
+
+/// The Lee rule of the module docs: an editing area around a front vertex, dragged along
+/// its normal. Returns the table's detail and a note when the rule had to adapt.
+fn lee_drag(
+    mesh: &mut Mesh,
+    diagonal: f64,
+    large: bool,
+) -> Result<(String, Option<String>), String> {
+    let mut centres: Vec<(VertexId, String)> = Vec::new();
+    for (d, name) in [
+        (DVec3::Z, "+z"),
+        (DVec3::X, "+x"),
+        (DVec3::NEG_X, "-x"),
+        (DVec3::Y, "+y"),
+        (DVec3::NEG_Y, "-y"),
+        (DVec3::NEG_Z, "-z"),
+    ] {
+        if let Ok(Some(v)) = mesh.extreme_vertex(d) {
+            centres.push((v, format!("the vertex furthest along {name}")));
+        }
+    }
+    if let Some(v) = farthest_from_boundary(mesh) {
+        centres.push((v, "the vertex farthest from the boundary".into()));
+    }
+    let n = mesh.n_vertices();
+    let first_size = (n / 12).clamp(30, 5_000).min(n / 3).max(MIN_AREA);
+    let mut first_failure: Option<String> = None;
+    for (attempt, (centre, what)) in centres.iter().enumerate() {
+        let mut size = first_size;
+        while size >= MIN_AREA {
+            let tried = EditingArea::disk_around(mesh, *centre, size).and_then(|area| {
+                let options = SessionOptions {
+                    scale: 0.6,
+                    ..SessionOptions::default()
+                };
+                progress::step(large, "Lee: embedding the editing area", || {
+                    EditingSession::new(mesh, area, &options)
+                })
+            });
+            match tried {
+                Ok(mut session) => {
+                    let pull = mesh.vertex_normal(*centre) * 0.15 * diagonal;
+                    session
+                        .set_primitive(mesh, &[*centre])
+                        .and_then(|()| session.drag(mesh, pull))
+                        .and_then(|()| session.commit(mesh))
+                        .map_err(|e| e.to_string())?;
+                    let detail = format!(
+                        "area of {} vertices around v{} ({what}), pulled by {:.3} along its \
+                         normal at s = 0.6",
+                        session.area().vertices().len(),
+                        mesh.vertex_index(*centre),
+                        pull.length()
+                    );
+                    let note = (attempt > 0 || size != first_size).then(|| {
+                        format!(
+                            "the Lee area of {first_size} vertices around the front vertex \
+                             could not be used ({}); used {size} vertices around {what}",
+                            first_failure.as_deref().unwrap_or("?")
+                        )
+                    });
+                    return Ok((detail, note));
+                }
+                Err(e) => {
+                    first_failure.get_or_insert_with(|| e.to_string());
+                }
+            }
+            size /= 2;
+        }
+    }
+    Err(format!(
+        "no disk of {MIN_AREA} or more vertices around an extreme vertex or the vertex \
+         farthest from the boundary is a valid editing area (first: {})",
+        first_failure.unwrap_or_default()
+    ))
+}
+
+/// The vertex with faces farthest (by edge paths) from the mesh boundary and from
+/// non-manifold vertices; `None` for a closed mesh.
+fn farthest_from_boundary(mesh: &Mesh) -> Option<VertexId> {
+    let boundary: Vec<VertexId> = mesh
+        .vertices()
+        .filter(|&v| !mesh.is_isolated(v) && mesh.is_boundary_vertex(v))
+        .collect();
+    if boundary.is_empty() {
+        return None;
+    }
+    let d = mesh.edge_distances(&boundary, f64::INFINITY).ok()?;
+    mesh.vertices()
+        .filter(|&v| !mesh.is_isolated(v) && d[mesh.vertex_index(v)].is_finite())
+        .max_by(|&a, &b| d[mesh.vertex_index(a)].total_cmp(&d[mesh.vertex_index(b)]))
+}
+
+/// The Bendels & Klein rule of the module docs: a handle around the vertex furthest
+/// along −x, rotated and pulled. Returns the table's detail and a note when the radii
+/// had to shrink.
+fn blend_rotate(
+    mesh: &mut Mesh,
+    diagonal: f64,
+    large: bool,
+) -> Result<(String, Option<String>), String> {
+    let side = mesh
+        .extreme_vertex(DVec3::NEG_X)
+        .map_err(|e| e.to_string())?
+        .ok_or("the mesh has no vertex with a face")?;
+    let centre = mesh.position(side);
+    let mut first_failure: Option<String> = None;
+    for halvings in 0..4 {
+        let scale = 0.5f64.powi(halvings);
+        let (r_handle, r_fixed) = (0.08 * diagonal * scale, 0.3 * diagonal * scale);
+        let attempt = (|| -> Result<(usize, usize), String> {
+            let handle = mesh
+                .select_edge_ball(&[side], r_handle)
+                .map_err(|e| e.to_string())?;
+            let near = mesh
+                .select_edge_ball(&[side], r_fixed)
+                .map_err(|e| e.to_string())?;
+            let fixed: Vec<VertexId> = mesh
+                .vertices()
+                .filter(|&v| !near.contains(mesh, v))
+                .collect();
+            let regions = Regions::from_sets(mesh, &handle.vertices(mesh), &fixed)
+                .map_err(|e| e.to_string())?;
+            let n_deformable = regions.deformable().len();
+            let n_handle = regions.handle().len();
+            let options = BlendOptions {
+                distance: DistanceKind::Geodesic,
+                shape: ShapeFunction::Smoothstep,
+            };
+            let mut blend =
+                progress::step(large, "B&K: geodesic distances (fast marching)", || {
+                    BlendSession::new(mesh, regions, options)
+                })
+                .map_err(|e| e.to_string())?;
+            let rotation = DMat4::from_translation(centre)
+                * DMat4::from_axis_angle(DVec3::Z, 25f64.to_radians())
+                * DMat4::from_translation(-centre)
+                * DMat4::from_translation(-DVec3::X * 0.05 * diagonal * scale);
+            blend.apply(mesh, rotation).map_err(|e| e.to_string())?;
+            Ok((n_handle, n_deformable))
+        })();
+        match attempt {
+            Ok((n_handle, n_deformable)) => {
+                let detail = format!(
+                    "handle of {n_handle} vertices within {r_handle:.3} of v{} (furthest \
+                     along -x) rotated 25° and pulled; {n_deformable} deformable vertices, \
+                     fixed beyond {r_fixed:.3}",
+                    mesh.vertex_index(side)
+                );
+                let note = (halvings > 0).then(|| {
+                    format!(
+                        "the Bendels & Klein regions at 8 % / 30 % of the diagonal could not be \
+                         used ({}); used {:.1} % / {:.1} %",
+                        first_failure.as_deref().unwrap_or("?"),
+                        8.0 * scale,
+                        30.0 * scale
+                    )
+                });
+                return Ok((detail, note));
+            }
+            Err(e) => {
+                first_failure.get_or_insert(e);
+            }
+        }
+    }
+    Err(format!(
+        "no handle and fixed region around the vertex furthest along -x work, down to 1 % / \
+         3.75 % of the diagonal (first: {})",
+        first_failure.unwrap_or_default()
+    ))
 }

@@ -1,5 +1,6 @@
-//! Simple meshes for tests and benches, and 1-to-4 midpoint subdivision (used to make
-//! meshes of millions of triangles from real ones).
+//! Simple meshes for tests and benches — a grid (open), an icosphere (closed, genus 0),
+//! a torus (genus 1), several meshes as one (several components) — and 1-to-4 midpoint
+//! subdivision (used to make meshes of millions of triangles from real ones).
 
 use std::collections::HashMap;
 
@@ -91,6 +92,73 @@ pub fn icosphere(level: usize) -> Mesh {
         }
     }
     mesh
+}
+
+/// A torus around the z axis: tube centre radius `major`, tube radius `minor`, `nu`
+/// quads around the axis and `nv` around the tube, each split into two triangles,
+/// faces facing outwards; genus 1, closed. Vertex `i + j nu` sits at angle `2π i / nu`
+/// around the axis and `2π j / nv` around the tube (`j = 0` on the outer equator).
+///
+/// # Errors
+/// [`Error::InvalidArgument`](crate::Error::InvalidArgument) when `nu` or `nv` is below
+/// 3, a radius is not finite, or `minor` is not in `(0, major)`.
+pub fn torus(major: f64, minor: f64, nu: usize, nv: usize) -> crate::Result<Mesh> {
+    if nu < 3 || nv < 3 || !(minor > 0.0 && minor < major && major.is_finite()) {
+        return Err(crate::Error::InvalidArgument(format!(
+            "a torus needs nu, nv ≥ 3 and 0 < minor < major, got {nu}, {nv}, {minor}, {major}"
+        )));
+    }
+    let (n, m) = (nu, nv);
+    let count = n.checked_mul(m).filter(|&c| c < u32::MAX as usize / 2);
+    let Some(count) = count else {
+        return Err(crate::Error::InvalidArgument(format!(
+            "a torus of {nu} × {nv} quads is too large"
+        )));
+    };
+    let mut positions = Vec::with_capacity(count);
+    for j in 0..m {
+        for i in 0..n {
+            let u = i as f64 / n as f64 * std::f64::consts::TAU;
+            let v = j as f64 / m as f64 * std::f64::consts::TAU;
+            let r = major + minor * v.cos();
+            positions.push(DVec3::new(r * u.cos(), r * u.sin(), minor * v.sin()));
+        }
+    }
+    let id = |i: usize, j: usize| ((i % n) + (j % m) * n) as u32;
+    let mut triangles = Vec::with_capacity(2 * count);
+    for j in 0..m {
+        for i in 0..n {
+            triangles.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+            triangles.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+        }
+    }
+    Ok(Mesh::from_triangles(&positions, &triangles)?.0)
+}
+
+/// Several meshes as one, each a component of its own: the live vertices of each mesh
+/// in order (the first mesh's first), the faces likewise. A mesh with separate eyes,
+/// teeth or nails is made this way in tests.
+///
+/// # Errors
+/// [`Error::EmptyInput`](crate::Error::EmptyInput) when the meshes have no vertex;
+/// [`Error::InvalidArgument`](crate::Error::InvalidArgument) for more vertices than
+/// 32-bit indices address.
+pub fn disjoint_union(meshes: &[&Mesh]) -> crate::Result<Mesh> {
+    let mut positions: Vec<[f64; 3]> = Vec::new();
+    let mut triangles: Vec<[u32; 3]> = Vec::new();
+    for mesh in meshes {
+        let Ok(base) =
+            u32::try_from(positions.len() + mesh.n_vertices()).map(|_| positions.len() as u32)
+        else {
+            return Err(crate::Error::InvalidArgument(
+                "the meshes have more vertices than 32-bit indices address".into(),
+            ));
+        };
+        let (p, t) = mesh.to_arrays();
+        positions.extend(p);
+        triangles.extend(t.into_iter().map(|t| t.map(|i| i + base)));
+    }
+    Ok(Mesh::from_arrays(&positions, &triangles)?.0)
 }
 
 /// 1-to-4 midpoint subdivision: a new vertex at the midpoint of every edge, every

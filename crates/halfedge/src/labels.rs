@@ -1,5 +1,5 @@
 //! Sub-mesh labels (the seed paper "Interactive Editing of Multiresolution Meshes",
-//! section 4.1, Figs. 2 and 4; DESIGN.md §2).
+//! section 4.1, Figs. 2 and 4).
 //!
 //! A sub-mesh is a set of vertices with the same [`Label`], kept in the vertex attribute
 //! named [`LABEL_ATTRIBUTE`]. Sub-meshes are separated by a **frontier**, a closed loop of
@@ -13,6 +13,20 @@
 //! [`Mesh::label_sides`] gives the faces left of the loop one label and those right of it
 //! another, and fails with [`Error::InvalidFrontier`] when the loop does not separate the
 //! mesh (a face region touches both of its sides).
+//!
+//! **Which side is which.** A frontier cut by a plane is walked so that its *left* side
+//! is the side the plane's normal points to: `label_sides(&frontier, above, below)`.
+//! Every frontier has a *side plane* ([`Frontier::side_plane`]) whose normal points to
+//! its left side: the cutting plane, or for a loop through picks or around a collar the
+//! plane through the loop's centroid along its vector area. Components of the mesh the
+//! frontier does not cross (separate eyes, nails, teeth) go to the side their centroid
+//! lies on, so cutting off a character's head takes its eyes along.
+//!
+//! **Several sub-meshes.** [`Mesh::label_sides_with`] writes only the labels it is given
+//! and leaves the others alone: cut off the head with `label_sides_with(&neck,
+//! Some(HEAD), None)`, then an arm with `label_sides_with(&shoulder, Some(ARM), None)`,
+//! and the mesh holds both sub-meshes (and the rest keeps its label). Each cut seals its
+//! part off with frontier vertices, so no edge ever joins two sub-meshes.
 //!
 //! **Faces** derive their label from their vertices ([`Mesh::face_label`]): a face belongs
 //! to the sub-mesh of its non-frontier vertices when they all agree; a face whose three
@@ -43,11 +57,31 @@ pub const FRONTIER: Label = u32::MAX;
 pub const LABEL_ATTRIBUTE: &str = "submesh";
 
 /// A closed loop of edges separating sub-meshes: halfedges in walking order, each
-/// starting where the previous one ends.
-#[derive(Clone, Debug, PartialEq, Eq)]
+/// starting where the previous one ends; with the plane it was cut by, if any.
+#[derive(Clone, Debug)]
 pub struct Frontier {
     halfedges: Vec<HalfedgeId>,
+    /// The cutting plane (point, unit normal towards the left side), for frontiers made
+    /// by [`Mesh::frontier_from_plane`].
+    plane: Option<(DVec3, DVec3)>,
 }
+
+/// Frontiers are equal when they walk the same halfedges and were cut by the same plane
+/// (bit for bit), or both by none.
+impl PartialEq for Frontier {
+    fn eq(&self, other: &Self) -> bool {
+        let bits = |p: &Option<(DVec3, DVec3)>| {
+            p.map(|(a, b)| {
+                (
+                    a.to_array().map(f64::to_bits),
+                    b.to_array().map(f64::to_bits),
+                )
+            })
+        };
+        self.halfedges == other.halfedges && bits(&self.plane) == bits(&other.plane)
+    }
+}
+impl Eq for Frontier {}
 
 impl Frontier {
     /// A frontier from halfedges in walking order.
@@ -86,7 +120,10 @@ impl Frontier {
                 )));
             }
         }
-        Ok(Self { halfedges })
+        Ok(Self {
+            halfedges,
+            plane: None,
+        })
     }
     /// The loop's halfedges in walking order.
     pub fn halfedges(&self) -> &[HalfedgeId] {
@@ -99,7 +136,8 @@ impl Frontier {
             .map(|&h| mesh.from_vertex(h))
             .collect()
     }
-    /// The same loop walked the other way (left and right swap).
+    /// The same loop walked the other way (left and right swap; a cutting plane's
+    /// normal is flipped with them).
     pub fn reversed(&self, mesh: &Mesh) -> Self {
         Self {
             halfedges: self
@@ -108,20 +146,58 @@ impl Frontier {
                 .rev()
                 .map(|&h| mesh.opposite(h))
                 .collect(),
+            plane: self.plane.map(|(p, n)| (p, -n)),
         }
+    }
+    /// The plane the frontier was cut by ([`Mesh::frontier_from_plane`]): a point and
+    /// the unit normal, which points to the frontier's left side.
+    pub fn plane(&self) -> Option<(DVec3, DVec3)> {
+        self.plane
+    }
+    /// The plane that tells the frontier's sides apart in space: the cutting
+    /// [`plane`](Self::plane), else the plane through the centroid of the loop's
+    /// vertices whose normal is the loop's vector area `½ Σ pᵢ × pᵢ₊₁` (for a loop walked
+    /// around a tube or a cap, it points to the loop's left side). Its normal points to
+    /// the left side. `None` when the loop has no vector area (it is folded onto itself)
+    /// or a halfedge is stale.
+    pub fn side_plane(&self, mesh: &Mesh) -> Option<(DVec3, DVec3)> {
+        if self.plane.is_some() {
+            return self.plane;
+        }
+        if self.halfedges.iter().any(|&h| !mesh.is_valid_halfedge(h)) {
+            return None;
+        }
+        let points: Vec<DVec3> = self
+            .vertices(mesh)
+            .iter()
+            .map(|&v| mesh.position(v))
+            .collect();
+        let centroid = points.iter().sum::<DVec3>() / points.len() as f64;
+        let mut area = DVec3::ZERO;
+        let mut length = 0.0;
+        for (i, &p) in points.iter().enumerate() {
+            let q = points[(i + 1) % points.len()];
+            area += 0.5 * (p - centroid).cross(q - centroid);
+            length += p.distance(q);
+        }
+        let normal = area.try_normalize()?;
+        (area.length() > 1e-9 * length * length).then_some((centroid, normal))
     }
 }
 
 /// What [`Mesh::label_sides`] did.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct SideCounts {
-    /// Faces left of the frontier.
+    /// Faces left of the frontier, components it does not cross included (see
+    /// [`Mesh::label_sides`]).
     pub left_faces: usize,
-    /// Faces right of the frontier (and of components the frontier does not touch).
+    /// Faces right of the frontier, components it does not cross included (see
+    /// [`Mesh::label_sides`]).
     pub right_faces: usize,
-    /// Vertices labelled with the left label.
+    /// Vertices given the left label (0 when [`Mesh::label_sides_with`] leaves that
+    /// side alone).
     pub left_vertices: usize,
-    /// Vertices labelled with the right label.
+    /// Vertices given the right label (0 when that side is left alone).
     pub right_vertices: usize,
     /// Vertices on the frontier.
     pub frontier_vertices: usize,
@@ -262,6 +338,10 @@ impl Mesh {
     /// endpoint nearest to the plane, consecutive vertices (which share a face) are joined
     /// by their edge, and back-and-forth spikes and small side loops are cut away.
     ///
+    /// The loop is walked so that its **left side is the side `normal` points to**
+    /// (`label_sides(&frontier, above, below)`), and it remembers the plane
+    /// ([`Frontier::plane`]).
+    ///
     /// # Errors
     /// [`Error::InvalidArgument`] for a zero or non-finite normal or point;
     /// [`Error::InvalidFrontier`] when the plane misses the mesh, or when the section
@@ -347,7 +427,24 @@ impl Mesh {
                 })?),
             }
         }
-        Frontier::new(self, halfedges)
+        let mut frontier = Frontier::new(self, halfedges)?;
+        // Left is the normal's side: each loop edge votes with how much higher (along the
+        // normal) the far corner of its left face lies than that of its right face.
+        let far = |h: HalfedgeId| -> f64 {
+            self.face(h).map_or(0.0, |_| {
+                dist[self.vertex_index(self.to_vertex(self.next(h)))]
+            })
+        };
+        let vote: f64 = frontier
+            .halfedges()
+            .iter()
+            .map(|&h| far(h) - far(self.opposite(h)))
+            .sum();
+        if vote < 0.0 {
+            frontier = frontier.reversed(self);
+        }
+        frontier.plane = Some((point, n));
+        Ok(frontier)
     }
 
     /// Walks the section curve through crossing edge `e`: the crossed edges in order
@@ -415,9 +512,13 @@ impl Mesh {
     }
 
     /// Labels the two sides of `frontier`: vertices of faces left of the loop get `left`,
-    /// the others `right` (components the loop does not touch included), the loop's
-    /// vertices [`FRONTIER`]. Returns the label attribute ([`Mesh::label_attribute`]) and
-    /// the counts.
+    /// the others `right`, the loop's vertices [`FRONTIER`]. Components of the mesh the
+    /// loop does not cross go to the side of the frontier's
+    /// [`side_plane`](Frontier::side_plane) their area-weighted centroid lies on (to the
+    /// right when the loop has no side plane); isolated vertices (no face, such as a
+    /// scan's unreferenced points) go to the right. For a frontier cut by a plane the
+    /// left side is the side its normal points to. Returns the label attribute
+    /// ([`Mesh::label_attribute`]) and the counts.
     ///
     /// # Errors
     /// [`Error::InvalidArgument`] when `left == right` or either is [`FRONTIER`], or when
@@ -431,9 +532,36 @@ impl Mesh {
         left: Label,
         right: Label,
     ) -> Result<(Attribute<VertexId, Label>, SideCounts)> {
-        if left == right || left == FRONTIER || right == FRONTIER {
+        if left == right {
             return Err(Error::InvalidArgument(format!(
-                "the two sides need distinct labels other than FRONTIER, got {left} and {right}"
+                "the two sides need distinct labels, got {left} twice"
+            )));
+        }
+        self.label_sides_with(frontier, Some(left), Some(right))
+    }
+
+    /// [`label_sides`](Self::label_sides) writing only the labels given: `None` leaves
+    /// the labels of that side's vertices as they are. The loop's vertices always become
+    /// [`FRONTIER`]. This keeps several sub-meshes in one mesh: cut each part off with
+    /// `label_sides_with(&frontier, Some(part), None)` (see the module docs); the new
+    /// part is sealed by its frontier whatever was labelled before.
+    ///
+    /// # Errors
+    /// [`Error::InvalidArgument`] when both labels are `None`, equal, or [`FRONTIER`];
+    /// otherwise as [`label_sides`](Self::label_sides). Nothing is changed on error.
+    pub fn label_sides_with(
+        &mut self,
+        frontier: &Frontier,
+        left: Option<Label>,
+        right: Option<Label>,
+    ) -> Result<(Attribute<VertexId, Label>, SideCounts)> {
+        if left.is_none() && right.is_none()
+            || left == Some(FRONTIER)
+            || right == Some(FRONTIER)
+            || (left.is_some() && left == right)
+        {
+            return Err(Error::InvalidArgument(format!(
+                "the sides need labels other than FRONTIER, distinct, at least one of them, got {left:?} and {right:?}"
             )));
         }
         for &h in frontier.halfedges() {
@@ -462,8 +590,38 @@ impl Mesh {
                 "the loop has no face on its left side".into(),
             ));
         }
+        // Regions the loop does not touch go by their centroid.
+        let plane = frontier.side_plane(self);
+        let on_left = |p: DVec3| plane.is_some_and(|(o, n)| n.dot(p - o) > 0.0);
+        if sides.contains(&0) {
+            let mut weighted = vec![(DVec3::ZERO, 0.0f64, DVec3::ZERO, 0usize); sides.len()];
+            for f in self.faces() {
+                let r = region[self.face_index(f)] as usize;
+                if sides[r] == 0 {
+                    let area = self.face_area(f);
+                    let c = self.face_centroid(f);
+                    let w = &mut weighted[r];
+                    w.0 += area * c;
+                    w.1 += area;
+                    w.2 += c;
+                    w.3 += 1;
+                }
+            }
+            for (r, s) in sides.iter_mut().enumerate() {
+                if *s == 0 {
+                    let (sum, area, plain, n) = weighted[r];
+                    let centroid = if area > 0.0 {
+                        sum / area
+                    } else {
+                        plain / n.max(1) as f64
+                    };
+                    *s = if on_left(centroid) { 1 } else { 2 };
+                }
+            }
+        }
+        let label_of = |side: u8| if side == 1 { left } else { right };
         let attribute = self.label_attribute()?;
-        let mut labels = vec![right; self.vertex_slots()];
+        let mut labels: Vec<Option<Label>> = vec![None; self.vertex_slots()];
         let mut counts = SideCounts {
             left_faces: 0,
             right_faces: 0,
@@ -471,26 +629,39 @@ impl Mesh {
             right_vertices: 0,
             frontier_vertices: 0,
         };
+        for v in self.vertices() {
+            if self.is_isolated(v) {
+                labels[self.vertex_index(v)] = right;
+            }
+        }
         for f in self.faces() {
-            if sides[region[self.face_index(f)] as usize] == 1 {
+            let side = sides[region[self.face_index(f)] as usize];
+            if side == 1 {
                 counts.left_faces += 1;
-                for v in self.face_vertices(f) {
-                    labels[self.vertex_index(v)] = left;
-                }
             } else {
                 counts.right_faces += 1;
             }
+            if let Some(l) = label_of(side) {
+                for v in self.face_vertices(f) {
+                    labels[self.vertex_index(v)] = Some(l);
+                }
+            }
         }
         for &h in frontier.halfedges() {
-            labels[self.vertex_index(self.from_vertex(h))] = FRONTIER;
+            labels[self.vertex_index(self.from_vertex(h))] = Some(FRONTIER);
         }
         let values = self.attribute_values_mut(attribute);
-        values[..labels.len()].copy_from_slice(&labels);
+        for (value, label) in values.iter_mut().zip(&labels) {
+            if let Some(l) = *label {
+                *value = l;
+            }
+        }
         for v in self.vertices() {
             match labels[self.vertex_index(v)] {
-                FRONTIER => counts.frontier_vertices += 1,
-                l if l == left => counts.left_vertices += 1,
-                _ => counts.right_vertices += 1,
+                Some(FRONTIER) => counts.frontier_vertices += 1,
+                Some(l) if Some(l) == left => counts.left_vertices += 1,
+                Some(_) => counts.right_vertices += 1,
+                None => {}
             }
         }
         Ok((attribute, counts))

@@ -12,6 +12,9 @@
 //! - [Collapse and vertex split](collapse), the progressive [`Hierarchy`] with centroid
 //!   detail coefficients (rounds or QEM, module [`hierarchy`]) and sub-mesh
 //!   [`labels`] that hold across its levels.
+//! - [`selection`] (nearest and extreme vertices, Euclidean and edge-path balls,
+//!   components, grow / shrink / select linked) and [`bvh`] (picking along a ray).
+//! - Plain arrays in and out: [`Mesh::from_arrays`] / [`Mesh::to_arrays`].
 //!
 //! ```
 //! use halfedge::generators;
@@ -23,8 +26,10 @@
 //! ```
 
 mod add_face;
+pub mod arrays;
 pub mod attributes;
 pub mod build;
+pub mod bvh;
 mod check;
 pub mod collapse;
 mod compact_build;
@@ -41,6 +46,7 @@ pub mod labels;
 mod mesh;
 mod paths;
 mod prefetch;
+pub mod selection;
 mod split;
 mod topology;
 
@@ -49,9 +55,11 @@ pub use build::{AddFaceError, BuildReport};
 pub use collapse::{CollapseRecord, CollapseVeto};
 pub use error::{Error, Invariant, Result};
 pub use handle::{FaceId, HalfedgeId, VertexId};
+pub use hierarchy::outcome::BuildOutcome;
 pub use hierarchy::{BuildProgress, DetailMode, Hierarchy, HierarchyOptions, Method};
 pub use labels::{Frontier, Label, SideCounts, FRONTIER};
 pub use mesh::Mesh;
+pub use selection::{Component, Selection};
 pub use topology::TopologyReport;
 
 pub use glam::DVec3;

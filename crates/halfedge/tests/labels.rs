@@ -358,3 +358,261 @@ fn labels_defined_at_the_fine_level_hold_at_every_level() {
     h.refine_to(0).unwrap();
     assert_eq!(h.mesh().attribute_values(labels), &fine[..]);
 }
+
+/// Vertices of `mesh` with label `label`, as positions.
+fn positions_labelled(mesh: &Mesh, labels: Attribute<VertexId, Label>, label: Label) -> Vec<DVec3> {
+    mesh.vertices_labelled(labels, label)
+        .into_iter()
+        .map(|v| mesh.position(v))
+        .collect()
+}
+
+#[test]
+fn a_plane_frontier_puts_the_normal_side_on_the_left() {
+    // Closed (sphere), genus 1 (torus: the plane x = 1.1 cuts a cap off the outer side
+    // of the tube) and open (a grid with a bump, cut around the bump).
+    let mut bump = generators::grid(24, 24, 2.0, 2.0);
+    for p in bump.positions_mut() {
+        p.z = (-((p.x - 1.0).powi(2) + (p.y - 1.0).powi(2)) / 0.1).exp();
+    }
+    let cases = [
+        (
+            generators::icosphere(3),
+            DVec3::new(0.1, 0.2, 0.3),
+            DVec3::Z,
+        ),
+        (
+            generators::icosphere(3),
+            DVec3::new(0.0, -0.4, 0.0),
+            DVec3::new(0.3, -1.0, 0.2),
+        ),
+        (
+            generators::torus(1.0, 0.35, 40, 16).unwrap(),
+            DVec3::new(1.1, 0.0, 0.0),
+            DVec3::X,
+        ),
+        (bump, DVec3::new(1.0, 1.0, 0.5), DVec3::Z),
+    ];
+    for (k, (mesh, point, normal)) in cases.into_iter().enumerate() {
+        let n = normal.normalize();
+        let edge = 2.0 * mesh.mean_edge_length();
+        for flip in [1.0, -1.0] {
+            let mut mesh = mesh.clone();
+            let frontier = mesh.frontier_from_plane(point, flip * n).unwrap();
+            assert_eq!(frontier.plane(), Some((point, flip * n)));
+            let (labels, counts) = mesh.label_sides(&frontier, 1, 2).unwrap();
+            assert_separated(&mesh, labels);
+            assert!(counts.left_vertices > 0 && counts.right_vertices > 0, "{k}");
+            for p in positions_labelled(&mesh, labels, 1) {
+                assert!(
+                    flip * n.dot(p - point) > -edge,
+                    "case {k}: left vertex {p} below"
+                );
+            }
+            for p in positions_labelled(&mesh, labels, 2) {
+                assert!(
+                    flip * n.dot(p - point) < edge,
+                    "case {k}: right vertex {p} above"
+                );
+            }
+            // The reversed loop swaps the sides and flips the plane.
+            let reversed = frontier.reversed(&mesh);
+            assert_eq!(reversed.plane(), Some((point, -flip * n)));
+            let (back, swapped) = mesh.label_sides(&reversed, 1, 2).unwrap();
+            assert_eq!(
+                (swapped.left_faces, swapped.right_faces),
+                (counts.right_faces, counts.left_faces)
+            );
+            assert_eq!(format!("{back:?}"), format!("{labels:?}"));
+        }
+    }
+}
+
+/// A head (unit sphere) with an eye above the cut and a tooth below it: separate
+/// components.
+fn head_eye_tooth() -> Mesh {
+    let head = generators::icosphere(3);
+    let small = |centre: DVec3| {
+        let mut m = generators::icosphere(1);
+        for p in m.positions_mut() {
+            *p = *p * 0.1 + centre;
+        }
+        m
+    };
+    let eye = small(DVec3::new(0.3, 0.7, 0.75));
+    let tooth = small(DVec3::new(0.0, -0.2, 0.95));
+    generators::disjoint_union(&[&head, &eye, &tooth]).unwrap()
+}
+
+#[test]
+fn components_the_frontier_does_not_cross_go_to_the_side_of_their_centroid() {
+    let mut mesh = head_eye_tooth();
+    let head = generators::icosphere(3).n_vertices();
+    let eye = |i: usize| (head..head + 42).contains(&i);
+    let tooth = |i: usize| i >= head + 42;
+    // Cut at y = 0.5: the eye's centroid is above, the tooth's below.
+    let frontier = mesh
+        .frontier_from_plane(DVec3::new(0.0, 0.5, 0.0), DVec3::Y)
+        .unwrap();
+    let (labels, counts) = mesh.label_sides(&frontier, 1, 2).unwrap();
+    assert_separated(&mesh, labels);
+    for v in mesh.vertices() {
+        let i = mesh.vertex_index(v);
+        let l = *mesh.attribute(labels, v);
+        if eye(i) {
+            assert_eq!(l, 1, "the eye goes with the top of the head");
+        }
+        if tooth(i) {
+            assert_eq!(l, 2, "the tooth stays with the bottom");
+        }
+    }
+    assert_eq!(counts.left_faces + counts.right_faces, mesh.n_faces());
+    // Downwards, the sides swap and the eye and tooth with them.
+    let down = mesh
+        .frontier_from_plane(DVec3::new(0.0, 0.5, 0.0), -DVec3::Y)
+        .unwrap();
+    let (labels, _) = mesh.label_sides(&down, 1, 2).unwrap();
+    for v in mesh.vertices() {
+        let i = mesh.vertex_index(v);
+        if eye(i) {
+            assert_eq!(*mesh.attribute(labels, v), 2);
+        }
+        if tooth(i) {
+            assert_eq!(*mesh.attribute(labels, v), 1);
+        }
+    }
+    // A loop through picks has no cutting plane: its side plane is fitted to the loop,
+    // with the normal on the loop's left, and the eye goes to the side of the cap it is on.
+    let section = mesh
+        .frontier_from_plane(DVec3::new(0.0, 0.5, 0.0), DVec3::Y)
+        .unwrap();
+    let ring = section.vertices(&mesh);
+    let picks: Vec<VertexId> = (0..5).map(|k| ring[k * ring.len() / 5]).collect();
+    let picked = mesh.frontier_through(&picks).unwrap();
+    assert_eq!(picked.plane(), None);
+    let (origin, normal) = picked.side_plane(&mesh).unwrap();
+    assert!((origin.y - 0.5).abs() < 0.1, "{origin}");
+    assert!(normal.y.abs() > 0.95, "{normal}");
+    let (labels, _) = mesh.label_sides(&picked, 1, 2).unwrap();
+    assert_separated(&mesh, labels);
+    let top = mesh.extreme_vertex(DVec3::Y).unwrap().unwrap();
+    let cap = *mesh.attribute(labels, top);
+    for v in mesh.vertices() {
+        let i = mesh.vertex_index(v);
+        if eye(i) {
+            assert_eq!(*mesh.attribute(labels, v), cap, "the eye goes with the cap");
+        }
+        if tooth(i) {
+            assert_ne!(*mesh.attribute(labels, v), cap);
+        }
+    }
+}
+
+#[test]
+fn several_sub_meshes_live_in_one_mesh_and_hold_through_the_hierarchy() {
+    let mut mesh = head_eye_tooth();
+    let labels = mesh.label_attribute().unwrap();
+    // The top cap (with the eye) as sub-mesh 1, the bottom cap as sub-mesh 2; the band
+    // between keeps label 0.
+    let top = mesh
+        .frontier_from_plane(DVec3::new(0.0, 0.5, 0.0), DVec3::Y)
+        .unwrap();
+    let (a, top_counts) = mesh.label_sides_with(&top, Some(1), None).unwrap();
+    assert_eq!(format!("{a:?}"), format!("{labels:?}"));
+    assert_eq!(top_counts.right_vertices, 0);
+    let after_top: Vec<Label> = mesh.attribute_values(labels).to_vec();
+    let bottom = mesh
+        .frontier_from_plane(DVec3::new(0.0, -0.5, 0.0), -DVec3::Y)
+        .unwrap();
+    let (_, bottom_counts) = mesh.label_sides_with(&bottom, Some(2), None).unwrap();
+    assert!(bottom_counts.left_vertices > 10);
+    for v in mesh.vertices() {
+        let (i, p) = (mesh.vertex_index(v), mesh.position(v));
+        let l = *mesh.attribute(labels, v);
+        if p.y > 0.6 {
+            assert_eq!(l, 1, "{p}: the top cap keeps its label");
+        } else if p.y < -0.6 {
+            assert_eq!(l, 2, "{p}");
+        } else if p.y.abs() < 0.4 && i < generators::icosphere(3).n_vertices() {
+            assert_eq!(l, 0, "{p}: the band is untouched");
+        }
+        // The second cut wrote only its own side and loop.
+        if p.y > 0.0 {
+            assert_eq!(l, after_top[i]);
+        }
+    }
+    assert_separated(&mesh, labels);
+    // Both parts keep their labels at every level of a hierarchy built now, and come
+    // back exactly.
+    let fine: Vec<Label> = mesh.attribute_values(labels).to_vec();
+    let mut h = Hierarchy::build(mesh, &HierarchyOptions::rounds().with_max_levels(3)).unwrap();
+    // The labels were defined at the input level.
+    h.refine_to(0).unwrap();
+    h.attach_labels(labels);
+    for level in [3, 1, 2, 0] {
+        h.go_to_level(level).unwrap();
+        assert_eq!(h.mesh().attribute_values(labels), &fine[..]);
+    }
+    assert_separated(h.mesh(), labels);
+    // Defined at a coarse level, two parts reach the fine mesh separated.
+    h.go_to_level(2).unwrap();
+    let mesh = h.mesh_mut();
+    for v in mesh.vertices().collect::<Vec<_>>() {
+        *mesh.attribute_mut(labels, v) = 0;
+    }
+    let top = mesh
+        .frontier_from_plane(DVec3::new(0.0, 0.4, 0.0), DVec3::Y)
+        .unwrap();
+    mesh.label_sides_with(&top, Some(1), None).unwrap();
+    let bottom = mesh
+        .frontier_from_plane(DVec3::new(0.0, -0.4, 0.0), -DVec3::Y)
+        .unwrap();
+    mesh.label_sides_with(&bottom, Some(2), None).unwrap();
+    h.labels_defined_here();
+    h.go_to_level(0).unwrap();
+    let mesh = h.mesh();
+    assert_separated(mesh, labels);
+    let count = |l: Label| mesh.vertices_labelled(labels, l).len();
+    assert!(
+        count(1) > 50 && count(2) > 50 && count(0) > 50,
+        "{} {} {}",
+        count(0),
+        count(1),
+        count(2)
+    );
+}
+
+#[test]
+fn label_sides_with_refuses_bad_labels_and_changes_nothing() {
+    let mut mesh = generators::icosphere(2);
+    let frontier = mesh.frontier_from_plane(DVec3::ZERO, DVec3::Z).unwrap();
+    for (left, right) in [
+        (None, None),
+        (Some(FRONTIER), None),
+        (None, Some(FRONTIER)),
+        (Some(3), Some(3)),
+    ] {
+        assert!(matches!(
+            mesh.label_sides_with(&frontier, left, right),
+            Err(Error::InvalidArgument(_))
+        ));
+    }
+    assert!(mesh
+        .find_attribute::<VertexId, Label>(LABEL_ATTRIBUTE)
+        .is_none());
+    // Writing only the right side leaves the left side's labels alone.
+    let labels = mesh.label_attribute().unwrap();
+    for v in mesh.vertices().collect::<Vec<_>>() {
+        *mesh.attribute_mut(labels, v) = 7;
+    }
+    mesh.label_sides_with(&frontier, None, Some(4)).unwrap();
+    for v in mesh.vertices() {
+        let (z, l) = (mesh.position(v).z, *mesh.attribute(labels, v));
+        match l {
+            7 => assert!(z > -0.1),
+            4 => assert!(z < 0.1),
+            FRONTIER => {}
+            other => panic!("label {other}"),
+        }
+    }
+}

@@ -74,7 +74,7 @@ fn picking(c: &mut Criterion) {
             |b, m| {
                 b.iter(|| {
                     rays.iter()
-                        .filter(|r| bvh.intersect(m, r).is_some())
+                        .filter(|r| matches!(bvh.intersect(m, r), Ok(Some(_))))
                         .count()
                 })
             },

@@ -22,7 +22,7 @@ use three_d::{ClearState, Event, FrameInput, FrameOutput, Key, MouseButton, GUI}
 
 use crate::camera::{OrbitCamera, Ray, UpAxis, Viewport};
 use crate::colors::{legend_ui, ColorLayer, Colormap, Display};
-use crate::document::{Document, Revision};
+use crate::document::Document;
 use crate::pick::Bvh;
 use crate::render::{RenderSettings, SceneRenderer};
 use crate::script::{Action, DragTarget, Shading, Step};
@@ -106,7 +106,7 @@ pub struct App {
     camera: OrbitCamera,
     renderer: SceneRenderer,
     settings: RenderSettings,
-    bvh: Option<(Bvh, Revision)>,
+    bvh: Option<Bvh>,
     pick: Option<Pick>,
     gesture: Gesture,
     viewport: Viewport,
@@ -388,17 +388,12 @@ impl App {
         }
     }
 
-    /// Brings the picking structure up to date with the mesh.
+    /// Brings the picking structure up to date with the mesh (a refit after moves, a
+    /// rebuild after a topology change or a new mesh).
     fn bvh(&mut self) {
-        let rev = self.doc.revision();
         match &mut self.bvh {
-            Some((bvh, built)) if built.topology == rev.topology => {
-                if built.geometry != rev.geometry {
-                    bvh.refit(self.doc.mesh());
-                    built.geometry = rev.geometry;
-                }
-            }
-            _ => self.bvh = Some((Bvh::build(self.doc.mesh()), rev)),
+            Some(bvh) => bvh.update(self.doc.mesh()),
+            None => self.bvh = Some(Bvh::build(self.doc.mesh())),
         }
     }
 
@@ -411,8 +406,8 @@ impl App {
     /// What `ray` hits on the mesh.
     fn cast(&mut self, ray: &Ray) -> Option<Pick> {
         self.bvh();
-        let bvh = &self.bvh.as_ref().expect("built by bvh()").0;
-        let hit = bvh.intersect(self.doc.mesh(), ray)?;
+        let bvh = self.bvh.as_ref()?;
+        let hit = bvh.intersect(self.doc.mesh(), ray).ok()??;
         Some(Pick {
             vertex: hit.nearest_vertex,
             face: Some(hit.face),

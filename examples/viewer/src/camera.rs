@@ -61,31 +61,8 @@ impl UpAxis {
     }
 }
 
-/// A ray `origin + t·direction`, `t ≥ 0`, with a unit direction.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Ray {
-    /// Start point (the eye).
-    pub origin: DVec3,
-    /// Unit direction.
-    pub direction: DVec3,
-}
-
-impl Ray {
-    /// The point at parameter `t`.
-    pub fn at(&self, t: f64) -> DVec3 {
-        self.origin + t * self.direction
-    }
-    /// Intersection with the plane through `point` with normal `normal`; `None` when the
-    /// ray is parallel to the plane or the plane is behind the origin.
-    pub fn intersect_plane(&self, point: DVec3, normal: DVec3) -> Option<DVec3> {
-        let denom = self.direction.dot(normal);
-        if denom.abs() < 1e-12 {
-            return None;
-        }
-        let t = (point - self.origin).dot(normal) / denom;
-        (t >= 0.0).then(|| self.at(t))
-    }
-}
+/// A ray `origin + t·direction` with a unit direction: the library's picking ray.
+pub use halfedge::bvh::Ray;
 
 /// An orbit camera around a target point, with a fixed up axis (no roll).
 #[derive(Clone, Copy, Debug, PartialEq)]

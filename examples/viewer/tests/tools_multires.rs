@@ -513,7 +513,10 @@ fn ffd_press_beyond_the_silhouette_grabs_a_control_point() {
     );
     let ray = camera.ray(px, py, &viewport);
     assert!(
-        Bvh::build(&original).intersect(&original, &ray).is_none(),
+        Bvh::build(&original)
+            .intersect(&original, &ray)
+            .unwrap()
+            .is_none(),
         "the press at ({x}, {y}) should miss the sheet"
     );
     let p = |name: &str| dir.join(name);

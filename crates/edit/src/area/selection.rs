@@ -432,11 +432,15 @@ impl EditingArea {
     }
 }
 
-/// Adds to the area every group of faces outside it that is not the largest such group:
-/// pockets enclosed by the area become part of it.
+/// Adds to the area every group of faces outside it that borders it and is not the
+/// largest such group: pockets enclosed by the area become part of it. Groups that do not
+/// border the area (other components of the mesh) are left out.
 fn fill_pockets(mesh: &Mesh, in_area: &mut [bool]) {
     let mut group = vec![u32::MAX; mesh.face_slots()];
     let mut sizes: Vec<usize> = Vec::new();
+    // Whether a group borders the area: groups that do not (other components of the
+    // mesh) are neither pockets nor the outside.
+    let mut touches: Vec<bool> = Vec::new();
     let mut stack = Vec::new();
     for f in mesh.faces() {
         let fi = mesh.face_index(f);
@@ -445,25 +449,32 @@ fn fill_pockets(mesh: &Mesh, in_area: &mut [bool]) {
         }
         let id = sizes.len() as u32;
         sizes.push(0);
+        touches.push(false);
         group[fi] = id;
         stack.push(f);
         while let Some(g) = stack.pop() {
             sizes[id as usize] += 1;
             for n in mesh.face_neighbors(g) {
                 let ni = mesh.face_index(n);
-                if !in_area[ni] && group[ni] == u32::MAX {
+                if in_area[ni] {
+                    touches[id as usize] = true;
+                } else if group[ni] == u32::MAX {
                     group[ni] = id;
                     stack.push(n);
                 }
             }
         }
     }
-    let Some(largest) = (0..sizes.len()).max_by_key(|&i| sizes[i]) else {
+    let Some(largest) = (0..sizes.len())
+        .filter(|&i| touches[i])
+        .max_by_key(|&i| sizes[i])
+    else {
         return;
     };
     for f in mesh.faces() {
         let fi = mesh.face_index(f);
-        if !in_area[fi] && group[fi] != largest as u32 {
+        let g = group[fi];
+        if !in_area[fi] && g != largest as u32 && touches[g as usize] {
             in_area[fi] = true;
         }
     }
@@ -472,7 +483,31 @@ fn fill_pockets(mesh: &Mesh, in_area: &mut [bool]) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::DVec3;
     use halfedge::generators;
+
+    #[test]
+    fn a_disk_on_one_component_leaves_the_other_components_out() {
+        // A head and two separate eyes: the eyes are not pockets of a disk on the head.
+        let head = generators::icosphere(3);
+        let mut eye = generators::icosphere(1);
+        for p in eye.positions_mut() {
+            *p = *p * 0.1 + DVec3::new(0.3, 0.3, 0.85);
+        }
+        let mut other = eye.clone();
+        for p in other.positions_mut() {
+            p.x -= 0.6;
+        }
+        let mesh = generators::disjoint_union(&[&head, &eye, &other]).unwrap();
+        let front = mesh.extreme_vertex(DVec3::Z).unwrap().unwrap();
+        let area = EditingArea::disk_around(&mesh, front, 60).unwrap();
+        assert!(area.vertices().len() >= 60);
+        let head_vertices = head.n_vertices();
+        assert!(area
+            .vertices()
+            .iter()
+            .all(|&v| mesh.vertex_index(v) < head_vertices));
+    }
 
     fn vertex(mesh: &Mesh, i: usize) -> VertexId {
         mesh.vertex_at(i).unwrap()

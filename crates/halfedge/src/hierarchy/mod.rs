@@ -54,6 +54,7 @@
 pub mod detail;
 pub mod heap;
 pub mod legality;
+pub mod outcome;
 pub mod qem;
 pub mod rounds;
 
@@ -99,6 +100,21 @@ pub enum Method {
 /// hierarchy has [`max_levels`](Self::max_levels) levels below the input, no collapse
 /// within [`max_error`](Self::max_error) remains, or a level removes less than
 /// [`min_level_reduction`](Self::min_level_reduction) of its faces.
+///
+/// **Reaching the face target with rounds.** The paper's planarity criterion (60°) runs
+/// out on coarse levels: stars stop being nearly planar, and rounds stall thousands of
+/// faces above a small target (a 1.6 M-face scan stalls near 8,000). With a face target
+/// and [`relax_when_stalled`](Self::relax_when_stalled) (the default), a round that stalls
+/// short of the target does not end the build: the planarity bound is widened by 15° and
+/// the rounds go on (the stalled round's collapses and the next round's make one level),
+/// again at every stall up to 180° (no planarity test), then the flip bound likewise up
+/// to 90°. Every level above the first stall keeps the paper's criterion, the widened
+/// bounds are kept from the level they were first needed, and
+/// [`Hierarchy::build_outcome`] lists every widening. A build that still cannot reach
+/// the target (every remaining collapse is topologically illegal, for instance separate
+/// small components, or `max_error` forbids it) says why there, with the count of edges
+/// each test refused in the last round. Without a face target the rounds stop at the
+/// first stall, as in the paper. QEM reaches any target its legality rules allow.
 #[derive(Clone, Debug)]
 pub struct HierarchyOptions {
     /// The simplification method.
@@ -139,6 +155,11 @@ pub struct HierarchyOptions {
     /// fine vertex is collapsed into a vertex of its own sub-mesh (or of the frontier, for
     /// frontier vertices). Default true.
     pub respect_labels: bool,
+    /// Rounds with a face target: when a round stalls (removes less than
+    /// [`min_level_reduction`](Self::min_level_reduction)) short of the target, widen the
+    /// planarity bound, then the flip bound, and go on (see the type's docs). Default
+    /// `true`; `false` stops at the first stall, as the paper does.
+    pub relax_when_stalled: bool,
 }
 
 impl Default for HierarchyOptions {
@@ -155,6 +176,7 @@ impl Default for HierarchyOptions {
             min_level_reduction: 0.01,
             detail_mode: DetailMode::LocalFrame,
             respect_labels: true,
+            relax_when_stalled: true,
         }
     }
 }
@@ -207,6 +229,12 @@ impl HierarchyOptions {
     /// Sets [`max_flip_angle`](Self::max_flip_angle) (radians).
     pub fn with_max_flip_angle(mut self, radians: f64) -> Self {
         self.max_flip_angle = radians;
+        self
+    }
+
+    /// Sets [`relax_when_stalled`](Self::relax_when_stalled).
+    pub fn with_relax_when_stalled(mut self, relax: bool) -> Self {
+        self.relax_when_stalled = relax;
         self
     }
 
@@ -346,6 +374,8 @@ pub struct Hierarchy {
     /// was when its record was collapsed, every split restores its recorded positions,
     /// and steps skip the detail coefficients. `None` for good after the first edit.
     clean_positions: Option<u64>,
+    /// How the build ended ([`Hierarchy::build_outcome`]).
+    outcome: outcome::BuildOutcome,
 }
 
 /// The clone's mesh is a mesh instance of its own; the clone trusts it exactly when the
@@ -368,6 +398,7 @@ impl Clone for Hierarchy {
             method: self.method,
             options: self.options.clone(),
             labels: self.labels,
+            outcome: self.outcome.clone(),
         }
     }
 }
@@ -396,7 +427,7 @@ impl Hierarchy {
         Self::build_with_progress(mesh, options, &mut |_| {})
     }
 
-    /// [`build`](Self::build), reporting progress (DESIGN.md §5).
+    /// [`build`](Self::build), reporting progress (levels and faces, for a progress bar).
     ///
     /// # Errors
     /// As [`build`](Self::build).
@@ -443,10 +474,14 @@ impl Hierarchy {
             labels: None,
             stamp: None,
             clean_positions: None,
+            outcome: outcome::BuildOutcome::default(),
         };
         match options.method {
             Method::Rounds => rounds::build(&mut h, options, progress)?,
-            Method::Qem => qem::build(&mut h, options, progress)?,
+            Method::Qem => {
+                qem::build(&mut h, options, progress)?;
+                outcome::finish(&mut h, options, None);
+            }
         }
         report(&h, faces, progress)?;
         h.records.shrink_to_fit();

@@ -1,5 +1,5 @@
 //! The seed paper's simplification in rounds ("Interactive Editing of Multiresolution
-//! Meshes", section 3; DESIGN.md §2).
+//! Meshes", section 3).
 //!
 //! A round visits every live edge once, in index order. An edge `v0v1` collapses when
 //! - it is not locked: neither endpoint is the survivor of a collapse made earlier in
@@ -17,12 +17,18 @@
 //! boundaries are kept. A round is a level; on real meshes a round removes about 45 % of
 //! the faces, as the paper reports. Face normals are cached by face index and refreshed
 //! around each survivor.
+//!
+//! When the rounds stall short of a face target, the bounds are widened step by step and
+//! the rounds go on ([`HierarchyOptions::relax_when_stalled`]); every widening and, when
+//! the target is still not reached, what refused the last round's edges are recorded in
+//! the build's [`outcome`](super::outcome).
 
 use std::ops::ControlFlow;
 
 use glam::{DVec3, Vec3};
 
 use super::legality::{self, Collapse, NewNormals, Placement};
+use super::outcome::{self, Refusals, Relaxation};
 use super::{report, BuildProgress, Hierarchy, HierarchyOptions};
 use crate::{HalfedgeId, Mesh, Result};
 
@@ -83,8 +89,12 @@ pub(crate) fn build(
     progress: &mut dyn FnMut(BuildProgress) -> ControlFlow<()>,
 ) -> Result<()> {
     let input_faces = h.mesh.n_faces();
-    let cos_planar = options.max_normal_deviation.cos();
-    let cos_flip = options.max_flip_angle.cos();
+    let relax = options.relax_when_stalled && options.target_faces > 0;
+    let mut deviation = options.max_normal_deviation;
+    let mut flip = options.max_flip_angle;
+    let mut cos_planar = deviation.cos();
+    let mut cos_flip = flip.cos();
+    let mut refusals = Refusals::default();
     let mut normals = legality::cached_normals(&h.mesh);
     let labels = h.label_constraint(options);
     let mut lock = vec![0u32; h.mesh.vertex_slots()];
@@ -106,6 +116,7 @@ pub(crate) fn build(
     'rounds: while h.built_levels() < options.max_levels && h.mesh.n_faces() > options.target_faces
     {
         round += 1;
+        refusals = Refusals::default();
         let faces_before = h.mesh.n_faces();
         for (j, &i) in edges.iter().enumerate() {
             // The edges' data is scattered over arrays larger than the caches: ask for
@@ -124,12 +135,15 @@ pub(crate) fn build(
                 let o = mesh.opposite(e);
                 let (a, b) = (mesh.from_vertex(e), mesh.to_vertex(e));
                 if lock[mesh.vertex_index(a)] == round || lock[mesh.vertex_index(b)] == round {
+                    refusals.locked += 1;
                     continue;
                 }
                 if star_planarity(mesh, &Collapse::new(mesh, e), &normals) < cos_planar {
+                    refusals.planarity += 1;
                     continue;
                 }
                 let Some((g, placement)) = choose_direction(mesh, e, o, &labels) else {
+                    refusals.topology += 1;
                     continue;
                 };
                 let c = Collapse::new(mesh, g);
@@ -141,9 +155,11 @@ pub(crate) fn build(
                 if options.max_error.is_finite()
                     && star_plane_distance(mesh, &c, p, &normals) > options.max_error
                 {
+                    refusals.error_bound += 1;
                     continue;
                 }
                 if !legality::geometry(mesh, &c, p, &normals, cos_flip, &mut new_normals) {
+                    refusals.geometry += 1;
                     continue;
                 }
                 (g, p, t)
@@ -165,13 +181,47 @@ pub(crate) fn build(
         let mesh = &h.mesh;
         edges.retain(|&i| mesh.halfedge_at(i as usize).is_some());
         let removed = faces_before - h.mesh.n_faces();
+        let stalled =
+            removed == 0 || (removed as f64) < options.min_level_reduction * faces_before as f64;
+        if stalled && relax {
+            if let Some((d, f)) = widen(deviation, flip) {
+                // The level stays open: the next round, with the wider bounds, adds to it.
+                (deviation, flip) = (d, f);
+                (cos_planar, cos_flip) = (d.cos(), f.cos());
+                h.outcome.relaxations.push(Relaxation {
+                    level: h.built_levels() + 1,
+                    faces: h.mesh.n_faces(),
+                    max_normal_deviation: d,
+                    max_flip_angle: f,
+                });
+                continue;
+            }
+        }
         h.close_level();
         report(h, input_faces, progress)?;
-        if removed == 0 || (removed as f64) < options.min_level_reduction * faces_before as f64 {
+        if stalled {
             break;
         }
     }
+    outcome::finish(h, options, Some(refusals));
     Ok(())
+}
+
+/// The step by which [`widen`] opens a bound: 15°.
+const WIDEN_STEP: f64 = std::f64::consts::PI / 12.0;
+
+/// The next bounds after a stall: the planarity bound 15° wider, up to 180°; once it is
+/// there, the flip bound 15° wider, up to 90° (a face may turn, never fold over). `None`
+/// when both are at their ends.
+fn widen(deviation: f64, flip: f64) -> Option<(f64, f64)> {
+    use std::f64::consts::{FRAC_PI_2, PI};
+    if deviation < PI - 1e-9 {
+        Some(((deviation + WIDEN_STEP).min(PI), flip))
+    } else if flip < FRAC_PI_2 - 1e-9 {
+        Some((deviation, (flip + WIDEN_STEP).min(FRAC_PI_2)))
+    } else {
+        None
+    }
 }
 
 /// Prefetches, for the edge of halfedge slot `i` (visited a few edges later), what tells

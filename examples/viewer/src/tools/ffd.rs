@@ -818,7 +818,7 @@ mod tests {
         let ray = ray_towards(eye, corner);
         let bvh = Bvh::build(&mesh);
         assert!(
-            bvh.intersect(&mesh, &ray).is_none(),
+            bvh.intersect(&mesh, &ray).unwrap().is_none(),
             "the ray towards the corner control point {corner} should miss the sheet"
         );
         let press = Press { ray, hit: None };

@@ -1,0 +1,556 @@
+//! Picking along a ray: a bounding volume hierarchy over the triangles of a mesh, in
+//! `f64` (what the viewer uses to turn a click into a vertex, and what a program uses to
+//! shoot rays at a mesh).
+//!
+//! The hierarchy is built top-down by median splits of triangle centroids along the
+//! longest axis of their bounds (subtrees built in parallel with `rayon::join` above a
+//! size threshold) and stored flat in depth-first order: the left child of node `i` is
+//! `i + 1`, the right child is stored in the node. After an edit that moves vertices but
+//! keeps the connectivity, [`Bvh::refit`] recomputes the boxes bottom-up in `O(n)`
+//! instead of rebuilding; [`Bvh::update`] does whichever of nothing, refit or rebuild the
+//! mesh needs. Rays are tested with Möller–Trumbore and the traversal visits the nearer
+//! child first and prunes boxes beyond the closest hit so far.
+//!
+//! A hierarchy remembers the mesh it was built for ([`Mesh::topology_stamp`] and the
+//! mesh's count of position edits): asked about another mesh, or about its own mesh after
+//! a connectivity change or a move it was not refitted for, it returns
+//! [`Error::InvalidArgument`] instead of a wrong answer.
+//!
+//! ```
+//! use halfedge::bvh::{Bvh, Ray};
+//! use halfedge::{generators, DVec3};
+//! let mesh = generators::icosphere(3);
+//! let bvh = Bvh::build(&mesh);
+//! let ray = Ray::new(DVec3::new(0.0, 0.0, 5.0), DVec3::NEG_Z).unwrap();
+//! let hit = bvh.intersect(&mesh, &ray).unwrap().expect("the sphere is in front");
+//! assert!((hit.t - 4.0).abs() < 0.01); // the unit sphere's surface, up to its facets
+//! assert!(mesh.triangle(hit.face).contains(&hit.nearest_vertex));
+//! ```
+
+use glam::DVec3;
+
+use crate::{Error, FaceId, Mesh, Result, VertexId};
+
+/// Triangles per leaf at most.
+const LEAF_SIZE: usize = 4;
+/// Subtrees with more triangles than this are built in parallel.
+const PARALLEL_THRESHOLD: usize = 16_384;
+
+/// A ray `origin + t·direction`, `t > 0`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Ray {
+    /// Start point (an eye, a point above the surface).
+    pub origin: DVec3,
+    /// Direction; [`Ray::new`] makes it a unit vector, so that `t` is a distance.
+    pub direction: DVec3,
+}
+
+impl Ray {
+    /// A ray from `origin` along `direction` (normalised here).
+    ///
+    /// # Errors
+    /// [`Error::InvalidArgument`] for a non-finite origin or a zero or non-finite
+    /// direction.
+    pub fn new(origin: DVec3, direction: DVec3) -> Result<Self> {
+        match direction.try_normalize() {
+            Some(d) if origin.is_finite() => Ok(Self {
+                origin,
+                direction: d,
+            }),
+            _ => Err(Error::InvalidArgument(format!(
+                "a ray needs a finite origin and a non-zero finite direction, got {origin} and {direction}"
+            ))),
+        }
+    }
+    /// The point at parameter `t`.
+    #[inline]
+    pub fn at(&self, t: f64) -> DVec3 {
+        self.origin + t * self.direction
+    }
+    /// Where the ray meets the plane through `point` with normal `normal` (dragging a
+    /// point in a view plane); `None` when the ray is parallel to the plane, the plane is
+    /// behind the origin, or an input is not finite.
+    pub fn intersect_plane(&self, point: DVec3, normal: DVec3) -> Option<DVec3> {
+        let denom = self.direction.dot(normal);
+        if denom.is_nan() || denom.abs() < 1e-12 {
+            return None;
+        }
+        let t = (point - self.origin).dot(normal) / denom;
+        (t >= 0.0 && t.is_finite()).then(|| self.at(t))
+    }
+}
+
+/// What a ray hit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hit {
+    /// The face hit first.
+    pub face: FaceId,
+    /// Ray parameter of the hit (a distance when the ray's direction is a unit vector).
+    pub t: f64,
+    /// The hit point.
+    pub point: DVec3,
+    /// Barycentric coordinates of the hit point for the corners of [`Mesh::triangle`],
+    /// in order.
+    pub barycentric: DVec3,
+    /// The corner of the face nearest to the hit point: the picked vertex.
+    pub nearest_vertex: VertexId,
+}
+
+#[derive(Clone, Copy, Debug)]
+struct Node {
+    lo: DVec3,
+    hi: DVec3,
+    /// Leaf: first triangle in leaf order; inner: index of the right child.
+    index: u32,
+    /// Leaf: number of triangles (> 0); inner: 0.
+    count: u32,
+}
+
+/// A bounding volume hierarchy over the live faces of a mesh (see the module docs).
+#[derive(Clone, Debug)]
+pub struct Bvh {
+    nodes: Vec<Node>,
+    /// Faces in leaf order.
+    faces: Vec<FaceId>,
+    /// Vertex indices (into `Mesh::positions`) of the faces in leaf order.
+    corners: Vec<[u32; 3]>,
+    /// The mesh's topology stamp when built.
+    stamp: u128,
+    /// The mesh's position edit count when built or last refitted.
+    edits: u64,
+}
+
+fn triangle_bounds(p: &[DVec3], c: [u32; 3]) -> (DVec3, DVec3) {
+    let [a, b, d] = c.map(|i| p[i as usize]);
+    (a.min(b).min(d), a.max(b).max(d))
+}
+
+impl Bvh {
+    /// Builds the hierarchy over the live faces of `mesh`.
+    pub fn build(mesh: &Mesh) -> Self {
+        let faces: Vec<FaceId> = mesh.faces().collect();
+        let corners: Vec<[u32; 3]> = faces
+            .iter()
+            .map(|&f| mesh.triangle(f).map(|v| mesh.vertex_index(v) as u32))
+            .collect();
+        let positions = mesh.positions();
+        let mut items: Vec<(DVec3, u32)> = corners
+            .iter()
+            .enumerate()
+            .map(|(i, c)| {
+                let (lo, hi) = triangle_bounds(positions, *c);
+                (0.5 * (lo + hi), i as u32)
+            })
+            .collect();
+        let mut nodes = Vec::with_capacity(2 * items.len() / LEAF_SIZE + 1);
+        if !items.is_empty() {
+            build_recursive(positions, &corners, &mut items, 0, &mut nodes);
+        }
+        let order: Vec<u32> = items.iter().map(|&(_, i)| i).collect();
+        Self {
+            nodes,
+            faces: order.iter().map(|&i| faces[i as usize]).collect(),
+            corners: order.iter().map(|&i| corners[i as usize]).collect(),
+            stamp: mesh.topology_stamp(),
+            edits: mesh.position_edits,
+        }
+    }
+
+    /// Number of triangles in the hierarchy.
+    pub fn len(&self) -> usize {
+        self.faces.len()
+    }
+
+    /// True when the hierarchy holds no triangle.
+    pub fn is_empty(&self) -> bool {
+        self.faces.is_empty()
+    }
+
+    /// True when the hierarchy answers for `mesh` as it is now (same mesh, same
+    /// connectivity, no position change since it was built or refitted).
+    pub fn is_current(&self, mesh: &Mesh) -> bool {
+        self.stamp == mesh.topology_stamp() && self.edits == mesh.position_edits
+    }
+
+    /// Recomputes every box for the current positions of the mesh it was built for.
+    ///
+    /// # Errors
+    /// [`Error::InvalidArgument`] when `mesh` is another mesh or its connectivity changed
+    /// since the build ([`build`](Self::build) again); the hierarchy is unchanged then.
+    pub fn refit(&mut self, mesh: &Mesh) -> Result<()> {
+        if self.stamp != mesh.topology_stamp() {
+            return Err(Error::InvalidArgument(
+                "refit: the BVH was built for another mesh, or the connectivity changed since; build it again"
+                    .into(),
+            ));
+        }
+        let positions = mesh.positions();
+        // Children come after their parent in depth-first order: walk backwards.
+        for i in (0..self.nodes.len()).rev() {
+            let node = self.nodes[i];
+            let (lo, hi) = if node.count > 0 {
+                let start = node.index as usize;
+                self.corners[start..start + node.count as usize]
+                    .iter()
+                    .map(|&c| triangle_bounds(positions, c))
+                    .fold(
+                        (DVec3::INFINITY, DVec3::NEG_INFINITY),
+                        |(lo, hi), (a, b)| (lo.min(a), hi.max(b)),
+                    )
+            } else {
+                let (l, r) = (self.nodes[i + 1], self.nodes[node.index as usize]);
+                (l.lo.min(r.lo), l.hi.max(r.hi))
+            };
+            self.nodes[i].lo = lo;
+            self.nodes[i].hi = hi;
+        }
+        self.edits = mesh.position_edits;
+        Ok(())
+    }
+
+    /// Makes the hierarchy current for `mesh`: nothing when it is, a
+    /// [`refit`](Self::refit) when only positions changed, a new [`build`](Self::build)
+    /// otherwise (another mesh, or changed connectivity).
+    pub fn update(&mut self, mesh: &Mesh) {
+        if self.is_current(mesh) {
+            return;
+        }
+        if self.refit(mesh).is_err() {
+            *self = Self::build(mesh);
+        }
+    }
+
+    /// The nearest face hit by `ray` (front or back side), if any.
+    ///
+    /// # Errors
+    /// [`Error::InvalidArgument`] when the hierarchy is not current for `mesh` (see
+    /// [`is_current`](Self::is_current); [`update`](Self::update) makes it so).
+    pub fn intersect(&self, mesh: &Mesh, ray: &Ray) -> Result<Option<Hit>> {
+        if !self.is_current(mesh) {
+            return Err(Error::InvalidArgument(
+                "intersect: the BVH is not current for this mesh (another mesh, or it changed since the build); call update"
+                    .into(),
+            ));
+        }
+        if self.nodes.is_empty() {
+            return Ok(None);
+        }
+        let positions = mesh.positions();
+        let inv = DVec3::ONE / ray.direction;
+        let mut best: Option<(f64, usize, f64, f64)> = None;
+        let mut t_max = f64::INFINITY;
+        let mut stack: Vec<usize> = Vec::with_capacity(64);
+        stack.push(0);
+        while let Some(i) = stack.pop() {
+            let node = &self.nodes[i];
+            if slab(node.lo, node.hi, ray.origin, inv, t_max).is_none() {
+                continue;
+            }
+            if node.count > 0 {
+                let start = node.index as usize;
+                for k in start..start + node.count as usize {
+                    let [a, b, c] = self.corners[k].map(|j| positions[j as usize]);
+                    if let Some((t, u, v)) = ray_triangle(ray, a, b, c) {
+                        if t < t_max {
+                            t_max = t;
+                            best = Some((t, k, u, v));
+                        }
+                    }
+                }
+            } else {
+                let (left, right) = (i + 1, node.index as usize);
+                let (l, r) = (&self.nodes[left], &self.nodes[right]);
+                let dl = slab(l.lo, l.hi, ray.origin, inv, t_max);
+                let dr = slab(r.lo, r.hi, ray.origin, inv, t_max);
+                match (dl, dr) {
+                    (Some(l), Some(r)) if l <= r => {
+                        stack.push(right);
+                        stack.push(left);
+                    }
+                    (Some(_), Some(_)) => {
+                        stack.push(left);
+                        stack.push(right);
+                    }
+                    (Some(_), None) => stack.push(left),
+                    (None, Some(_)) => stack.push(right),
+                    (None, None) => {}
+                }
+            }
+        }
+        let Some((t, k, u, v)) = best else {
+            return Ok(None);
+        };
+        let face = self.faces[k];
+        let barycentric = DVec3::new(1.0 - u - v, u, v);
+        let corners = mesh.triangle(face);
+        let point = ray.at(t);
+        let mut nearest_vertex = corners[0];
+        for &c in &corners[1..] {
+            if mesh.position(c).distance_squared(point)
+                < mesh.position(nearest_vertex).distance_squared(point)
+            {
+                nearest_vertex = c;
+            }
+        }
+        Ok(Some(Hit {
+            face,
+            t,
+            point,
+            barycentric,
+            nearest_vertex,
+        }))
+    }
+}
+
+fn build_recursive(
+    positions: &[DVec3],
+    corners: &[[u32; 3]],
+    items: &mut [(DVec3, u32)],
+    offset: usize,
+    nodes: &mut Vec<Node>,
+) {
+    let (lo, hi) = items
+        .iter()
+        .map(|&(_, i)| triangle_bounds(positions, corners[i as usize]))
+        .fold(
+            (DVec3::INFINITY, DVec3::NEG_INFINITY),
+            |(lo, hi), (a, b)| (lo.min(a), hi.max(b)),
+        );
+    let me = nodes.len();
+    nodes.push(Node {
+        lo,
+        hi,
+        index: offset as u32,
+        count: items.len() as u32,
+    });
+    if items.len() <= LEAF_SIZE {
+        return;
+    }
+    let (clo, chi) = items.iter().fold(
+        (DVec3::INFINITY, DVec3::NEG_INFINITY),
+        |(lo, hi), &(c, _)| (lo.min(c), hi.max(c)),
+    );
+    let extent = chi - clo;
+    let axis = if extent.x >= extent.y && extent.x >= extent.z {
+        0
+    } else if extent.y >= extent.z {
+        1
+    } else {
+        2
+    };
+    let mid = items.len() / 2;
+    items.select_nth_unstable_by(mid, |a, b| a.0[axis].total_cmp(&b.0[axis]));
+    let (left_items, right_items) = items.split_at_mut(mid);
+    nodes[me].count = 0;
+    if left_items.len() + right_items.len() > PARALLEL_THRESHOLD {
+        // Each half is built into its own vector (indices relative to it), then shifted.
+        let (left_nodes, right_nodes) = rayon::join(
+            || {
+                let mut n = Vec::new();
+                build_recursive(positions, corners, left_items, offset, &mut n);
+                n
+            },
+            || {
+                let mut n = Vec::new();
+                build_recursive(positions, corners, right_items, offset + mid, &mut n);
+                n
+            },
+        );
+        append_shifted(nodes, left_nodes);
+        nodes[me].index = nodes.len() as u32;
+        append_shifted(nodes, right_nodes);
+    } else {
+        build_recursive(positions, corners, left_items, offset, nodes);
+        nodes[me].index = nodes.len() as u32;
+        build_recursive(positions, corners, right_items, offset + mid, nodes);
+    }
+}
+
+/// Appends a subtree built in its own vector, shifting its child indices.
+fn append_shifted(nodes: &mut Vec<Node>, subtree: Vec<Node>) {
+    let base = nodes.len() as u32;
+    nodes.extend(subtree.into_iter().map(|mut n| {
+        if n.count == 0 {
+            n.index += base;
+        }
+        n
+    }));
+}
+
+/// Entry distance of the ray into the box, if it enters before `t_max`.
+#[inline]
+fn slab(lo: DVec3, hi: DVec3, origin: DVec3, inv: DVec3, t_max: f64) -> Option<f64> {
+    let t1 = (lo - origin) * inv;
+    let t2 = (hi - origin) * inv;
+    // NaN (0 · ∞ for a ray in a box face plane) is dropped by min/max.
+    let tmin = t1.min(t2).max_element().max(0.0);
+    let tmax = t1.max(t2).min_element().min(t_max);
+    (tmin <= tmax).then_some(tmin)
+}
+
+/// Möller–Trumbore ray–triangle intersection, both sides: `(t, u, v)` with the hit at
+/// `ray.at(t) = (1 − u − v)·a + u·b + v·c`, `t > 0`; `None` when the ray misses, runs
+/// parallel to the triangle, or the triangle is degenerate.
+#[inline]
+pub fn ray_triangle(ray: &Ray, a: DVec3, b: DVec3, c: DVec3) -> Option<(f64, f64, f64)> {
+    let e1 = b - a;
+    let e2 = c - a;
+    let p = ray.direction.cross(e2);
+    let det = e1.dot(p);
+    if det.is_nan() || det.abs() < 1e-300 {
+        return None;
+    }
+    let inv_det = 1.0 / det;
+    let s = ray.origin - a;
+    let u = s.dot(p) * inv_det;
+    if !(0.0..=1.0).contains(&u) {
+        return None;
+    }
+    let q = s.cross(e1);
+    let v = ray.direction.dot(q) * inv_det;
+    if !(v >= 0.0 && u + v <= 1.0) {
+        return None;
+    }
+    let t = e2.dot(q) * inv_det;
+    (t > 0.0).then_some((t, u, v))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::generators;
+
+    /// A small deterministic generator (no dev-dependency needed inside the crate).
+    struct Lcg(u64);
+    impl Lcg {
+        fn unit(&mut self) -> f64 {
+            self.0 = self
+                .0
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (self.0 >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        }
+        fn vec(&mut self) -> DVec3 {
+            DVec3::new(self.unit(), self.unit(), self.unit())
+        }
+    }
+
+    fn brute_force(mesh: &Mesh, ray: &Ray) -> Option<(FaceId, f64)> {
+        mesh.faces()
+            .filter_map(|f| {
+                let [a, b, c] = mesh.triangle_positions(f);
+                ray_triangle(ray, a, b, c).map(|(t, _, _)| (f, t))
+            })
+            .min_by(|x, y| x.1.total_cmp(&y.1))
+    }
+
+    /// Random rays from a sphere around the mesh towards points inside its box; the BVH
+    /// must find the brute-force nearest hit on every one.
+    fn agrees_with_brute_force(mesh: &Mesh, bvh: &Bvh, rays: usize, seed: u64) {
+        let mut rng = Lcg(seed);
+        let (lo, hi) = mesh.bounding_box().unwrap();
+        let centre = 0.5 * (lo + hi);
+        let radius = 0.5 * (hi - lo).length();
+        let mut hits = 0;
+        for _ in 0..rays {
+            let origin = centre + 3.0 * radius * rng.vec().normalize();
+            let aim = centre + 0.5 * (hi - lo) * rng.vec();
+            let ray = Ray::new(origin, aim - origin).unwrap();
+            let expected = brute_force(mesh, &ray);
+            let got = bvh.intersect(mesh, &ray).unwrap();
+            match (expected, got) {
+                (None, None) => {}
+                (Some((_, t)), Some(hit)) => {
+                    hits += 1;
+                    assert!((hit.t - t).abs() <= 1e-9 * t.max(1.0), "{} vs {t}", hit.t);
+                    let [a, b, c] = mesh.triangle_positions(hit.face);
+                    let p = hit.barycentric.x * a + hit.barycentric.y * b + hit.barycentric.z * c;
+                    assert!((p - hit.point).length() < 1e-9 * radius);
+                    assert!(mesh.triangle(hit.face).contains(&hit.nearest_vertex));
+                }
+                (e, g) => panic!("brute force {e:?}, bvh {g:?}"),
+            }
+        }
+        assert!(hits > rays / 4, "too few hits ({hits}) to test anything");
+    }
+
+    #[test]
+    fn bvh_matches_brute_force_on_a_sphere() {
+        let mesh = generators::icosphere(3);
+        let bvh = Bvh::build(&mesh);
+        assert_eq!(bvh.len(), mesh.n_faces());
+        agrees_with_brute_force(&mesh, &bvh, 400, 1);
+    }
+
+    #[test]
+    fn parallel_build_matches_brute_force() {
+        // 20·4^5 = 20,480 faces: above the parallel threshold.
+        let mesh = generators::icosphere(5);
+        let bvh = Bvh::build(&mesh);
+        agrees_with_brute_force(&mesh, &bvh, 200, 2);
+    }
+
+    #[test]
+    fn refit_follows_moved_vertices_and_update_rebuilds_after_a_collapse() {
+        let mut mesh = generators::icosphere(5);
+        let mut bvh = Bvh::build(&mesh);
+        for p in mesh.positions_mut() {
+            *p = DVec3::new(p.x * 2.0, p.y + 0.3 * p.x * p.x, p.z * 0.5);
+        }
+        assert!(!bvh.is_current(&mesh));
+        let ray = Ray::new(DVec3::new(0.0, 0.0, 5.0), DVec3::NEG_Z).unwrap();
+        assert!(matches!(
+            bvh.intersect(&mesh, &ray),
+            Err(Error::InvalidArgument(_))
+        ));
+        bvh.refit(&mesh).unwrap();
+        agrees_with_brute_force(&mesh, &bvh, 200, 3);
+        // A collapse changes the connectivity: refit is refused, update rebuilds.
+        let e = mesh.halfedges().next().unwrap();
+        mesh.collapse(e).unwrap();
+        assert!(bvh.refit(&mesh).is_err());
+        bvh.update(&mesh);
+        assert_eq!(bvh.len(), mesh.n_faces());
+        agrees_with_brute_force(&mesh, &bvh, 200, 5);
+        // Another mesh is refused too.
+        let other = generators::icosphere(5);
+        assert!(bvh.intersect(&other, &ray).is_err());
+    }
+
+    #[test]
+    fn grid_hit_from_above_picks_the_nearest_corner() {
+        let mesh = generators::grid(10, 10, 1.0, 1.0);
+        let bvh = Bvh::build(&mesh);
+        let target = mesh.vertices().nth(37).unwrap();
+        let p = mesh.position(target);
+        let ray = Ray::new(p + DVec3::new(0.01, 0.015, 5.0), DVec3::NEG_Z).unwrap();
+        let hit = bvh
+            .intersect(&mesh, &ray)
+            .unwrap()
+            .expect("the grid is below");
+        assert_eq!(hit.nearest_vertex, target);
+        assert!((hit.t - 5.0).abs() < 1e-12);
+        let miss = Ray::new(DVec3::new(5.0, 5.0, 5.0), DVec3::Z).unwrap();
+        assert!(bvh.intersect(&mesh, &miss).unwrap().is_none());
+    }
+
+    #[test]
+    fn empty_mesh_and_bad_rays() {
+        let mesh = Mesh::new();
+        let bvh = Bvh::build(&mesh);
+        assert!(bvh.is_empty());
+        let ray = Ray::new(DVec3::ZERO, DVec3::X).unwrap();
+        assert!(bvh.intersect(&mesh, &ray).unwrap().is_none());
+        assert!(Ray::new(DVec3::ZERO, DVec3::ZERO).is_err());
+        assert!(Ray::new(DVec3::NAN, DVec3::X).is_err());
+        assert!(Ray::new(DVec3::ZERO, DVec3::new(f64::INFINITY, 0.0, 0.0)).is_err());
+        // A hand-made ray with a zero direction hits nothing and does not panic.
+        let grid = generators::grid(4, 4, 1.0, 1.0);
+        let bvh = Bvh::build(&grid);
+        let zero = Ray {
+            origin: DVec3::new(0.5, 0.5, 1.0),
+            direction: DVec3::ZERO,
+        };
+        assert!(bvh.intersect(&grid, &zero).unwrap().is_none());
+    }
+}
