@@ -21,6 +21,8 @@
 //! - [`ffd`]: Feng, Ma & Peng's shape/height-surface free-form deformation
 //!   ([`crate::ffd`]).
 //! - [`workflow`]: simplify → edit → refine, the job of the `workflow` example.
+//! - [`coarse_edits`]: how coarse edits come back at full resolution (detail modes, exact
+//!   regions, affine marks) and the `coarse_edit` example that measures it.
 
 #[doc = include_str!("../../../docs/guide/hierarchy.md")]
 pub mod hierarchy {}
@@ -42,3 +44,6 @@ pub mod ffd {}
 
 #[doc = include_str!("../../../docs/guide/workflow.md")]
 pub mod workflow {}
+
+#[doc = include_str!("../../../docs/guide/coarse-edits.md")]
+pub mod coarse_edits {}
