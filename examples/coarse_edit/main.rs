@@ -137,10 +137,20 @@ enum DetailArg {
     Translation,
 }
 
-/// Edit a mesh at a coarse level, refine back, and compare with the same edit made at
-/// full resolution (one JSON object on stdout).
+/// Command-line options.
 #[derive(Parser, Debug)]
-#[command(about, long_about = None)]
+#[command(
+    about = "Edit a mesh at a coarse level of its hierarchy, refine back, and compare with \
+             the same edit made at full resolution (one JSON object on stdout)",
+    after_help = "Region: the largest component at the level; tip = its vertex farthest from \
+                  the component's centroid (at least 3 rings from the mesh boundary); region = \
+                  the nearest --region-fraction of the component by edge-path distance from \
+                  the tip. Smooth edits (twist, taper, lee, bk, ffd) are halved (at most 4 \
+                  times) while they turn a face of the coarse mesh over. Targets: \
+                  outside_moved = 0, handle_error <= 1e-9, flips_coarse_path <= \
+                  flips_full_res, rms_vs_full_res <= 0.01 (meets_targets). Errors go to \
+                  stderr with a hint; the exit code is then 2."
+)]
 struct Args {
     /// Mesh file (.obj, .ply).
     file: PathBuf,
@@ -158,13 +168,14 @@ struct Args {
     #[arg(long, value_enum, default_value = "local")]
     detail: DetailArg,
     /// Input vertex (file index) whose ancestor at the level is the tip of the region
-    /// (default: the tip rule of the docs).
+    /// (default: the tip rule below).
     #[arg(long)]
     seed_vertex: Option<usize>,
     /// Fraction of the component's vertices (at the level) in the region.
     #[arg(long, default_value_t = 0.2)]
     region_fraction: f64,
-    /// Multiplies the edit's magnitudes (angles, offsets, log factors).
+    /// Multiplies the edit's magnitudes (angles, offsets, log factors; see the example's
+    /// docs for the defaults).
     #[arg(long, default_value_t = 1.0)]
     amount: f64,
     /// Write both results here as PLY (coarse-path.ply, full-res.ply).
