@@ -193,7 +193,7 @@ fn coarse_edits_keep_their_regions_and_land_their_handles_on_generated_meshes() 
 
 #[test]
 #[ignore = "known failure (issue 12): the hierarchy puts the whole step between a moved and an unmoved coarse vertex into one fine edge, so smooth coarse edits flip fine faces (and one torus twist ends 1.006 % of the diagonal from the full-resolution edit); cargo test --release -- --ignored"]
-fn coarse_edits_end_like_full_resolution_edits_on_generated_meshes() {
+fn known_failure_coarse_edits_end_like_full_resolution_edits_on_generated_meshes() {
     let reports = generated_reports();
     assert_all(
         &reports,
@@ -289,9 +289,8 @@ fn region_options_are_checked() {
     assert!(e.hint.contains("--level"), "{e}");
 }
 
-#[test]
-#[ignore = "real-mesh tier: needs ../shared/meshes; cargo test --release -- --include-ignored"]
-fn coarse_edits_meet_the_targets_on_the_shared_meshes() {
+/// Every edit at level 3 with both methods on every shared mesh.
+fn shared_reports() -> Vec<(String, Report)> {
     let dir = common::shared_meshes();
     let mut reports = Vec::new();
     for file in [
@@ -308,5 +307,19 @@ fn coarse_edits_meet_the_targets_on_the_shared_meshes() {
         let (mesh, _) = halfedge::io::read(dir.join(file)).unwrap();
         reports.extend(measure_all(file, &mesh, &[3], &EditKind::ALL));
     }
-    assert_all(&reports, "the targets", Report::meets_targets);
+    reports
+}
+
+#[test]
+#[ignore = "real-mesh tier: needs ../shared/meshes; cargo test --release -- --include-ignored"]
+fn coarse_edits_keep_their_regions_and_land_their_handles_on_the_shared_meshes() {
+    let reports = shared_reports();
+    assert_all(&reports, "outside_moved = 0", Report::region_is_exact);
+    assert_all(&reports, "handle_error <= 1e-9", Report::handles_land);
+}
+
+#[test]
+#[ignore = "known failure (issue 12): smooth coarse edits flip fine faces where moved and unmoved coarse vertices meet; needs ../shared/meshes; cargo test --release -- --ignored known_failure"]
+fn known_failure_coarse_edits_meet_the_targets_on_the_shared_meshes() {
+    assert_all(&shared_reports(), "the targets", Report::meets_targets);
 }
