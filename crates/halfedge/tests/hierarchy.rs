@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{load, snapshot, Snapshot};
+use common::{snapshot, Snapshot};
 use glam::DVec3;
 use halfedge::{generators, DetailMode, Error, Hierarchy, HierarchyOptions, Mesh, Method};
 
@@ -24,7 +24,17 @@ fn diagonal(mesh: &Mesh) -> f64 {
 }
 
 #[test]
-fn coarsen_all_refine_all_is_bit_identical_on_real_meshes() {
+fn coarsen_all_refine_all_is_bit_identical() {
+    coarsen_all_refine_all_is_bit_identical_on_real_meshes_with(&common::stand_in);
+}
+
+#[test]
+#[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
+fn coarsen_all_refine_all_is_bit_identical_on_the_real_meshes() {
+    coarsen_all_refine_all_is_bit_identical_on_real_meshes_with(&common::load);
+}
+
+fn coarsen_all_refine_all_is_bit_identical_on_real_meshes_with(load: &dyn Fn(&str) -> Mesh) {
     for name in REAL {
         for method in [Method::Rounds, Method::Qem] {
             let mesh = load(name);
@@ -52,6 +62,16 @@ fn coarsen_all_refine_all_is_bit_identical_on_real_meshes() {
 /// later split checked. Every way, and in clones, refinement restores the input exactly.
 #[test]
 fn trusted_and_checked_refinement_agree() {
+    trusted_and_checked_refinement_agree_with(&common::stand_in);
+}
+
+#[test]
+#[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
+fn trusted_and_checked_refinement_agree_on_real_meshes() {
+    trusted_and_checked_refinement_agree_with(&common::load);
+}
+
+fn trusted_and_checked_refinement_agree_with(load: &dyn Fn(&str) -> Mesh) {
     let mesh = load("spot.obj");
     let before = snapshot(&mesh);
     let built = Hierarchy::build(mesh, &HierarchyOptions::rounds().with_target_faces(300)).unwrap();
@@ -91,6 +111,16 @@ fn trusted_and_checked_refinement_agree() {
 
 #[test]
 fn a_round_removes_about_45_percent_of_the_faces() {
+    a_round_removes_about_45_percent_of_the_faces_with(&common::stand_in);
+}
+
+#[test]
+#[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
+fn a_round_removes_about_45_percent_of_the_faces_on_real_meshes() {
+    a_round_removes_about_45_percent_of_the_faces_with(&common::load);
+}
+
+fn a_round_removes_about_45_percent_of_the_faces_with(load: &dyn Fn(&str) -> Mesh) {
     // The paper: "Each simplification step removes about 45 % of faces". (Meshes with much
     // boundary, like the teapot, have more vertices per face and lose up to 52 %.)
     for name in [
@@ -117,6 +147,16 @@ fn a_round_removes_about_45_percent_of_the_faces() {
 
 #[test]
 fn qem_levels_are_cut_at_the_level_ratio() {
+    qem_levels_are_cut_at_the_level_ratio_with(&common::stand_in);
+}
+
+#[test]
+#[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
+fn qem_levels_are_cut_at_the_level_ratio_on_real_meshes() {
+    qem_levels_are_cut_at_the_level_ratio_with(&common::load);
+}
+
+fn qem_levels_are_cut_at_the_level_ratio_with(load: &dyn Fn(&str) -> Mesh) {
     let mesh = load("spot.obj");
     let opts = HierarchyOptions::qem().with_target_faces(200);
     let h = Hierarchy::build(mesh, &opts).unwrap();
@@ -131,6 +171,16 @@ fn qem_levels_are_cut_at_the_level_ratio() {
 
 #[test]
 fn stop_criteria() {
+    stop_criteria_with(&common::stand_in);
+}
+
+#[test]
+#[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
+fn stop_criteria_on_real_meshes() {
+    stop_criteria_with(&common::load);
+}
+
+fn stop_criteria_with(load: &dyn Fn(&str) -> Mesh) {
     for method in [Method::Rounds, Method::Qem] {
         // Target face count.
         let h =
@@ -166,6 +216,16 @@ fn stop_criteria() {
 
 #[test]
 fn error_bound_holds_for_every_qem_collapse() {
+    error_bound_holds_for_every_qem_collapse_with(&common::stand_in);
+}
+
+#[test]
+#[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
+fn error_bound_holds_for_every_qem_collapse_on_real_meshes() {
+    error_bound_holds_for_every_qem_collapse_with(&common::load);
+}
+
+fn error_bound_holds_for_every_qem_collapse_with(load: &dyn Fn(&str) -> Mesh) {
     // Every survivor's error, measured with the quadrics of the input vertices merged
     // into it (replayed from the records), is within the bound at its final position.
     let bound = 2e-3;
@@ -189,6 +249,16 @@ fn error_bound_holds_for_every_qem_collapse() {
 
 #[test]
 fn walking_the_levels_in_any_order_gives_the_same_meshes() {
+    walking_the_levels_in_any_order_gives_the_same_meshes_with(&common::stand_in);
+}
+
+#[test]
+#[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
+fn walking_the_levels_in_any_order_gives_the_same_meshes_on_real_meshes() {
+    walking_the_levels_in_any_order_gives_the_same_meshes_with(&common::load);
+}
+
+fn walking_the_levels_in_any_order_gives_the_same_meshes_with(load: &dyn Fn(&str) -> Mesh) {
     for method in [Method::Rounds, Method::Qem] {
         let mut h =
             Hierarchy::build(load("cow.obj"), &options(method).with_target_faces(200)).unwrap();
@@ -229,6 +299,16 @@ fn walking_the_levels_in_any_order_gives_the_same_meshes() {
 
 #[test]
 fn bad_arguments_are_errors() {
+    bad_arguments_are_errors_with(&common::stand_in);
+}
+
+#[test]
+#[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
+fn bad_arguments_are_errors_on_real_meshes() {
+    bad_arguments_are_errors_with(&common::load);
+}
+
+fn bad_arguments_are_errors_with(load: &dyn Fn(&str) -> Mesh) {
     let mut bad = HierarchyOptions::rounds();
     bad.max_normal_deviation = 0.0;
     assert!(matches!(
@@ -256,6 +336,16 @@ fn bad_arguments_are_errors() {
 
 #[test]
 fn topology_changed_behind_the_hierarchy_is_refused() {
+    topology_changed_behind_the_hierarchy_is_refused_with(&common::stand_in);
+}
+
+#[test]
+#[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
+fn topology_changed_behind_the_hierarchy_is_refused_on_real_meshes() {
+    topology_changed_behind_the_hierarchy_is_refused_with(&common::load);
+}
+
+fn topology_changed_behind_the_hierarchy_is_refused_with(load: &dyn Fn(&str) -> Mesh) {
     let mut h = Hierarchy::build(
         load("spot.obj"),
         &HierarchyOptions::rounds().with_max_levels(2),
@@ -285,6 +375,16 @@ fn topology_changed_behind_the_hierarchy_is_refused() {
 
 #[test]
 fn progress_is_reported_per_level() {
+    progress_is_reported_per_level_with(&common::stand_in);
+}
+
+#[test]
+#[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
+fn progress_is_reported_per_level_on_real_meshes() {
+    progress_is_reported_per_level_with(&common::load);
+}
+
+fn progress_is_reported_per_level_with(load: &dyn Fn(&str) -> Mesh) {
     let mut reports = Vec::new();
     let h = Hierarchy::build_with_progress(
         load("spot.obj"),
@@ -299,6 +399,16 @@ fn progress_is_reported_per_level() {
 
 #[test]
 fn translating_the_coarse_mesh_translates_the_refined_mesh() {
+    translating_the_coarse_mesh_translates_the_refined_mesh_with(&common::stand_in);
+}
+
+#[test]
+#[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
+fn translating_the_coarse_mesh_translates_the_refined_mesh_on_real_meshes() {
+    translating_the_coarse_mesh_translates_the_refined_mesh_with(&common::load);
+}
+
+fn translating_the_coarse_mesh_translates_the_refined_mesh_with(load: &dyn Fn(&str) -> Mesh) {
     for (name, method) in [
         ("spot.obj", Method::Rounds),
         ("stanford-bunny.obj", Method::Qem),
@@ -325,6 +435,16 @@ fn translating_the_coarse_mesh_translates_the_refined_mesh() {
 
 #[test]
 fn editing_the_fine_mesh_survives_coarsening_and_refining_again() {
+    editing_the_fine_mesh_survives_coarsening_and_refining_again_with(&common::stand_in);
+}
+
+#[test]
+#[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
+fn editing_the_fine_mesh_survives_coarsening_and_refining_again_on_real_meshes() {
+    editing_the_fine_mesh_survives_coarsening_and_refining_again_with(&common::load);
+}
+
+fn editing_the_fine_mesh_survives_coarsening_and_refining_again_with(load: &dyn Fn(&str) -> Mesh) {
     let original = load("spot.obj");
     let scale = diagonal(&original);
     let t = DVec3::new(-0.2, 0.4, 0.1) * scale;
@@ -345,8 +465,9 @@ fn editing_the_fine_mesh_survives_coarsening_and_refining_again() {
     }
 }
 
-/// The part of the bunny above the plane `y = cut`, at half its height.
-fn bunny_and_cut() -> (Mesh, f64) {
+/// The part of the bunny above the plane `y = cut`, at half its height (or of the stand-in
+/// `load` gives).
+fn bunny_and_cut(load: &dyn Fn(&str) -> Mesh) -> (Mesh, f64) {
     let mesh = load("stanford-bunny.obj");
     let (lo, hi) = mesh.bounding_box().unwrap();
     (mesh, lo.y + 0.5 * (hi.y - lo.y))
@@ -365,10 +486,20 @@ const OUTSIDE_EDGES: f64 = 12.0;
 
 #[test]
 fn translating_a_coarse_submesh_carries_its_fine_detail_exactly() {
+    translating_a_coarse_submesh_carries_its_fine_detail_exactly_with(&|_: &str| detailed_sphere());
+}
+
+#[test]
+#[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
+fn translating_a_coarse_submesh_carries_its_fine_detail_exactly_on_real_meshes() {
+    translating_a_coarse_submesh_carries_its_fine_detail_exactly_with(&common::load);
+}
+
+fn translating_a_coarse_submesh_carries_its_fine_detail_exactly_with(load: &dyn Fn(&str) -> Mesh) {
     // Translate the upper half of the bunny at a coarse level: after refinement the fine
     // vertices well inside it are the original ones translated (their detail rode along
     // unchanged), and vertices well outside did not move at all.
-    let (original, cut) = bunny_and_cut();
+    let (original, cut) = bunny_and_cut(load);
     let scale = diagonal(&original);
     let mut h = Hierarchy::build(
         original.clone(),
@@ -407,12 +538,22 @@ fn translating_a_coarse_submesh_carries_its_fine_detail_exactly() {
 
 #[test]
 fn scaling_a_coarse_submesh_carries_the_fine_detail_along() {
+    scaling_a_coarse_submesh_carries_the_fine_detail_along_with(&|_: &str| detailed_sphere());
+}
+
+#[test]
+#[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
+fn scaling_a_coarse_submesh_carries_the_fine_detail_along_on_real_meshes() {
+    scaling_a_coarse_submesh_carries_the_fine_detail_along_with(&common::load);
+}
+
+fn scaling_a_coarse_submesh_carries_the_fine_detail_along_with(load: &dyn Fn(&str) -> Mesh) {
     // Scale the upper half of the bunny at a coarse level. The detail coefficients
     // translate, so a re-inserted vertex lands at `p + (s − 1)(C_i − c)` instead of the
     // exactly scaled `p + (s − 1)(p − c)`: the refined part follows the scaling to within
     // (s − 1) × a coarse edge length, and its fine detail (the offset of each vertex from
     // the centroid of its neighbours) is the input's, neither smoothed away nor scaled.
-    let (original, cut) = bunny_and_cut();
+    let (original, cut) = bunny_and_cut(load);
     let mut h = Hierarchy::build(
         original.clone(),
         &HierarchyOptions::rounds()
@@ -506,6 +647,16 @@ fn tiny_and_empty_meshes_build_trivial_hierarchies() {
 /// gives the same hierarchy as `build`.
 #[test]
 fn a_build_can_be_cancelled_from_its_progress_callback() {
+    a_build_can_be_cancelled_from_its_progress_callback_with(&common::stand_in);
+}
+
+#[test]
+#[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
+fn a_build_can_be_cancelled_from_its_progress_callback_on_real_meshes() {
+    a_build_can_be_cancelled_from_its_progress_callback_with(&common::load);
+}
+
+fn a_build_can_be_cancelled_from_its_progress_callback_with(load: &dyn Fn(&str) -> Mesh) {
     use std::ops::ControlFlow;
     let mesh = load("spot.obj");
     for options in [
@@ -537,4 +688,17 @@ fn a_build_can_be_cancelled_from_its_progress_callback() {
         assert_eq!(full.level_face_counts(), direct.level_face_counts());
         assert!(snapshot(full.mesh()) == snapshot(direct.mesh()));
     }
+}
+
+/// The default tier's stand-in for the bunny in the detail tests: a sphere of 81,920
+/// faces with scan-like detail at the scale of its edges (every vertex moved off the
+/// sphere by a pseudo-random fraction of an edge).
+fn detailed_sphere() -> Mesh {
+    let mut mesh = generators::icosphere(6);
+    for (i, p) in mesh.positions_mut().iter_mut().enumerate() {
+        let hash = (i as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15) >> 40;
+        let noise = hash as f64 / (1u64 << 24) as f64 * 2.0 - 1.0;
+        *p *= 1.0 + 0.006 * noise;
+    }
+    mesh
 }

@@ -455,17 +455,35 @@ fn malformed_obj() {
 }
 
 #[test]
+#[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
 fn truncated_large_binary_ply_across_read_chunks() {
     // Files are streamed in chunks of 1 MiB: cut a 2.4 MB binary PLY around chunk borders.
     let (horse, _) = io::read(common::shared_meshes().join("horse.ply")).unwrap();
+    truncated_across_chunks(&horse, "truncated-large");
+}
+
+#[test]
+fn truncated_generated_binary_ply_across_read_chunks() {
+    // A generated mesh of about 3 MB in binary PLY.
+    let big = halfedge::generators::disjoint_union(&[
+        &halfedge::generators::icosphere(6),
+        &halfedge::generators::icosphere(5),
+    ])
+    .unwrap();
+    truncated_across_chunks(&big, "truncated-generated");
+}
+
+/// Writes `mesh` as binary PLY (over 2 MiB), reads it back whole, then cut around the
+/// 1 MiB chunk borders: every cut is a "truncated" format error.
+fn truncated_across_chunks(mesh: &halfedge::Mesh, tag: &str) {
     let mut bytes = Vec::new();
-    io::write_ply_to(&mut bytes, &horse, io::PlyFormat::BinaryLittleEndian).unwrap();
+    io::write_ply_to(&mut bytes, mesh, io::PlyFormat::BinaryLittleEndian).unwrap();
     assert!(bytes.len() > 2 << 20);
-    let dir = temp_dir("truncated-large");
+    let dir = temp_dir(tag);
     let whole = dir.join("whole.ply");
     std::fs::write(&whole, &bytes).unwrap();
     let (back, _) = io::read(&whole).unwrap();
-    assert_eq!(back.positions(), horse.positions());
+    assert_eq!(back.positions(), mesh.positions());
     for len in [
         (1 << 20) - 1,
         1 << 20,

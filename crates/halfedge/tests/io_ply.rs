@@ -308,12 +308,54 @@ fn data_strips_file() {
 }
 
 #[test]
+#[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
 fn fast_and_general_routes_agree_on_horse() {
     // horse.ply (float x y z, normals) takes the fast route; the same data written with an
     // extra face property takes the general one.
     let horse = std::fs::read(shared_meshes().join("horse.ply")).unwrap();
-    let (fast, _) = read(&horse);
+    let fast = routes_agree(&horse);
     assert_eq!((fast.n_vertices(), fast.n_faces()), (48_485, 96_966));
+}
+
+#[test]
+fn fast_and_general_routes_agree_on_a_generated_scan() {
+    // The layout scanners write (and horse.ply has): float x y z, float normals, faces as
+    // uchar-counted int lists, binary little endian; here on the blob of `data/`.
+    let (blob, _) = halfedge::io::read(data_dir().join("blob.obj")).unwrap();
+    let normals = blob.vertex_normals();
+    let mut b = PlyBuilder::new(Enc::Le)
+        .element("vertex", blob.n_vertices())
+        .property("float", "x")
+        .property("float", "y")
+        .property("float", "z")
+        .property("float", "nx")
+        .property("float", "ny")
+        .property("float", "nz")
+        .element("face", blob.n_faces())
+        .list_property("uchar", "int", "vertex_indices");
+    for (p, n) in blob.positions().iter().zip(&normals) {
+        for c in [p.x, p.y, p.z, n.x, n.y, n.z] {
+            b.value("float", c);
+        }
+    }
+    for t in triangles(&blob) {
+        b.list("uchar", "int", &t.map(|i| i as f64));
+    }
+    let fast = routes_agree(&b.bytes());
+    assert_eq!(triangles(&fast), triangles(&blob));
+    for (p, q) in fast.positions().iter().zip(blob.positions()) {
+        assert_eq!(
+            *p,
+            q.as_vec3().as_dvec3(),
+            "positions are the file's floats"
+        );
+    }
+}
+
+/// Reads `file` (a binary PLY with float x y z) and the same data written with an extra
+/// face property, which sends it down the general route: both give the same mesh.
+fn routes_agree(file: &[u8]) -> Mesh {
+    let (fast, _) = read(file);
     for enc in [Enc::Le, Enc::Be] {
         let mut b = PlyBuilder::new(enc)
             .element("vertex", fast.n_vertices())
@@ -336,6 +378,7 @@ fn fast_and_general_routes_agree_on_horse() {
         assert_eq!(general.positions(), fast.positions(), "{enc:?}");
         assert_eq!(triangles(&general), triangles(&fast), "{enc:?}");
     }
+    fast
 }
 
 #[test]

@@ -72,17 +72,20 @@ fn shared_round_trip(name: &str) {
 }
 
 #[test]
+#[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
 fn horse_round_trips() {
     shared_round_trip("horse.ply");
 }
 
 #[test]
+#[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
 fn bunny_round_trips() {
     // Isolated vertices and holes.
     shared_round_trip("stanford-bunny.obj");
 }
 
 #[test]
+#[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
 fn suzanne_teapot_cow_round_trip() {
     // Quads, a non-manifold edge, many boundary loops, duplicated vertices.
     for name in ["suzanne.obj", "teapot.obj", "cow.obj"] {
@@ -93,7 +96,18 @@ fn suzanne_teapot_cow_round_trip() {
 #[test]
 fn data_meshes_round_trip() {
     let dir = temp_dir("roundtrip-data");
-    for name in ["patch.ply", "strips.ply", "quads_hole.obj", "blob.obj"] {
+    // Open, tristrips, quads with a hole, closed, several components, genus 1, holes,
+    // dirty input (its duplicated vertices are written as ordinary ones).
+    for name in [
+        "patch.ply",
+        "strips.ply",
+        "quads_hole.obj",
+        "blob.obj",
+        "creature.obj",
+        "torus.obj",
+        "cup.obj",
+        "dirty.obj",
+    ] {
         let (mesh, _) = io::read(data_dir().join(name)).unwrap();
         round_trip(name, &mesh, &dir);
     }
@@ -134,15 +148,25 @@ fn generated_meshes_round_trip() {
 
 #[test]
 fn duplicated_vertices_are_written_as_ordinary_vertices() {
-    let (mesh, report) = io::read(shared_meshes().join("cow.obj")).unwrap();
-    assert_eq!(report.duplicated_vertices, 12);
+    duplicated_written_as_ordinary(&data_dir().join("dirty.obj"), 6);
+}
+
+#[test]
+#[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
+fn duplicated_vertices_of_the_cow_are_written_as_ordinary_vertices() {
+    duplicated_written_as_ordinary(&shared_meshes().join("cow.obj"), 12);
+}
+
+fn duplicated_written_as_ordinary(path: &Path, duplicated: usize) {
+    let (mesh, report) = io::read(path).unwrap();
+    assert_eq!(report.duplicated_vertices, duplicated);
     let mut bytes = Vec::new();
     io::write_obj_to(&mut bytes, &mesh).unwrap();
-    let (back, again) = io::read_obj_from_bytes(&bytes, Path::new("cow-written.obj")).unwrap();
+    let (back, again) = io::read_obj_from_bytes(&bytes, Path::new("written.obj")).unwrap();
     assert_eq!(again.duplicated_vertices, 0);
     assert_eq!(back.n_vertices(), mesh.n_vertices());
     // The copies come after the file's vertices, at the same positions as their originals.
-    let n_file = mesh.n_vertices() - 12;
+    let n_file = mesh.n_vertices() - duplicated;
     for i in n_file..mesh.n_vertices() {
         let p = back.positions()[i];
         assert!(back.positions()[..n_file].contains(&p));

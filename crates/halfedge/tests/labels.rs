@@ -6,7 +6,7 @@ mod common;
 
 use std::collections::HashSet;
 
-use common::load;
+use common::{data, load};
 use glam::DVec3;
 use halfedge::labels::{classify_split, LABEL_ATTRIBUTE};
 use halfedge::{
@@ -14,9 +14,39 @@ use halfedge::{
     VertexId, FRONTIER,
 };
 
-/// The plane through the bunny's left ear (y up) and a point on it near that ear.
-fn ear_plane() -> (DVec3, DVec3) {
-    (DVec3::new(-0.066, 0.16, -0.017), DVec3::Y)
+/// A mesh with an ear to cut off by a plane: the plane (a point near the ear, the
+/// normal), how far in x the ear's vertices lie from the point (the other ear is farther),
+/// and how many vertices the ear has at least.
+struct Ear {
+    mesh: Mesh,
+    point: DVec3,
+    normal: DVec3,
+    half_width: f64,
+    min_vertices: usize,
+}
+
+/// The bunny's left ear (y up), cut at y = 0.16 (real-mesh tier).
+fn bunny_ear() -> Ear {
+    Ear {
+        mesh: load("stanford-bunny.obj"),
+        point: DVec3::new(-0.066, 0.16, -0.017),
+        normal: DVec3::Y,
+        half_width: 0.04,
+        min_vertices: 300,
+    }
+}
+
+/// The left ear of `data/creature.obj` (y up), subdivided twice to the bunny's size
+/// (92,160 faces), cut at y = 1.1; the creature's eyes are separate components.
+fn creature_ear() -> Ear {
+    let creature = data("creature.obj");
+    Ear {
+        mesh: generators::subdivide(&generators::subdivide(&creature)),
+        point: DVec3::new(-0.45, 1.1, -0.1),
+        normal: DVec3::Y,
+        half_width: 0.45,
+        min_vertices: 300,
+    }
 }
 
 /// No edge joins two different sub-meshes: the frontier separates them.
@@ -73,9 +103,24 @@ fn torus(n: usize, m: usize) -> Mesh {
 }
 
 #[test]
-fn plane_section_cuts_off_the_bunny_ear() {
-    let mut mesh = load("stanford-bunny.obj");
-    let (point, normal) = ear_plane();
+fn plane_section_cuts_off_an_ear() {
+    plane_section_cuts_off_the_bunny_ear_with(creature_ear);
+}
+
+#[test]
+#[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
+fn plane_section_cuts_off_the_ear_on_the_bunny() {
+    plane_section_cuts_off_the_bunny_ear_with(bunny_ear);
+}
+
+fn plane_section_cuts_off_the_bunny_ear_with(ear: fn() -> Ear) {
+    let Ear {
+        mut mesh,
+        point,
+        normal,
+        half_width,
+        min_vertices,
+    } = ear();
     let frontier = mesh.frontier_from_plane(point, normal).unwrap();
     let max_edge = frontier
         .halfedges()
@@ -92,7 +137,7 @@ fn plane_section_cuts_off_the_bunny_ear() {
     assert_eq!(counts.frontier_vertices, frontier.halfedges().len());
     let ear = smaller_side(&mesh, labels);
     let ear_vertices = side(&mesh, labels, ear);
-    assert!(ear_vertices.len() > 300, "{counts:?}");
+    assert!(ear_vertices.len() > min_vertices, "{counts:?}");
     // The ear is above the plane and near the picked point.
     for &v in &ear_vertices {
         let p = mesh.position(v);
@@ -101,7 +146,7 @@ fn plane_section_cuts_off_the_bunny_ear() {
             "ear vertex {v} below the plane"
         );
         assert!(
-            (p.x - point.x).abs() < 0.04,
+            (p.x - point.x).abs() < half_width,
             "ear vertex {v} is on the other ear"
         );
     }
@@ -130,8 +175,22 @@ fn plane_section_cuts_off_the_bunny_ear() {
 
 #[test]
 fn picked_vertices_make_the_same_cut() {
-    let mut mesh = load("stanford-bunny.obj");
-    let (point, normal) = ear_plane();
+    picked_vertices_make_the_same_cut_with(creature_ear);
+}
+
+#[test]
+#[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
+fn picked_vertices_make_the_same_cut_on_the_bunny() {
+    picked_vertices_make_the_same_cut_with(bunny_ear);
+}
+
+fn picked_vertices_make_the_same_cut_with(ear: fn() -> Ear) {
+    let Ear {
+        mut mesh,
+        point,
+        normal,
+        ..
+    } = ear();
     let section = mesh.frontier_from_plane(point, normal).unwrap();
     let ring = section.vertices(&mesh);
     let picks: Vec<VertexId> = (0..4).map(|k| ring[k * ring.len() / 4]).collect();
@@ -152,8 +211,22 @@ fn picked_vertices_make_the_same_cut() {
 
 #[test]
 fn a_collar_of_faces_makes_the_same_cut() {
-    let mut mesh = load("stanford-bunny.obj");
-    let (point, normal) = ear_plane();
+    a_collar_of_faces_makes_the_same_cut_with(creature_ear);
+}
+
+#[test]
+#[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
+fn a_collar_of_faces_makes_the_same_cut_on_the_bunny() {
+    a_collar_of_faces_makes_the_same_cut_with(bunny_ear);
+}
+
+fn a_collar_of_faces_makes_the_same_cut_with(ear: fn() -> Ear) {
+    let Ear {
+        mut mesh,
+        point,
+        normal,
+        ..
+    } = ear();
     let section = mesh.frontier_from_plane(point, normal).unwrap();
     // The collar: every face touching the section loop.
     let mut collar: Vec<FaceId> = section
@@ -282,13 +355,24 @@ fn figure_4_rule_for_a_split_vertex() {
 
 #[test]
 fn labels_defined_at_a_coarse_level_propagate_to_the_fine_mesh() {
-    let mut h = Hierarchy::build(
-        load("stanford-bunny.obj"),
-        &HierarchyOptions::rounds().with_max_levels(4),
-    )
-    .unwrap();
+    labels_defined_at_a_coarse_level_propagate_to_the_fine_mesh_with(creature_ear);
+}
+
+#[test]
+#[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
+fn labels_defined_at_a_coarse_level_propagate_to_the_fine_mesh_on_the_bunny() {
+    labels_defined_at_a_coarse_level_propagate_to_the_fine_mesh_with(bunny_ear);
+}
+
+fn labels_defined_at_a_coarse_level_propagate_to_the_fine_mesh_with(ear: fn() -> Ear) {
+    let Ear {
+        mesh,
+        point,
+        normal,
+        ..
+    } = ear();
+    let mut h = Hierarchy::build(mesh, &HierarchyOptions::rounds().with_max_levels(4)).unwrap();
     let coarse_edge = h.mesh().mean_edge_length();
-    let (point, normal) = ear_plane();
     let frontier = h.mesh().frontier_from_plane(point, normal).unwrap();
     let (labels, _) = h.mesh_mut().label_sides(&frontier, 1, 2).unwrap();
     h.attach_labels(labels);
@@ -335,13 +419,24 @@ fn labels_defined_at_a_coarse_level_propagate_to_the_fine_mesh() {
 
 #[test]
 fn labels_defined_at_the_fine_level_hold_at_every_level() {
-    let mut h = Hierarchy::build(
-        load("stanford-bunny.obj"),
-        &HierarchyOptions::qem().with_target_faces(2000),
-    )
-    .unwrap();
+    labels_defined_at_the_fine_level_hold_at_every_level_with(creature_ear);
+}
+
+#[test]
+#[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
+fn labels_defined_at_the_fine_level_hold_at_every_level_on_the_bunny() {
+    labels_defined_at_the_fine_level_hold_at_every_level_with(bunny_ear);
+}
+
+fn labels_defined_at_the_fine_level_hold_at_every_level_with(ear: fn() -> Ear) {
+    let Ear {
+        mesh,
+        point,
+        normal,
+        ..
+    } = ear();
+    let mut h = Hierarchy::build(mesh, &HierarchyOptions::qem().with_target_faces(2000)).unwrap();
     h.refine_to(0).unwrap();
-    let (point, normal) = ear_plane();
     let frontier = h.mesh().frontier_from_plane(point, normal).unwrap();
     let (labels, _) = h.mesh_mut().label_sides(&frontier, 1, 2).unwrap();
     h.attach_labels(labels);

@@ -10,7 +10,7 @@
 
 mod common;
 
-use common::{euler, load, snapshot};
+use common::{data, euler, snapshot};
 use glam::DVec3;
 use halfedge::{generators, HalfedgeId, Mesh};
 use proptest::prelude::*;
@@ -25,12 +25,13 @@ fn config() -> Config {
     }
 }
 
-/// The test meshes: closed, with boundary, with bow-ties and several boundary loops.
+/// The test meshes: closed, with boundary, with bow-ties and several boundary loops, and
+/// dirty input (quads, a pentagon, a non-manifold edge, a bow-tie: `data/dirty.obj`).
 fn mesh(kind: u8) -> Mesh {
     match kind % 5 {
         0 => generators::icosphere(1),
         1 => generators::grid(7, 5, 1.0, 0.7),
-        2 => load("suzanne.obj"),
+        2 => data("dirty.obj"),
         3 => {
             // Two grids sharing one corner vertex: a bow-tie.
             let g = generators::grid(3, 3, 1.0, 1.0);

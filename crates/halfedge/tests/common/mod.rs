@@ -6,7 +6,8 @@ use std::path::{Path, PathBuf};
 use halfedge::{FaceId, HalfedgeId, Mesh, VertexId};
 
 /// `../shared/meshes` seen from the workspace (the first ancestor of this crate that has
-/// `shared/meshes`), or `$MULTIRES_MESHES`.
+/// `shared/meshes`), or `$MULTIRES_MESHES`. Only the real-mesh tier (`#[ignore]`d tests)
+/// reads it; it panics, saying how to get the meshes, when there are none.
 pub fn shared_meshes() -> PathBuf {
     if let Some(dir) = std::env::var_os("MULTIRES_MESHES") {
         return PathBuf::from(dir);
@@ -15,7 +16,10 @@ pub fn shared_meshes() -> PathBuf {
         .ancestors()
         .map(|a| a.join("shared/meshes"))
         .find(|d| d.is_dir())
-        .expect("no shared/meshes directory above the crate (set MULTIRES_MESHES)")
+        .expect(
+            "the real-mesh tier needs the shared test meshes: a `shared/meshes` folder above \
+             the workspace, or MULTIRES_MESHES=DIR",
+        )
 }
 
 /// The workspace's `data/` directory.
@@ -162,23 +166,40 @@ pub fn square(enc: Enc) -> PlyBuilder {
     b
 }
 
-/// `shared/meshes` next to the repository (or `MULTIRES_MESHES`).
+/// `shared/meshes` next to the repository (or `MULTIRES_MESHES`); see [`shared_meshes`].
 pub fn meshes_dir() -> PathBuf {
-    if let Ok(dir) = std::env::var("MULTIRES_MESHES") {
-        return PathBuf::from(dir);
-    }
-    let here = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
-    here.ancestors()
-        .map(|a| a.join("shared/meshes"))
-        .find(|p| p.is_dir())
-        .expect("shared/meshes not found above the crate; set MULTIRES_MESHES")
+    shared_meshes()
 }
 
-/// Loads a shared mesh by file name.
+/// Loads a shared mesh by file name (real-mesh tier).
 pub fn load(name: &str) -> Mesh {
     halfedge::io::read(meshes_dir().join(name))
         .unwrap_or_else(|e| panic!("{name}: {e}"))
         .0
+}
+
+/// Loads a mesh of `data/` by file name.
+pub fn data(name: &str) -> Mesh {
+    halfedge::io::read(data_dir().join(name))
+        .unwrap_or_else(|e| panic!("{name}: {e}"))
+        .0
+}
+
+/// The generated mesh of `data/` that stands in for a shared mesh in the default tier,
+/// with the same character: `spot` (closed, genus 0) → `blob`; `stanford-bunny` (holes)
+/// → `cup`; `cow` (several components) → `creature`; `teapot` (boundary loops) → `cup`;
+/// `nefertiti` → `torus` (closed, genus 1); `fandisk` → `creature`; `suzanne`, `beast`
+/// (quads, non-manifold) → `dirty`; `horse.ply` → `patch.ply` (binary PLY).
+pub fn stand_in(name: &str) -> Mesh {
+    data(match name {
+        "spot.obj" => "blob.obj",
+        "stanford-bunny.obj" | "teapot.obj" => "cup.obj",
+        "cow.obj" | "fandisk.obj" => "creature.obj",
+        "nefertiti.obj" => "torus.obj",
+        "suzanne.obj" | "beast.obj" => "dirty.obj",
+        "horse.ply" => "patch.ply",
+        other => panic!("no stand-in for {other}"),
+    })
 }
 
 /// Complete connectivity + positions snapshot, handle for handle.
