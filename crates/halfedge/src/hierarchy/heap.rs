@@ -111,9 +111,10 @@ impl MinHeap {
         self.buckets[b] = keys;
     }
 
-    /// The smallest key.
-    #[inline]
-    pub(crate) fn peek(&mut self) -> Option<u64> {
+    /// The smallest key (the tests compare it; [`Queue::peek`] is what the decimation
+    /// uses).
+    #[cfg(test)]
+    fn peek(&mut self) -> Option<u64> {
         self.refill();
         self.overdue.peek().map(|k| k.0)
     }
@@ -123,6 +124,82 @@ impl MinHeap {
     pub(crate) fn pop(&mut self) -> Option<u64> {
         self.refill();
         self.overdue.pop().map(|k| k.0)
+    }
+}
+
+/// A [`MinHeap`] with its next few keys taken out in order, so that the caller knows
+/// which edges come next and can prefetch what they will touch (see
+/// [`crate::prefetch`]). Every key in `ahead` is at most every key in the heap; a key
+/// pushed below the last of `ahead` is inserted there in order (and `ahead`'s largest
+/// goes back into the heap), so pops come in exactly the heap's order.
+#[derive(Clone, Debug)]
+pub(crate) struct Queue {
+    heap: MinHeap,
+    /// The smallest keys, ascending, at most `depth` of them.
+    ahead: std::collections::VecDeque<u64>,
+    depth: usize,
+}
+
+impl Queue {
+    /// A queue holding `keys` that keeps its next `depth` keys (at least 1) in order.
+    pub(crate) fn new(keys: Vec<u64>, depth: usize) -> Self {
+        let depth = depth.max(1);
+        Self {
+            heap: MinHeap::from_vec(keys),
+            ahead: std::collections::VecDeque::with_capacity(depth + 1),
+            depth,
+        }
+    }
+
+    /// Takes keys out of the heap until `ahead` holds `depth` (or the heap is empty).
+    #[inline]
+    fn fill(&mut self) {
+        while self.ahead.len() < self.depth {
+            match self.heap.pop() {
+                Some(k) => self.ahead.push_back(k),
+                None => break,
+            }
+        }
+    }
+
+    /// Adds a key.
+    #[inline]
+    pub(crate) fn push(&mut self, key: u64) {
+        match self.ahead.back() {
+            Some(&last) if key < last => {
+                let at = self.ahead.partition_point(|&k| k < key);
+                self.ahead.insert(at, key);
+                if self.ahead.len() > self.depth {
+                    if let Some(k) = self.ahead.pop_back() {
+                        self.heap.push(k);
+                    }
+                }
+            }
+            _ => self.heap.push(key),
+        }
+    }
+
+    /// The smallest key.
+    #[inline]
+    pub(crate) fn peek(&mut self) -> Option<u64> {
+        self.fill();
+        self.ahead.front().copied()
+    }
+
+    /// Removes and returns the smallest key.
+    #[inline]
+    pub(crate) fn pop(&mut self) -> Option<u64> {
+        self.fill();
+        let key = self.ahead.pop_front();
+        self.fill();
+        key
+    }
+
+    /// The key that [`pop`](Self::pop) will return after `i` more pops, unless keys are
+    /// pushed meanwhile (`i < depth`).
+    #[inline]
+    pub(crate) fn upcoming(&self, i: usize) -> Option<u64> {
+        self.ahead.get(i).copied()
     }
 }
 
@@ -181,6 +258,37 @@ mod tests {
                 proptest::prop_assert_eq!(heap.pop(), Some(k.0));
             }
             proptest::prop_assert_eq!(heap.pop(), None);
+        }
+    }
+
+    proptest::proptest! {
+        /// The queue pops what a binary heap pops whatever is pushed meanwhile, and its
+        /// upcoming keys are the heap's next ones.
+        #[test]
+        fn queue_pops_what_a_binary_heap_pops(
+            initial in proptest::collection::vec(0u64..1 << 20, 0..100),
+            ops in proptest::collection::vec((0u8..2, 0u64..1 << 20), 0..300),
+            depth in 1usize..10,
+        ) {
+            let mut queue = Queue::new(initial.clone(), depth);
+            let mut reference: BinaryHeap<Reverse<u64>> = initial.into_iter().map(Reverse).collect();
+            for (op, key) in ops {
+                if op == 0 {
+                    proptest::prop_assert_eq!(queue.pop(), reference.pop().map(|k| k.0));
+                    let mut next = reference.clone();
+                    for i in 0..depth {
+                        proptest::prop_assert_eq!(queue.upcoming(i), next.pop().map(|k| k.0));
+                    }
+                } else {
+                    queue.push(key);
+                    reference.push(Reverse(key));
+                }
+                proptest::prop_assert_eq!(queue.peek(), reference.peek().map(|k| k.0));
+            }
+            while let Some(k) = reference.pop() {
+                proptest::prop_assert_eq!(queue.pop(), Some(k.0));
+            }
+            proptest::prop_assert_eq!(queue.pop(), None);
         }
     }
 }
