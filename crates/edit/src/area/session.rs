@@ -533,37 +533,40 @@ struct Evaluator<'a> {
 impl Evaluator<'_> {
     #[inline]
     fn position(&self, i: usize) -> DVec3 {
-        match self.offset(i) {
-            Some(offset) => self.rest[i] + self.frames.to_displacement(i, offset),
-            None => self.rest[i],
-        }
-    }
-
-    /// The position with `detail` added to the offset.
-    fn position_with(&self, i: usize, detail: DVec3) -> DVec3 {
-        let offset = self.offset(i).unwrap_or(DVec3::ZERO) + detail;
-        self.rest[i] + self.frames.to_displacement(i, offset)
-    }
-
-    /// The offset of local vertex `i`; `None` where nothing moves it.
-    #[inline]
-    fn offset(&self, i: usize) -> Option<DVec3> {
         let c = self.data_of_local[i];
         let offset = if c == NONE {
             match self.lattice {
                 Some(phi) => self.eval[i].evaluate(phi, self.n),
-                None => return None,
+                None => return self.rest[i],
             }
         } else {
-            // the primitive's own full-precision basis: it reaches what the fit aimed at
-            let c = c as usize;
-            let smooth = match self.lattice {
-                Some(phi) => self.primitive_bases[c].evaluate(phi, self.n),
-                None => DVec3::ZERO,
-            };
-            smooth + self.offsets[c] * self.data_weight
+            self.primitive_offset(c as usize)
         };
-        Some(offset)
+        self.rest[i] + self.frames.to_displacement(i, offset)
+    }
+
+    /// The position of local vertex `i` with `detail` added to its offset (the vertices
+    /// the detail levels reach; off the hot loop).
+    fn position_with(&self, i: usize, detail: DVec3) -> DVec3 {
+        let c = self.data_of_local[i];
+        let offset = if c == NONE {
+            self.lattice
+                .map_or(DVec3::ZERO, |phi| self.eval[i].evaluate(phi, self.n))
+        } else {
+            self.primitive_offset(c as usize)
+        };
+        self.rest[i] + self.frames.to_displacement(i, offset + detail)
+    }
+
+    /// The offset at primitive vertex `c`: the primitive's own full-precision basis (it
+    /// reaches what the fit aimed at) plus the data-only part.
+    #[inline]
+    fn primitive_offset(&self, c: usize) -> DVec3 {
+        let smooth = match self.lattice {
+            Some(phi) => self.primitive_bases[c].evaluate(phi, self.n),
+            None => DVec3::ZERO,
+        };
+        smooth + self.offsets[c] * self.data_weight
     }
 }
 
