@@ -1107,6 +1107,14 @@ impl Multires {
     }
 }
 
+/// The script name of a detail mode.
+fn detail_name(mode: DetailMode) -> &'static str {
+    match mode {
+        DetailMode::LocalFrame => "local",
+        DetailMode::Translation => "translation",
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -1325,13 +1333,5 @@ mod tests {
             connectivity_fingerprint(h.mesh()),
             connectivity_fingerprint(&a)
         );
-    }
-}
-
-/// The script name of a detail mode.
-fn detail_name(mode: DetailMode) -> &'static str {
-    match mode {
-        DetailMode::LocalFrame => "local",
-        DetailMode::Translation => "translation",
     }
 }
