@@ -25,8 +25,8 @@
 //! - **The scale is a fraction of the area** (§3.6, §5.2): the coarsest lattice has
 //!   `m = 4/s` cells (`s = 1, 1/2, 1/4, …` ↔ `m = 4, 8, 16, …`, linear between), whatever
 //!   the number of levels, so a given `s` reaches the same part of an area on a coarse
-//!   and on a fine mesh: about `0.4 s` of the rectangle's side from the primitive (the
-//!   measured table is in `docs/guide/area-editing.md`).
+//!   and on a fine mesh: about `0.45 s` of the rectangle's side from the primitive up to
+//!   `s = 1/2` (the measured table is in `docs/guide/area-editing.md`).
 //! - **Detail levels at the primitive**: up to six sparse levels finer than the dense
 //!   lattice fit what is left at the primitive's vertices, so a primitive of several
 //!   vertices is reached to `1e-9` of the drag (away from the border band, where fixing
@@ -66,9 +66,9 @@ pub struct SessionOptions {
     /// Local frames.
     pub frames: FrameKind,
     /// Scale parameter `s ∈ [0, 1]` (Lee 1999 §3.6): 0 moves only the primitive, 1 the
-    /// whole area; in between the edit reaches about `0.4 s` of the rectangle's side
-    /// from the primitive (motion down to 10 % of the drag), the same on coarse and fine
-    /// meshes (see the [module docs](self)).
+    /// whole area; in between the edit reaches about `0.45 s` of the rectangle's side
+    /// from the primitive up to `s = 1/2` (motion down to 10 % of the drag), the same on
+    /// coarse and fine meshes (see the [module docs](self)).
     pub scale: f64,
     /// Number `l` of dense B-spline levels, `3 ..=` [`MAX_SESSION_LEVELS`] (level 3,
     /// four cells, is the coarsest with a free control point once the border is fixed).
