@@ -67,6 +67,16 @@ impl MinHeap {
             buckets: vec![Vec::new(); 64],
             ..Self::default()
         };
+        // Buckets sized exactly (no regrowth, no copies), then filled.
+        let mut counts = [0usize; 64];
+        for &k in &keys {
+            if k > 0 {
+                counts[63 - k.leading_zeros() as usize] += 1;
+            }
+        }
+        for (bucket, &n) in heap.buckets.iter_mut().zip(&counts) {
+            bucket.reserve_exact(n);
+        }
         for k in keys {
             heap.push(k);
         }
