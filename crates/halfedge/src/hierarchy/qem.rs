@@ -299,7 +299,8 @@ pub(crate) fn build(
     let mut next_level = level_target(input_faces, options.level_ratio);
     let mut since_report = 0usize;
     let mut new_normals = NewNormals::new();
-    while let Some(key) = heap.pop() {
+    // Keys of dead edges are dropped as they come out of the heap, before the lookahead.
+    while let Some(key) = heap.pop(|k| state.get(heap::unpack(k).1 as usize) != DEAD) {
         if h.mesh.n_faces() <= options.target_faces || h.built_levels() >= options.max_levels {
             break;
         }
@@ -319,7 +320,8 @@ pub(crate) fn build(
                 // unless it is still the cheapest.
                 state.set(edge, CLEAN);
                 let key = heap::pack(cands.cost(), edge as u32);
-                if heap.peek().is_some_and(|top| top < key) {
+                let live = |k| state.get(heap::unpack(k).1 as usize) != DEAD;
+                if heap.peek(live).is_some_and(|top| top < key) {
                     heap.push(key);
                     continue;
                 }
