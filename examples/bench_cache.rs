@@ -1,5 +1,5 @@
 //! Prepares the large bench inputs of `benches/common` ahead of `cargo bench`: the shared
-//! meshes subdivided 1-to-4 to about 1, 2, 4 and 6 million faces, written once into
+//! meshes subdivided 1-to-4 to about 1, 2, 4, 6 and 18 million faces, written once into
 //! `bench-cache/` as binary PLY (regenerated when the source mesh is newer), with a
 //! progress bar per mesh, then prints each file's size and face count.
 //!
@@ -21,7 +21,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 #[derive(Parser, Debug)]
 #[command(about)]
 struct Args {
-    /// Sizes to prepare (1M, 2M, 4M, 6M); default: all.
+    /// Sizes to prepare (1M, 2M, 4M, 6M, 18M); default: all.
     sizes: Vec<String>,
     /// Only list the inputs, their files and whether they are up to date.
     #[arg(long)]

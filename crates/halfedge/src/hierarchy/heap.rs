@@ -67,6 +67,16 @@ impl MinHeap {
             buckets: vec![Vec::new(); 64],
             ..Self::default()
         };
+        // Buckets sized exactly (no regrowth, no copies), then filled.
+        let mut counts = [0usize; 64];
+        for &k in &keys {
+            if k > 0 {
+                counts[63 - k.leading_zeros() as usize] += 1;
+            }
+        }
+        for (bucket, &n) in heap.buckets.iter_mut().zip(&counts) {
+            bucket.reserve_exact(n);
+        }
         for k in keys {
             heap.push(k);
         }
@@ -151,12 +161,14 @@ impl Queue {
         }
     }
 
-    /// Takes keys out of the heap until `ahead` holds `depth` (or the heap is empty).
+    /// Takes keys out of the heap until `ahead` holds `depth` (or the heap is empty),
+    /// dropping those that `keep` refuses.
     #[inline]
-    fn fill(&mut self) {
+    fn fill(&mut self, keep: &impl Fn(u64) -> bool) {
         while self.ahead.len() < self.depth {
             match self.heap.pop() {
-                Some(k) => self.ahead.push_back(k),
+                Some(k) if keep(k) => self.ahead.push_back(k),
+                Some(_) => {}
                 None => break,
             }
         }
@@ -179,24 +191,26 @@ impl Queue {
         }
     }
 
-    /// The smallest key.
+    /// The smallest key that `keep` accepts. Keys it refuses on their way out of the
+    /// heap are dropped for good: `keep` must refuse a key forever once it has (the
+    /// decimation drops the keys of dead edges, which never come back).
     #[inline]
-    pub(crate) fn peek(&mut self) -> Option<u64> {
-        self.fill();
+    pub(crate) fn peek(&mut self, keep: impl Fn(u64) -> bool) -> Option<u64> {
+        self.fill(&keep);
         self.ahead.front().copied()
     }
 
-    /// Removes and returns the smallest key.
+    /// Removes and returns the smallest key that `keep` accepts (see [`peek`](Self::peek)).
     #[inline]
-    pub(crate) fn pop(&mut self) -> Option<u64> {
-        self.fill();
+    pub(crate) fn pop(&mut self, keep: impl Fn(u64) -> bool) -> Option<u64> {
+        self.fill(&keep);
         let key = self.ahead.pop_front();
-        self.fill();
+        self.fill(&keep);
         key
     }
 
     /// The key that [`pop`](Self::pop) will return after `i` more pops, unless keys are
-    /// pushed meanwhile (`i < depth`).
+    /// pushed or refused meanwhile (`i < depth`).
     #[inline]
     pub(crate) fn upcoming(&self, i: usize) -> Option<u64> {
         self.ahead.get(i).copied()
@@ -271,10 +285,11 @@ mod tests {
             depth in 1usize..10,
         ) {
             let mut queue = Queue::new(initial.clone(), depth);
+            let all = |_: u64| true;
             let mut reference: BinaryHeap<Reverse<u64>> = initial.into_iter().map(Reverse).collect();
             for (op, key) in ops {
                 if op == 0 {
-                    proptest::prop_assert_eq!(queue.pop(), reference.pop().map(|k| k.0));
+                    proptest::prop_assert_eq!(queue.pop(all), reference.pop().map(|k| k.0));
                     let mut next = reference.clone();
                     for i in 0..depth {
                         proptest::prop_assert_eq!(queue.upcoming(i), next.pop().map(|k| k.0));
@@ -283,12 +298,32 @@ mod tests {
                     queue.push(key);
                     reference.push(Reverse(key));
                 }
-                proptest::prop_assert_eq!(queue.peek(), reference.peek().map(|k| k.0));
+                proptest::prop_assert_eq!(queue.peek(all), reference.peek().map(|k| k.0));
             }
             while let Some(k) = reference.pop() {
-                proptest::prop_assert_eq!(queue.pop(), Some(k.0));
+                proptest::prop_assert_eq!(queue.pop(all), Some(k.0));
             }
-            proptest::prop_assert_eq!(queue.pop(), None);
+            proptest::prop_assert_eq!(queue.pop(all), None);
+        }
+    }
+
+    proptest::proptest! {
+        /// Keys refused by `keep` (here: multiples of 3) are never returned, the others
+        /// come in order.
+        #[test]
+        fn queue_drops_refused_keys(
+            keys in proptest::collection::vec(0u64..1 << 20, 0..200),
+            depth in 1usize..10,
+        ) {
+            let keep = |k: u64| k % 3 != 0;
+            let mut queue = Queue::new(keys.clone(), depth);
+            let mut expected: Vec<u64> = keys.into_iter().filter(|&k| keep(k)).collect();
+            expected.sort_unstable();
+            let mut out = Vec::new();
+            while let Some(k) = queue.pop(keep) {
+                out.push(k);
+            }
+            proptest::prop_assert_eq!(out, expected);
         }
     }
 }

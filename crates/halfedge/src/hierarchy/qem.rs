@@ -155,6 +155,10 @@ pub fn vertex_quadrics(mesh: &Mesh, planes: &[(DVec3, f64)], boundary_weight: f6
     let mut quadrics = vec![Quadric::default(); mesh.vertex_slots()];
     let (he, positions) = (&mesh.he[..], &mesh.positions[..]);
     mesh.vertex_slots_.par_for_each_live(&mut quadrics, |i, q| {
+        // The ring 16 vertices on starts where (see `crate::prefetch`).
+        if let Some(&h) = mesh.vertex_conn.get(i + 16) {
+            crate::prefetch::prefetch(he, h as usize);
+        }
         let pv = positions[i];
         let mut acc = Quadric::default();
         for (k, r) in vertex_walk(he, mesh.vertex_conn[i]) {
@@ -274,9 +278,9 @@ pub(crate) fn build(
     // Every edge (by its smaller halfedge index) has at most one heap entry; its state
     // says whether that entry's cost is current, stale, or the edge is parked (illegal,
     // out of the heap until its neighbourhood changes).
-    let mut state = vec![CLEAN; slots];
+    let mut state = EdgeStates::new(slots);
     // Vertices that may have parked edges around them.
-    let mut parked_near = vec![false; h.mesh.vertex_slots()];
+    let mut parked_near = Bits::new(h.mesh.vertex_slots());
     // One key per live edge, by its even halfedge.
     let keys: Vec<u64> = {
         let mesh = &h.mesh;
@@ -285,42 +289,48 @@ pub(crate) fn build(
             .into_par_iter()
             .map(|j| 2 * j as u32)
             .filter(|&e| mesh.halfedge_slots_.is_live_index(e as usize))
-            .map(|e| heap::pack(edge_cost(mesh, quadrics, e), e))
+            .map(|e| {
+                prefetch_ends(mesh, quadrics, e as usize + 32);
+                prefetch_ring_starts(mesh, e as usize + 16);
+                heap::pack(edge_cost(mesh, quadrics, e), e)
+            })
             .collect()
     };
     let mut heap = Queue::new(keys, AHEAD);
     let mut next_level = level_target(input_faces, options.level_ratio);
     let mut since_report = 0usize;
     let mut new_normals = NewNormals::new();
-    while let Some(key) = heap.pop() {
+    // Keys of dead edges are dropped as they come out of the heap, before the lookahead.
+    while let Some(key) = heap.pop(|k| state.get(heap::unpack(k).1 as usize) != DEAD) {
         if h.mesh.n_faces() <= options.target_faces || h.built_levels() >= options.max_levels {
             break;
         }
         prefetch_ahead(&h.mesh, &quadrics, &state, &normals, &heap);
         let edge = heap::unpack(key).1 as usize;
-        if state[edge] == DEAD {
+        if state.get(edge) == DEAD {
             continue;
         }
         let (g, p, t, q) = {
             let mesh = &h.mesh;
-            let Some(e) = mesh.halfedge_at(edge) else {
-                continue;
-            };
+            // Edges die only by collapses, which mark them DEAD: this one is live.
+            debug_assert!(mesh.halfedge_at(edge).is_some());
+            let e = mesh.hh(edge as u32);
             let (q, cands) = candidates(mesh, &quadrics, edge as u32);
-            if state[edge] == STALE {
+            if state.get(edge) == STALE {
                 // Costs only grow as quadrics accumulate: re-queue with the current cost
                 // unless it is still the cheapest.
-                state[edge] = CLEAN;
+                state.set(edge, CLEAN);
                 let key = heap::pack(cands.cost(), edge as u32);
-                if heap.peek().is_some_and(|top| top < key) {
+                let live = |k| state.get(heap::unpack(k).1 as usize) != DEAD;
+                if heap.peek(live).is_some_and(|top| top < key) {
                     heap.push(key);
                     continue;
                 }
             }
-            let park = |state: &mut [u8], parked_near: &mut [bool]| {
-                state[edge] = PARKED;
-                parked_near[mesh.vertex_index(mesh.from_vertex(e))] = true;
-                parked_near[mesh.vertex_index(mesh.to_vertex(e))] = true;
+            let park = |state: &mut EdgeStates, parked_near: &mut Bits| {
+                state.set(edge, PARKED);
+                parked_near.insert(mesh.vertex_index(mesh.from_vertex(e)));
+                parked_near.insert(mesh.vertex_index(mesh.to_vertex(e)));
             };
             let o = mesh.opposite(e);
             let Some((g, _)) = choose_direction(mesh, e, o, &labels) else {
@@ -359,31 +369,33 @@ pub(crate) fn build(
             let edge = mesh
                 .halfedge_index(x)
                 .min(mesh.halfedge_index(mesh.opposite(x)));
-            state[edge] = DEAD;
+            state.set(edge, DEAD);
         }
         let (i0, i1) = (mesh.vertex_index(v0), mesh.vertex_index(v1));
         quadrics[i1] = q;
-        parked_near[i1] |= parked_near[i0];
+        if parked_near.contains(i0) {
+            parked_near.insert(i1);
+        }
         new_normals.apply(mesh, v1, &mut normals);
         // Edges around v1 changed cost; parked edges around v1 and its neighbours may
         // have become legal. (An edge is known by its even halfedge, `k & !1`.)
         for (k, r) in vertex_walk(&mesh.he, mesh.vertex_conn[i1]) {
             let edge = (k & !1) as usize;
-            match state[edge] {
-                CLEAN => state[edge] = STALE,
+            match state.get(edge) {
+                CLEAN => state.set(edge, STALE),
                 PARKED => unpark(mesh, &quadrics, k, edge, &mut state, &mut heap),
                 _ => {}
             }
-            if std::mem::take(&mut parked_near[r.to as usize]) {
+            if parked_near.take(r.to as usize) {
                 for (kw, _) in vertex_walk(&mesh.he, mesh.vertex_conn[r.to as usize]) {
                     let ew = (kw & !1) as usize;
-                    if state[ew] == PARKED {
+                    if state.get(ew) == PARKED {
                         unpark(mesh, &quadrics, kw, ew, &mut state, &mut heap);
                     }
                 }
             }
         }
-        parked_near[i1] = false;
+        parked_near.take(i1);
         if mesh.n_faces() <= next_level {
             h.close_level();
             next_level = level_target(h.mesh.n_faces(), options.level_ratio);
@@ -415,7 +427,7 @@ const AHEAD: usize = 8;
 fn prefetch_ahead(
     mesh: &Mesh,
     quadrics: &[Quadric],
-    state: &[u8],
+    state: &EdgeStates,
     normals: &[Vec3],
     queue: &Queue,
 ) {
@@ -423,37 +435,115 @@ fn prefetch_ahead(
     let he = &mesh.he[..];
     let edge = |i| queue.upcoming(i).map(|k| heap::unpack(k).1 as usize);
     if let Some(e) = edge(AHEAD - 1) {
-        prefetch(state, e);
+        state.prefetch(e);
         prefetch(he, e);
     }
     // The endpoints of a live edge.
     let ends = |e: usize| -> Option<[usize; 2]> {
-        if state.get(e).is_none_or(|&s| s == DEAD) {
+        if e >= he.len() || state.get(e) == DEAD {
             return None;
         }
         Some([he.get(e ^ 1)?.to as usize, he.get(e)?.to as usize])
     };
-    if let Some(vs) = edge(4).and_then(ends) {
-        for v in vs {
-            prefetch(&mesh.positions, v);
-            prefetch(&mesh.vertex_conn, v);
-            if let Some(q) = quadrics.get(v) {
-                prefetch(&q.m, 0);
-                prefetch(&q.m, 8);
-            }
+    if let Some(e) = edge(4) {
+        if e < mesh.he.len() && state.get(e) != DEAD {
+            prefetch_ends(mesh, quadrics, e);
         }
     }
     if let Some(e) = edge(2) {
-        if let Some(vs) = ends(e) {
-            for v in vs {
-                prefetch(he, mesh.vertex_conn[v] as usize);
-            }
+        if ends(e).is_some() {
+            prefetch_ring_starts(mesh, e);
             for h in [e, e ^ 1] {
                 let r = &he[h];
                 prefetch(he, r.next as usize);
                 prefetch(normals, r.face as usize);
             }
         }
+    }
+}
+
+/// Prefetches the positions, quadrics and first outgoing halfedges of the endpoints of
+/// halfedge slot `e` (nothing if `e` is out of range).
+#[inline]
+fn prefetch_ends(mesh: &Mesh, quadrics: &[Quadric], e: usize) {
+    use crate::prefetch::prefetch;
+    let (Some(r), Some(o)) = (mesh.he.get(e), mesh.he.get(e ^ 1)) else {
+        return;
+    };
+    for v in [o.to as usize, r.to as usize] {
+        prefetch(&mesh.positions, v);
+        prefetch(&mesh.vertex_conn, v);
+        if let Some(q) = quadrics.get(v) {
+            prefetch(&q.m, 0);
+            prefetch(&q.m, 8);
+        }
+    }
+}
+
+/// Prefetches the records of the first outgoing halfedges of the endpoints of halfedge
+/// slot `e` (after [`prefetch_ends`] brought in which they are).
+#[inline]
+fn prefetch_ring_starts(mesh: &Mesh, e: usize) {
+    let (Some(r), Some(o)) = (mesh.he.get(e), mesh.he.get(e ^ 1)) else {
+        return;
+    };
+    for v in [o.to as usize, r.to as usize] {
+        if let Some(&h) = mesh.vertex_conn.get(v) {
+            crate::prefetch::prefetch(&mesh.he, h as usize);
+        }
+    }
+}
+
+/// The [`CLEAN`] / [`STALE`] / [`PARKED`] / [`DEAD`] state of every edge, two bits an
+/// edge, addressed by either of its halfedge slots: 0.6 MB for a 1.6 M-face mesh, so the
+/// states stay in the second-level cache while the decimation reads them around every
+/// collapse.
+struct EdgeStates(Vec<u64>);
+
+impl EdgeStates {
+    /// `CLEAN` edges for `halfedges` halfedge slots.
+    fn new(halfedges: usize) -> Self {
+        Self(vec![0; halfedges.div_ceil(64)])
+    }
+    #[inline]
+    fn get(&self, h: usize) -> u8 {
+        let e = h >> 1;
+        (self.0[e / 32] >> (2 * (e % 32)) & 3) as u8
+    }
+    #[inline]
+    fn set(&mut self, h: usize, state: u8) {
+        let e = h >> 1;
+        let word = &mut self.0[e / 32];
+        let shift = 2 * (e % 32);
+        *word = (*word & !(3 << shift)) | (u64::from(state) << shift);
+    }
+    #[inline]
+    fn prefetch(&self, h: usize) {
+        crate::prefetch::prefetch(&self.0, (h >> 1) / 32);
+    }
+}
+
+/// A set of vertex slots, a bit each.
+struct Bits(Vec<u64>);
+
+impl Bits {
+    fn new(n: usize) -> Self {
+        Self(vec![0; n.div_ceil(64)])
+    }
+    #[inline]
+    fn contains(&self, i: usize) -> bool {
+        self.0[i / 64] >> (i % 64) & 1 != 0
+    }
+    #[inline]
+    fn insert(&mut self, i: usize) {
+        self.0[i / 64] |= 1 << (i % 64);
+    }
+    /// Removes `i`, returning whether it was there.
+    #[inline]
+    fn take(&mut self, i: usize) -> bool {
+        let was = self.contains(i);
+        self.0[i / 64] &= !(1 << (i % 64));
+        was
     }
 }
 
@@ -472,11 +562,11 @@ fn unpark(
     quadrics: &[Quadric],
     k: u32,
     edge: usize,
-    state: &mut [u8],
+    state: &mut EdgeStates,
     heap: &mut Queue,
 ) {
     heap.push(heap::pack(edge_cost(mesh, quadrics, k), edge as u32));
-    state[edge] = CLEAN;
+    state.set(edge, CLEAN);
 }
 
 #[inline]
