@@ -28,6 +28,7 @@ use rayon::prelude::*;
 
 use super::{EditingArea, Embedding, EmbeddingOptions, FrameKind, LocalFrames};
 use crate::mba::{level_size, point_bases, FitWorkspace, LatticeBasis, ScaleSplit, MAX_LEVELS};
+use crate::selection::{check_finite_positions, scatter};
 use crate::{EditError, Result};
 
 /// Options of [`EditingSession::new`].
@@ -336,15 +337,20 @@ impl EditingSession {
     ///
     /// # Errors
     /// [`EditError::NonFiniteDisplacement`], [`EditError::EmptyPrimitive`],
-    /// [`EditError::AreaStale`]; the mesh is unchanged on error.
+    /// [`EditError::AreaStale`], [`EditError::Overflow`] when a moved vertex would not
+    /// land on a finite position (a displacement of 1e308); the mesh and the current
+    /// displacement are unchanged on error.
     pub fn drag(&mut self, mesh: &mut Mesh, displacement: DVec3) -> Result<()> {
         if !displacement.is_finite() {
             return Err(EditError::NonFiniteDisplacement { displacement });
         }
         self.ready(mesh)?;
-        self.displacements.fill(displacement);
-        self.update(mesh);
-        Ok(())
+        let previous = std::mem::replace(
+            &mut self.displacements,
+            vec![displacement; self.primitive.len()],
+        );
+        self.update(mesh)
+            .inspect_err(|_| self.displacements = previous)
     }
 
     /// Second mode of Lee 1999 §3.3: sets the target position of one primitive vertex;
@@ -375,11 +381,11 @@ impl EditingSession {
     /// frames (after [`move_vertex`](Self::move_vertex), or to show a new scale).
     ///
     /// # Errors
-    /// [`EditError::EmptyPrimitive`], [`EditError::AreaStale`].
+    /// [`EditError::EmptyPrimitive`], [`EditError::AreaStale`], [`EditError::Overflow`]
+    /// (targets too far for the coordinates); the mesh is unchanged on error.
     pub fn apply(&mut self, mesh: &mut Mesh) -> Result<()> {
         self.ready(mesh)?;
-        self.update(mesh);
-        Ok(())
+        self.update(mesh)
     }
 
     fn ready(&self, mesh: &Mesh) -> Result<()> {
@@ -390,8 +396,9 @@ impl EditingSession {
         Ok(())
     }
 
-    /// Fit + evaluate + write; inputs already checked.
-    fn update(&mut self, mesh: &mut Mesh) {
+    /// Fit + evaluate + write; inputs already checked. The new positions are evaluated
+    /// apart and checked before any is written.
+    fn update(&mut self, mesh: &mut Mesh) -> Result<()> {
         for (c, &i) in self.primitive.iter().enumerate() {
             self.offsets[c] = self.frames.to_offset(i as usize, self.displacements[c]);
         }
@@ -417,33 +424,22 @@ impl EditingSession {
             rest: &self.rest,
         };
         let slots = &self.interior_slots;
-        let positions = mesh.positions_mut();
-        if slots.len() < self.parallel_threshold.max(1) {
-            for (i, &slot) in slots.iter().enumerate() {
-                positions[slot as usize] = evaluator.position(i);
-            }
+        let new: Vec<DVec3> = if slots.len() < self.parallel_threshold.max(1) {
+            (0..slots.len()).map(|i| evaluator.position(i)).collect()
         } else {
-            // One contiguous block of interior vertices per thread, each writing its own
-            // disjoint slice of the position array (few, large tasks: little scheduling).
-            let blocks = rayon::current_num_threads().max(1);
-            let per_block = slots.len().div_ceil(blocks);
-            let mut tasks = Vec::with_capacity(blocks);
-            let mut rest_of_positions = positions;
-            let mut offset = 0usize;
-            for start in (0..slots.len()).step_by(per_block) {
-                let end = (start + per_block).min(slots.len());
-                let hi = slots[end - 1] as usize + 1;
-                let (block, tail) = rest_of_positions.split_at_mut(hi - offset);
-                tasks.push((start, end, offset, block));
-                rest_of_positions = tail;
-                offset = hi;
-            }
-            tasks.into_par_iter().for_each(|(start, end, lo, out)| {
-                for (i, &slot) in slots.iter().enumerate().take(end).skip(start) {
-                    out[slot as usize - lo] = evaluator.position(i);
-                }
-            });
-        }
+            // One contiguous block of interior vertices per thread (few, large tasks:
+            // little scheduling).
+            let per_block = slots.len().div_ceil(rayon::current_num_threads().max(1));
+            (0..slots.len())
+                .into_par_iter()
+                .with_min_len(per_block)
+                .map(|i| evaluator.position(i))
+                .collect()
+        };
+        check_finite_positions("the drag", slots, &new)?;
+        // In slot order: the writes into the mesh's position array run forward.
+        scatter(mesh.positions_mut(), slots, &new);
+        Ok(())
     }
 }
 
@@ -473,7 +469,7 @@ impl Evaluator<'_> {
             // the primitive's own full-precision basis: it reaches what the fit aimed at
             let c = c as usize;
             let smooth = match self.lattice {
-                Some(phi) => self.primitive_bases[c].evaluate(phi, self.n),
+                Some(phi) => self.primitive_bases[c].evaluate_unchecked(phi, self.n),
                 None => DVec3::ZERO,
             };
             smooth + self.offsets[c] * self.data_weight
@@ -540,11 +536,11 @@ fn check_levels(l: usize) -> Result<usize> {
     Ok(l)
 }
 
-/// The smallest `l ≥ 5` with `2^{l−1} ≥ √n / 2`.
+/// The smallest `l ≥ 5` with `2^{l−1} ≥ √n / 2`, at most [`MAX_LEVELS`].
 fn auto_levels(n: usize) -> usize {
     let target = (n as f64).sqrt() / 2.0;
     let mut l = 5;
-    while (level_size(l) as f64) < target && l < 12 {
+    while (level_size(l) as f64) < target && l < MAX_LEVELS {
         l += 1;
     }
     l
