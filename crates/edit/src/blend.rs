@@ -39,6 +39,7 @@ use rayon::prelude::*;
 use crate::distance::{BorderGrid, FastMarching, QueryPoints, Source};
 use crate::matrix::AffinePower;
 use crate::regions::{Regions, Role};
+use crate::selection::{check_finite_positions, scatter};
 use crate::shape::ShapeFunction;
 use crate::{EditError, Result};
 
@@ -62,12 +63,17 @@ pub struct BlendOptions {
     pub shape: ShapeFunction,
 }
 
+/// The largest [`RefineOptions::max_new_vertices`] accepted: about 400 MB of new mesh
+/// elements and per-vertex session data.
+pub const MAX_NEW_VERTICES: usize = 1 << 22;
+
 /// Options of [`BlendSession::refine`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RefineOptions {
     /// Edges of the deformable area longer than this (after the edit) are split.
     pub max_edge_length: f64,
-    /// At most this many vertices are added (a guard against run-away refinement).
+    /// At most this many vertices are added (a guard against run-away refinement; at
+    /// most [`MAX_NEW_VERTICES`]).
     pub max_new_vertices: usize,
 }
 
@@ -107,6 +113,11 @@ pub struct BlendSession {
     r_handle: Vec<f64>,
     r_fixed: Vec<f64>,
     alpha: Vec<f64>,
+    /// True while every α is in [0, 1] (see `cannot_overflow`).
+    alphas_in_unit: bool,
+    /// The largest coordinate magnitude of the original positions of non-fixed vertices
+    /// (at least 1; `∞` when one is not finite).
+    extent: f64,
     power: AffinePower,
     grids: Option<(BorderGrid, BorderGrid)>,
 }
@@ -195,15 +206,25 @@ impl BlendSession {
                 let (d_handle, r_handle) = marching.distances_and_radii(
                     &sources(&regions.handle_border().vertices),
                     Some(&wanted),
-                );
-                let (d_fixed, r_fixed) = marching
-                    .distances_and_radii(&sources(&regions.fixed_border().vertices), Some(&wanted));
+                )?;
+                let (d_fixed, r_fixed) = marching.distances_and_radii(
+                    &sources(&regions.fixed_border().vertices),
+                    Some(&wanted),
+                )?;
                 (d_handle, d_fixed, r_handle, r_fixed, None)
             }
         };
+        let extent = original
+            .iter()
+            .zip(regions.roles())
+            .filter(|(_, &role)| role != Role::Fixed)
+            .map(|(p, _)| magnitude(*p))
+            .fold(1.0, f64::max);
         let mut session = Self {
             n_vertices: mesh.n_vertices(),
             alpha: vec![0.0; slots],
+            alphas_in_unit: true,
+            extent,
             regions,
             distance: options.distance,
             shape: options.shape,
@@ -291,6 +312,7 @@ impl BlendSession {
                     Role::Deformable => shape.eval(blend_ratio(df[i], dh[i])),
                 };
             });
+        self.alphas_in_unit = self.alpha.par_iter().all(|a| (0.0..=1.0).contains(a));
     }
 
     fn check_mesh(&self, mesh: &Mesh) -> Result<()> {
@@ -312,22 +334,24 @@ impl BlendSession {
     ///
     /// # Errors
     /// [`EditError::SessionMismatch`] for another mesh; the errors of
-    /// [`AffinePower::new`] (no real logarithm, not affine, not finite).
+    /// [`AffinePower::new`] (no real logarithm, not affine, not finite);
+    /// [`EditError::Overflow`] when a moved vertex would not land on a finite position
+    /// (a translation of 1e308). The mesh and the session's transform are unchanged on
+    /// error.
     pub fn apply(&mut self, mesh: &mut Mesh, a: DMat4) -> Result<()> {
         self.check_mesh(mesh)?;
-        self.power = AffinePower::new(a)?;
-        self.write(mesh);
-        Ok(())
+        let previous = std::mem::replace(&mut self.power, AffinePower::new(a)?);
+        self.write(mesh).inspect_err(|_| self.power = previous)
     }
 
     /// Applies the current transform again (after [`BlendSession::set_shape`]).
     ///
     /// # Errors
-    /// [`EditError::SessionMismatch`] for another mesh.
+    /// [`EditError::SessionMismatch`] for another mesh; [`EditError::Overflow`] as
+    /// [`apply`](Self::apply) (the mesh is unchanged on error).
     pub fn reapply(&self, mesh: &mut Mesh) -> Result<()> {
         self.check_mesh(mesh)?;
-        self.write(mesh);
-        Ok(())
+        self.write(mesh)
     }
 
     /// Puts the handle and the deformable area back at their original positions.
@@ -350,9 +374,36 @@ impl BlendSession {
         Ok(())
     }
 
-    fn write(&self, mesh: &mut Mesh) {
+    /// True when no written position can overflow: for α ∈ [0, 1],
+    /// `‖exp(α L)‖∞ ≤ exp(‖L‖∞)`, so every coordinate of `(α ⊙ A) p` is at most
+    /// `exp(‖L‖∞) · max(‖p‖∞, 1)`; with that far below `f64::MAX` (and finite original
+    /// positions) the positions are written without a check.
+    fn cannot_overflow(&self) -> bool {
+        let l = self.power.log();
+        let norm = (0..3)
+            .map(|r| l.row(r).abs().element_sum())
+            .fold(0.0, f64::max);
+        self.alphas_in_unit && norm < 600.0 && norm.exp() * self.extent < 1e300
+    }
+
+    /// Writes `(α ⊙ A) p` for every non-fixed vertex from its original position; when
+    /// that could overflow, the positions are computed apart and checked first
+    /// ([`EditError::Overflow`], nothing written).
+    fn write(&self, mesh: &mut Mesh) -> Result<()> {
         let roles = self.regions.roles();
         let power = &self.power;
+        if !self.cannot_overflow() {
+            let indices: Vec<u32> = (0..roles.len() as u32)
+                .filter(|&i| roles[i as usize] != Role::Fixed)
+                .collect();
+            let new: Vec<DVec3> = indices
+                .par_iter()
+                .map(|&i| power.transform_point(self.alpha[i as usize], self.original[i as usize]))
+                .collect();
+            check_finite_positions("the blended transform", &indices, &new)?;
+            scatter(mesh.positions_mut(), &indices, &new);
+            return Ok(());
+        }
         mesh.positions_mut()
             .par_iter_mut()
             .zip(self.original.par_iter())
@@ -364,6 +415,7 @@ impl BlendSession {
                     *p = power.transform_point(alpha, o);
                 }
             });
+        Ok(())
     }
 
     /// Adaptive refinement of the deformable area (Sec. 6): splits, longest first, every
@@ -376,7 +428,9 @@ impl BlendSession {
     ///
     /// # Errors
     /// [`EditError::SessionMismatch`] for another mesh; [`EditError::InvalidParameter`]
-    /// for a threshold that is not finite and positive.
+    /// for a threshold that is not finite and positive or a vertex budget above
+    /// [`MAX_NEW_VERTICES`]. An edge whose split point would not be finite is left
+    /// alone.
     pub fn refine(&mut self, mesh: &mut Mesh, options: RefineOptions) -> Result<RefineReport> {
         self.check_mesh(mesh)?;
         let max = options.max_edge_length;
@@ -384,6 +438,15 @@ impl BlendSession {
             return Err(EditError::InvalidParameter {
                 name: "max_edge_length",
                 reason: format!("must be finite and positive, got {max}"),
+            });
+        }
+        if options.max_new_vertices > MAX_NEW_VERTICES {
+            return Err(EditError::InvalidParameter {
+                name: "max_new_vertices",
+                reason: format!(
+                    "{} is more than {MAX_NEW_VERTICES}",
+                    options.max_new_vertices
+                ),
             });
         }
         let mut report = RefineReport::default();
@@ -552,6 +615,8 @@ impl BlendSession {
             self.alpha.resize(slots, 0.0);
         }
         self.original[i] = origin;
+        self.extent = self.extent.max(magnitude(origin));
+        self.alphas_in_unit &= (0.0..=1.0).contains(&alpha);
         self.d_handle[i] = dh;
         self.d_fixed[i] = df;
         self.r_handle[i] = rh;
@@ -578,6 +643,15 @@ pub fn blend_ratio(d_fixed: f64, d_handle: f64) -> f64 {
         }
         (false, true) => 1.0,
         _ => 0.0,
+    }
+}
+
+/// The largest coordinate magnitude of `p`, `∞` when one is not finite.
+fn magnitude(p: DVec3) -> f64 {
+    if p.is_finite() {
+        p.abs().max_element()
+    } else {
+        f64::INFINITY
     }
 }
 

@@ -22,6 +22,11 @@ pub enum EditError {
         /// What is wrong with it.
         reason: String,
     },
+    /// A result would not be finite: the parameters are too large for the mesh's
+    /// coordinates (an overflow), or a position the edit reads is already NaN or
+    /// infinite. Nothing was changed.
+    #[error("overflow: {0}")]
+    Overflow(String),
     /// The sparse linear solver failed (the matrix is not positive definite).
     #[error("linear solve failed: {0}")]
     Solver(String),

@@ -4,9 +4,10 @@
 use halfedge::{HalfedgeId, Mesh};
 
 /// Cotangent of the angle at the corner opposite `h` in its face, or 0 for a boundary
-/// halfedge. Degenerate corners give 0 rather than NaN or infinity.
+/// halfedge or one that is not live in `mesh`. Degenerate corners (and corners at
+/// non-finite positions) give 0 rather than NaN or infinity.
 pub fn opposite_cotangent(mesh: &Mesh, h: HalfedgeId) -> f64 {
-    if mesh.is_boundary_halfedge(h) {
+    if !mesh.is_valid_halfedge(h) || mesh.is_boundary_halfedge(h) {
         return 0.0;
     }
     let a = mesh.position(mesh.from_vertex(h));
@@ -14,14 +15,26 @@ pub fn opposite_cotangent(mesh: &Mesh, h: HalfedgeId) -> f64 {
     let c = mesh.position(mesh.to_vertex(mesh.next(h)));
     let (u, v) = (a - c, b - c);
     let cross = u.cross(v).length();
-    if cross <= f64::EPSILON * u.length_squared().max(v.length_squared()) {
+    // (NaN compares false: non-finite corners end here too.)
+    let degenerate =
+        cross.is_nan() || cross <= f64::EPSILON * u.length_squared().max(v.length_squared());
+    if degenerate {
         return 0.0;
     }
-    u.dot(v) / cross
+    let cot = u.dot(v) / cross;
+    if cot.is_finite() {
+        cot
+    } else {
+        0.0
+    }
 }
 
 /// The cotangent weight of the edge of `h`: `(cot α + cot β) / 2`, with α, β the angles
-/// opposite the edge (one term on a boundary edge). Can be negative for obtuse angles.
+/// opposite the edge (one term on a boundary edge). Can be negative for obtuse angles;
+/// 0 for a halfedge that is not live in `mesh`.
 pub fn cotan_weight(mesh: &Mesh, h: HalfedgeId) -> f64 {
+    if !mesh.is_valid_halfedge(h) {
+        return 0.0;
+    }
     0.5 * (opposite_cotangent(mesh, h) + opposite_cotangent(mesh, mesh.opposite(h)))
 }

@@ -294,15 +294,23 @@ fn eigenvalues3(m: &DMat3) -> [(f64, f64); 3] {
     }
 }
 
-/// Refuses linear parts without a real principal logarithm.
-fn check_log_exists(m: &DMat3) -> Result<()> {
+/// Refuses linear parts without a real principal logarithm. `m` is scaled so that its
+/// largest entry is in [1, 2) (see [`log`]): determinants cannot overflow.
+///
+/// Singular means numerically singular: `|det m|` below 1e-14 of the product of the
+/// column lengths (Hadamard's bound, which `|det|` reaches for orthogonal columns). A
+/// uniform scale of any size is not singular, nor is a shear of 1e12 (its ratio is 1e-12).
+/// Reasons report determinants and eigenvalues of the unscaled matrix (`m · scale`).
+fn check_log_exists(m: &DMat3, scale: f64) -> Result<()> {
     let det = m.determinant();
-    let scale = norm1_3(m).max(f64::MIN_POSITIVE);
-    if det < 0.0 && det.abs() > 1e-14 * scale.powi(3) {
-        return Err(EditError::NoRealLogarithm(NoLogReason::Reflection { det }));
-    }
-    if det.abs() <= 1e-14 * scale.powi(3) {
+    let hadamard = m.x_axis.length() * m.y_axis.length() * m.z_axis.length();
+    if hadamard == 0.0 || det.abs() <= 1e-14 * hadamard {
         return Err(EditError::NoRealLogarithm(NoLogReason::Singular));
+    }
+    if det < 0.0 {
+        return Err(EditError::NoRealLogarithm(NoLogReason::Reflection {
+            det: det * scale * scale * scale,
+        }));
     }
     for (re, im) in eigenvalues3(m) {
         let size = re.hypot(im);
@@ -310,7 +318,10 @@ fn check_log_exists(m: &DMat3) -> Result<()> {
         // imaginary part of order sqrt(ε): treat |im| ≤ 1e-7 |λ| as on the axis.
         if re < 0.0 && im.abs() <= 1e-7 * size {
             return Err(EditError::NoRealLogarithm(
-                NoLogReason::NegativeEigenvalue { re, im },
+                NoLogReason::NegativeEigenvalue {
+                    re: re * scale,
+                    im: im * scale,
+                },
             ));
         }
     }
@@ -532,20 +543,64 @@ fn phi1(b: DMat3) -> DMat3 {
 pub fn log(a: DMat4) -> Result<DMat4> {
     let a = affine(&a)?;
     let m = DMat3::from_mat4(a);
-    check_log_exists(&m)?;
-    let b = log3(m)?;
+    // log(s M) = ln(s) I + log(M) for s > 0. The checks see M with its largest entry
+    // scaled into [1, 2) by a power of two (exact): no determinant overflows or
+    // underflows, whatever the size of a uniform scale. The logarithm is taken of M
+    // scaled to determinant about 1 (s = |det M|^(1/3) rounded to a power of two), which
+    // leaves a rotation or a shear alone.
+    let largest = m.to_cols_array().iter().fold(0.0f64, |x, y| x.max(y.abs()));
+    if largest == 0.0 {
+        return Err(EditError::NoRealLogarithm(NoLogReason::Singular));
+    }
+    let e1 = largest.log2().floor() as i32;
+    let m1 = m * 2f64.powi(-e1);
+    check_log_exists(&m1, 2f64.powi(e1))?;
+    let exponent = e1 + (m1.determinant().log2() / 3.0).round() as i32;
+    let b = log3(m * 2f64.powi(-exponent))?
+        + DMat3::from_diagonal(DVec3::splat(f64::from(exponent) * std::f64::consts::LN_2));
+    let t = a.w_axis.truncate();
+    let c = if b == DMat3::ZERO {
+        // A translation: φ₁(0) = I.
+        t
+    } else {
+        translation_log(b, t)?
+    };
+    let mut l = DMat4::from_mat3(b);
+    l.w_axis = c.extend(0.0);
+    if !is_finite(&l) {
+        return Err(EditError::Overflow(format!(
+            "the logarithm of the transform does not fit in f64 (translation {t})"
+        )));
+    }
+    Ok(l)
+}
+
+/// `c = φ₁(B)⁻¹ t` (see [`log`]), with `φ₁(B)` and `t` scaled by powers of two so that
+/// huge entries do not overflow on the way.
+fn translation_log(b: DMat3, t: DVec3) -> Result<DVec3> {
     let phi = phi1(b);
+    let largest = phi
+        .to_cols_array()
+        .iter()
+        .fold(0.0f64, |x, y| x.max(y.abs()));
+    if !largest.is_finite() || largest == 0.0 {
+        return Err(EditError::Overflow(format!(
+            "the linear part of the transform is too large for its translation to be \
+             taken apart (φ₁(log M) has an entry of {largest})"
+        )));
+    }
+    let phi_scale = 2f64.powi(largest.log2().floor() as i32);
+    let phi = phi * (1.0 / phi_scale);
     let det = phi.determinant();
     if det == 0.0 || !det.is_finite() {
         return Err(EditError::NoRealLogarithm(NoLogReason::NotConverged));
     }
-    let c = phi.inverse() * a.w_axis.truncate();
-    let mut l = DMat4::from_mat3(b);
-    l.w_axis = c.extend(0.0);
-    if !is_finite(&l) {
-        return Err(EditError::NoRealLogarithm(NoLogReason::NotConverged));
+    let t_largest = t.abs().max_element();
+    if t_largest == 0.0 {
+        return Ok(DVec3::ZERO);
     }
-    Ok(l)
+    let t_scale = 2f64.powi(t_largest.log2().floor() as i32);
+    Ok(phi.inverse() * (t / t_scale) * (t_scale / phi_scale))
 }
 
 /// Alexa's scalar multiple `α ⊙ A = exp(α log A)` (Alexa 2002; Bendels & Klein, Sec. 3):
@@ -553,9 +608,18 @@ pub fn log(a: DMat4) -> Result<DMat4> {
 /// use [`AffinePower`].
 ///
 /// # Errors
-/// As [`log`].
+/// As [`log`]; [`EditError::InvalidParameter`] for a non-finite α, and
+/// [`EditError::Overflow`] when `α ⊙ A` does not fit in f64 (a large α of a large
+/// transform).
 pub fn scalar_power(alpha: f64, a: DMat4) -> Result<DMat4> {
-    AffinePower::new(a).map(|p| p.matrix(alpha))
+    crate::selection::finite("alpha", alpha)?;
+    let m = AffinePower::new(a)?.matrix(alpha);
+    if !is_finite(&m) {
+        return Err(EditError::Overflow(format!(
+            "{alpha} ⊙ A does not fit in f64"
+        )));
+    }
+    Ok(m)
 }
 
 /// `α ⊙ A` for one transform `A` and many α ∈ [0, 1]: `log A` computed once, then a
@@ -668,7 +732,8 @@ impl AffinePower {
     }
 
     /// `α ⊙ A` as a matrix: `I` for α = 0 and `A` for α = 1 exactly; from the table for
-    /// α ∈ (0, 1); by the Padé exponential of `α log A` otherwise.
+    /// α ∈ (0, 1); by the Padé exponential of `α log A` otherwise (non-finite for a
+    /// non-finite α, or when `α ⊙ A` overflows: [`scalar_power`] checks both).
     #[must_use]
     pub fn matrix(&self, alpha: f64) -> DMat4 {
         if alpha == 0.0 {
@@ -1004,6 +1069,43 @@ mod tests {
         let m = p.matrix(1.0 / 3.0);
         let expected = DMat4::from_scale(DVec3::new(2.0, 0.5f64.cbrt(), 2f64.cbrt()));
         assert!(close(&m, &expected, 1e-14));
+    }
+
+    /// Transforms of extreme size have logarithms (or the refusal says overflow, never
+    /// "singular" or "did not converge"), and α must be finite.
+    #[test]
+    fn extreme_transforms_and_alphas() {
+        for s in [1e-300, 1e-103, 1e103, 1e300] {
+            let a = DMat4::from_scale(DVec3::splat(s));
+            let l = log(a).unwrap();
+            let expected = s.ln();
+            assert!(
+                (l.x_axis.x - expected).abs() <= 1e-13 * expected.abs(),
+                "{s}"
+            );
+            let half = scalar_power(0.5, a).unwrap();
+            assert!((half.x_axis.x / s.sqrt() - 1.0).abs() < 1e-12, "{s}");
+        }
+        let mut shear = DMat4::IDENTITY;
+        shear.y_axis.x = 1e12;
+        let l = log(shear).unwrap();
+        assert!((l.y_axis.x - 1e12).abs() < 1e-3, "{l:?}");
+        assert!(close(&exp(l), &shear, 1e-3));
+        for t in [f64::MAX, -f64::MAX, 1e308] {
+            let a = DMat4::from_translation(DVec3::new(t, -t, t));
+            let l = log(a).unwrap();
+            assert_eq!(l.w_axis.truncate(), DVec3::new(t, -t, t));
+            assert_eq!(scalar_power(1.0, a).unwrap(), a);
+        }
+        let a = DMat4::from_scale(DVec3::splat(10.0));
+        for alpha in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+            assert!(matches!(
+                scalar_power(alpha, a),
+                Err(EditError::InvalidParameter { .. })
+            ));
+        }
+        assert!(matches!(scalar_power(1e5, a), Err(EditError::Overflow(_))));
+        assert!(scalar_power(2.0, a).unwrap().x_axis.x.is_finite());
     }
 
     #[test]

@@ -58,9 +58,12 @@ use glam::{DVec2, DVec3};
 
 use crate::{EditError, Result};
 
-/// Largest number of levels accepted: the finest lattice then has `(2^13 + 3)²`
-/// control points (1.6 GB of `DVec3`), far beyond any editing area.
-pub const MAX_LEVELS: usize = 14;
+/// Largest number of levels accepted: the finest lattice then has `(2^11 + 3)²`
+/// control points (about 4.2 million, 101 MB of `DVec3`), and an editing session's drag
+/// holds about 2.5 such lattices: a session stays within about 250 MB. (Level 14, the
+/// limit before, made one drag allocate 6.4 GB.) Far beyond any editing area: two
+/// vertices per finest cell is a four-million-vertex area.
+pub const MAX_LEVELS: usize = 12;
 
 /// The four uniform cubic B-spline basis functions `B_0 … B_3` at `t ∈ [0, 1]`
 /// (Lee, Wolberg & Shin 1997, eq. 2). They are non-negative and sum to 1.
@@ -101,9 +104,10 @@ pub struct LatticeBasis {
 
 impl LatticeBasis {
     /// The basis of point `p` in a lattice with `m × m` cells over `[min, max]`. Points
-    /// outside the rectangle are clamped onto it.
+    /// outside the rectangle are clamped onto it; `m = 0` is taken as 1.
     #[must_use]
     pub fn locate(p: DVec2, min: DVec2, max: DVec2, m: usize) -> Self {
+        let m = m.max(1);
         let n = m + 3;
         let extent = (max - min).max(DVec2::splat(f64::MIN_POSITIVE));
         let x = ((p.x - min.x) / extent.x).clamp(0.0, 1.0) * m as f64;
@@ -119,10 +123,18 @@ impl LatticeBasis {
         }
     }
 
-    /// Evaluates the lattice `phi` (row length `n = m + 3`) at this basis.
-    #[inline]
+    /// Evaluates the lattice `phi` (row length `n = m + 3`) at this basis; `None` when
+    /// the basis's 4 × 4 block does not lie in `phi`.
     #[must_use]
-    pub fn evaluate(&self, phi: &[DVec3], n: usize) -> DVec3 {
+    pub fn evaluate(&self, phi: &[DVec3], n: usize) -> Option<DVec3> {
+        let base = self.base as usize;
+        let last = base.checked_add(n.checked_mul(3)?)?.checked_add(4)?;
+        (n >= 4 && last <= phi.len()).then(|| self.evaluate_unchecked(phi, n))
+    }
+
+    /// [`evaluate`](Self::evaluate) for a basis known to fit the lattice.
+    #[inline]
+    pub(crate) fn evaluate_unchecked(&self, phi: &[DVec3], n: usize) -> DVec3 {
         let mut sum = DVec3::ZERO;
         let base = self.base as usize;
         for b in 0..4 {
@@ -150,17 +162,17 @@ pub struct ControlLattice {
 impl ControlLattice {
     /// The zero lattice with `m × m` cells over `[min, max]`.
     ///
-    /// # Panics
-    /// If `m == 0`.
-    #[must_use]
-    pub fn zeros(m: usize, min: DVec2, max: DVec2) -> Self {
-        assert!(m > 0, "a control lattice needs at least one cell");
-        Self {
+    /// # Errors
+    /// [`EditError::InvalidParameter`] unless `1 ≤ m ≤ 2^(MAX_LEVELS − 1)` (the finest
+    /// lattice of [`MAX_LEVELS`]).
+    pub fn zeros(m: usize, min: DVec2, max: DVec2) -> Result<Self> {
+        check_cells(m)?;
+        Ok(Self {
             m,
             min,
             max,
             phi: vec![DVec3::ZERO; (m + 3) * (m + 3)],
-        }
+        })
     }
 
     /// Number of cells along each axis.
@@ -175,15 +187,13 @@ impl ControlLattice {
         (self.min, self.max)
     }
 
-    /// Control point `φ_ij`, `i` along u and `j` along v, both in `−1 ..= m+1`.
-    ///
-    /// # Panics
-    /// If an index is out of range.
+    /// Control point `φ_ij`, `i` along u and `j` along v, both in `−1 ..= m+1`; `None`
+    /// outside.
     #[must_use]
-    pub fn control_point(&self, i: isize, j: isize) -> DVec3 {
+    pub fn control_point(&self, i: isize, j: isize) -> Option<DVec3> {
         let n = self.m as isize + 3;
-        assert!((-1..n - 1).contains(&i) && (-1..n - 1).contains(&j));
-        self.phi[((j + 1) * n + i + 1) as usize]
+        ((-1..n - 1).contains(&i) && (-1..n - 1).contains(&j))
+            .then(|| self.phi[((j + 1) * n + i + 1) as usize])
     }
 
     /// All control points, row by row along v: `φ_ij` is at `(j+1)(m+3) + i + 1`.
@@ -195,22 +205,27 @@ impl ControlLattice {
     /// The value of the B-spline function at `p` (clamped onto the rectangle).
     #[must_use]
     pub fn evaluate(&self, p: DVec2) -> DVec3 {
-        LatticeBasis::locate(p, self.min, self.max, self.m).evaluate(&self.phi, self.m + 3)
+        LatticeBasis::locate(p, self.min, self.max, self.m)
+            .evaluate_unchecked(&self.phi, self.m + 3)
     }
 
     /// The same function on the lattice with twice as many cells along each axis
     /// (B-spline refinement, Lee, Wolberg & Shin 1997, §4.2).
-    #[must_use]
-    pub fn refined(&self) -> Self {
+    ///
+    /// # Errors
+    /// [`EditError::InvalidParameter`] when the refined lattice would be finer than the
+    /// finest of [`MAX_LEVELS`] (see [`ControlLattice::zeros`]).
+    pub fn refined(&self) -> Result<Self> {
+        check_cells(2 * self.m)?;
         let mut out = Vec::new();
         let mut scratch = Vec::new();
         refine(&self.phi, self.m, &mut out, &mut scratch);
-        Self {
+        Ok(Self {
             m: 2 * self.m,
             min: self.min,
             max: self.max,
             phi: out,
-        }
+        })
     }
 
     /// Zeroes the control points of the three border rows and columns on each side
@@ -218,6 +233,20 @@ impl ControlLattice {
     pub fn zero_border(&mut self) {
         zero_border(&mut self.phi, self.m);
     }
+}
+
+/// `Ok` for a lattice of `1 ..= 2^(MAX_LEVELS − 1)` cells per axis.
+fn check_cells(m: usize) -> Result<()> {
+    if !(1..=level_size(MAX_LEVELS)).contains(&m) {
+        return Err(EditError::InvalidParameter {
+            name: "m",
+            reason: format!(
+                "a lattice of {m} cells per axis (needs 1..={}, the finest of {MAX_LEVELS} levels)",
+                level_size(MAX_LEVELS)
+            ),
+        });
+    }
+    Ok(())
 }
 
 /// Refines the lattice `src` with `m` cells into `dst` with `2m` cells (separable
@@ -464,7 +493,7 @@ impl FitWorkspace {
         }
         if !last {
             for (b, r) in bases.iter().zip(residual.iter_mut()) {
-                *r -= b.evaluate(&self.level_phi, n);
+                *r -= b.evaluate_unchecked(&self.level_phi, n);
             }
         }
         for &idx in &self.touched {
@@ -638,6 +667,15 @@ impl Mba {
             self.fixed_boundary,
             &mut phi,
         );
+        if let Some(p) = phi
+            .iter()
+            .chain([&base.a, &base.b, &base.c])
+            .find(|p| !p.is_finite())
+        {
+            return Err(EditError::Overflow(format!(
+                "the fit reaches {p}: the values are too large (or too far apart) for f64"
+            )));
+        }
         let data_weight = split.data_weight(self.levels);
         // f_{l+1} carries the data values themselves, without the base.
         let base_weight = if split.k > self.levels {
@@ -773,14 +811,12 @@ impl MbaFit {
         }
     }
 
-    /// The value at data point `c` (with its data-only part).
-    ///
-    /// # Panics
-    /// If `c` is not a data point index.
+    /// The value at data point `c` (with its data-only part); `None` when `c` is not a
+    /// data point index.
     #[must_use]
-    pub fn evaluate_data_point(&self, c: usize) -> DVec3 {
-        let p = self.points[c];
-        self.base.evaluate(p) + self.lattice.evaluate(p) + self.values[c] * self.data_weight
+    pub fn evaluate_data_point(&self, c: usize) -> Option<DVec3> {
+        let p = *self.points.get(c)?;
+        Some(self.base.evaluate(p) + self.lattice.evaluate(p) + self.values[c] * self.data_weight)
     }
 
     /// The control lattice of the finest level (all levels refined into one).
@@ -811,11 +847,11 @@ mod tests {
 
     #[test]
     fn refinement_preserves_the_function() {
-        let mut lattice = ControlLattice::zeros(4, DVec2::ZERO, DVec2::new(2.0, 1.0));
+        let mut lattice = ControlLattice::zeros(4, DVec2::ZERO, DVec2::new(2.0, 1.0)).unwrap();
         for (i, p) in lattice.phi.iter_mut().enumerate() {
             *p = DVec3::new((i as f64 * 0.37).sin(), (i * i % 7) as f64, i as f64 * 0.1);
         }
-        let fine = lattice.refined();
+        let fine = lattice.refined().unwrap();
         assert_eq!(fine.m(), 8);
         for k in 0..50 {
             let p = DVec2::new(
@@ -842,7 +878,7 @@ mod tests {
 
     #[test]
     fn zero_border_leaves_the_function_zero_on_the_border() {
-        let mut lattice = ControlLattice::zeros(8, DVec2::ZERO, DVec2::ONE);
+        let mut lattice = ControlLattice::zeros(8, DVec2::ZERO, DVec2::ONE).unwrap();
         lattice.phi.fill(DVec3::ONE);
         lattice.zero_border();
         for k in 0..=20 {

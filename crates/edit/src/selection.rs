@@ -209,11 +209,28 @@ pub(crate) fn scatter(positions: &mut [DVec3], indices: &[u32], new: &[DVec3]) {
 
 /// Checks that `d` is finite and not zero, and returns it normalised.
 pub(crate) fn unit_direction(name: &'static str, d: DVec3) -> Result<DVec3> {
-    let len = d.length();
-    if !len.is_finite() || len == 0.0 || !d.is_finite() {
+    // Scaled by its largest component first: (1e300, 1e300, 0) is a fine direction.
+    let largest = d.abs().max_element();
+    if !d.is_finite() || largest == 0.0 {
         return Err(EditError::DegenerateDirection { name, value: d });
     }
-    Ok(d / len)
+    let d = d / largest;
+    Ok(d / d.length())
+}
+
+/// `Err(EditError::Overflow)` naming the first of the new positions (of the vertices
+/// with the given indices) that is not finite: checked before an edit writes them, so
+/// that no NaN or infinity ever reaches the mesh through an `Ok`.
+pub(crate) fn check_finite_positions(what: &str, indices: &[u32], new: &[DVec3]) -> Result<()> {
+    match new.par_iter().position_first(|p| !p.is_finite()) {
+        None => Ok(()),
+        Some(k) => Err(EditError::Overflow(format!(
+            "{what} would move vertex v{} to {} (the parameters are too large for the \
+             coordinates, or the vertex or a neighbour already had a non-finite position)",
+            indices.get(k).map_or(k, |&i| i as usize),
+            new[k]
+        ))),
+    }
 }
 
 /// Checks that a scalar parameter is finite.

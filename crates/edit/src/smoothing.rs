@@ -23,7 +23,7 @@ use halfedge::Mesh;
 use rayon::prelude::*;
 
 use crate::laplace::cotan_weight;
-use crate::selection::{finite, Vertices};
+use crate::selection::{check_finite_positions, finite, Vertices};
 use crate::submesh::SubMesh;
 use crate::{EditError, Result};
 
@@ -86,6 +86,10 @@ pub struct Smoother {
 
 /// Rows per parallel block when collecting neighbour lists.
 const BLOCK: usize = 4096;
+
+/// Most iterations one call runs (a larger count is refused): a bound on the time a call
+/// can take, far beyond any smoothing (Taubin's examples use tens to hundreds).
+pub const MAX_ITERATIONS: usize = 1 << 20;
 
 impl Smoother {
     /// The Laplacian of the vertices of `region` (minus the mesh-boundary vertices when
@@ -255,6 +259,12 @@ impl Smoother {
 
     /// `iterations` of Taubin's λ|μ pair (λ > 0, μ < 0). Nothing changes for zero
     /// iterations or λ = μ = 0.
+    ///
+    /// # Errors
+    /// Nothing is changed on error: [`EditError::InvalidParameter`] for non-finite
+    /// factors or more than [`MAX_ITERATIONS`] iterations, [`EditError::Overflow`] when
+    /// the factors make the positions diverge (λ = 1e300), and
+    /// [`EditError::VertexArrayLength`] for another mesh.
     pub fn taubin(
         &mut self,
         mesh: &mut Mesh,
@@ -269,6 +279,9 @@ impl Smoother {
 
     /// `iterations` of plain Laplacian smoothing `p ← p + λ Δp` (for comparison: it
     /// shrinks).
+    ///
+    /// # Errors
+    /// As [`taubin`](Self::taubin).
     pub fn laplacian(&mut self, mesh: &mut Mesh, lambda: f64, iterations: usize) -> Result<()> {
         finite("lambda", lambda)?;
         self.run(mesh, &[lambda], iterations)
@@ -281,13 +294,27 @@ impl Smoother {
                 found: self.slots,
             });
         }
+        if iterations > MAX_ITERATIONS {
+            return Err(EditError::InvalidParameter {
+                name: "iterations",
+                reason: format!("{iterations} is more than {MAX_ITERATIONS}"),
+            });
+        }
         let steps: Vec<f64> = factors.iter().copied().filter(|&f| f != 0.0).collect();
         if iterations == 0 || steps.is_empty() {
             return Ok(());
         }
         self.gather(mesh.positions());
         let mut current = 0;
-        for _ in 0..iterations {
+        for iteration in 0..iterations {
+            // Diverging factors (λ = 1e300) overflow within a few steps: stop there.
+            if iteration % 64 == 63
+                && !self.buffers[current][..self.rows]
+                    .par_iter()
+                    .all(|p| p.is_finite())
+            {
+                break;
+            }
             for &f in &steps {
                 let [a, b] = &mut self.buffers;
                 let (input, output) = if current == 0 { (&*a, b) } else { (&*b, a) };
@@ -302,6 +329,11 @@ impl Smoother {
                 current = 1 - current;
             }
         }
+        check_finite_positions(
+            "smoothing",
+            &self.local_to_slot[..self.rows],
+            &self.buffers[current][..self.rows],
+        )?;
         self.scatter(mesh.positions_mut(), current);
         Ok(())
     }

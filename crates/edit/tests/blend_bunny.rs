@@ -183,7 +183,7 @@ fn rotate_the_ear() {
     let mut mesh = bunny();
     let tip = extreme(&mesh, |p| p.y);
     let marching = FastMarching::new(&mesh);
-    let d = marching.distances_from_points(&mesh, &[tip], None);
+    let d = marching.distances_from_points(&mesh, &[tip], None).unwrap();
     let handle: Vec<VertexId> = mesh
         .vertices()
         .filter(|&v| d[mesh.vertex_index(v)] < 0.02)

@@ -433,7 +433,7 @@ fn virtual_origin_distances_of_new_vertices() {
         .iter()
         .map(|&v| Source::on_curve(flat.vertex_index(v)))
         .collect();
-    let fresh = marching.distances(&sources, None);
+    let fresh = marching.distances(&sources, None).unwrap();
     let (mut n, mut sum, mut worst, mut worst_exact) = (0, 0.0, 0.0f64, 0.0f64);
     for v in mesh.vertices().skip(v0) {
         let i = mesh.vertex_index(v);

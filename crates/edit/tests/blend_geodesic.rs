@@ -13,7 +13,7 @@ fn sphere_errors(level: usize, update: FastMarchingUpdate) -> (f64, f64) {
     let mesh = generators::icosphere(level);
     let fm = FastMarching::with_update(&mesh, update);
     let source = mesh.vertex_at(0).unwrap();
-    let d = fm.distances_from_points(&mesh, &[source], None);
+    let d = fm.distances_from_points(&mesh, &[source], None).unwrap();
     let p0 = mesh.position(source);
     let (mut sum, mut max, mut n) = (0.0, 0.0f64, 0);
     for v in mesh.vertices() {
@@ -97,7 +97,7 @@ fn planar_grid_matches_euclidean_distance() {
                     .total_cmp(&mesh.position(b).distance(c))
             })
             .unwrap();
-        let d = fm.distances_from_points(&mesh, &[centre], None);
+        let d = fm.distances_from_points(&mesh, &[centre], None).unwrap();
         let mut worst = 0.0f64;
         for v in mesh.vertices() {
             let exact = mesh.position(v).distance(mesh.position(centre));
@@ -118,7 +118,7 @@ fn planar_grid_matches_euclidean_distance() {
             .vertices()
             .filter(|&v| mesh.position(v).x == 0.0)
             .collect();
-        let d = fm.distances_from_curve(&mesh, &left, None);
+        let d = fm.distances_from_curve(&mesh, &left, None).unwrap();
         let mut worst = 0.0f64;
         for v in mesh.vertices() {
             worst = worst.max((d[mesh.vertex_index(v)] - mesh.position(v).x).abs());
@@ -134,9 +134,9 @@ fn distances_are_symmetric_enough_and_multi_source_is_the_minimum() {
     let fm = FastMarching::new(&mesh);
     let a = mesh.vertex_at(0).unwrap();
     let b = mesh.vertex_at(1000).unwrap();
-    let da = fm.distances_from_points(&mesh, &[a], None);
-    let db = fm.distances_from_points(&mesh, &[b], None);
-    let dab = fm.distances_from_points(&mesh, &[a, b], None);
+    let da = fm.distances_from_points(&mesh, &[a], None).unwrap();
+    let db = fm.distances_from_points(&mesh, &[b], None).unwrap();
+    let dab = fm.distances_from_points(&mesh, &[a, b], None).unwrap();
     for v in mesh.vertices() {
         let i = mesh.vertex_index(v);
         let m = da[i].min(db[i]);

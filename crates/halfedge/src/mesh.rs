@@ -125,7 +125,10 @@ impl Default for Mesh {
 }
 
 /// A clone is a mesh instance of its own: same contents, its own
-/// [`topology_stamp`](Mesh::topology_stamp).
+/// [`topology_stamp`](Mesh::topology_stamp). Collapse records made before the clone
+/// belong to the history of both meshes and fit either; records made afterwards fit only
+/// the mesh they were made on ([`Mesh::vertex_split`] refuses them on the other).
+/// A mesh remembers its last 16 ancestors.
 impl Clone for Mesh {
     fn clone(&self) -> Self {
         let skip = (self.lineage.len() + 1).saturating_sub(MAX_LINEAGE);

@@ -7,7 +7,7 @@
 //! OBJ and ASCII PLY text (numbers replaced by hostile ones: NaN, infinities, huge, zero
 //! and negative indices, repeated indices; lines deleted, doubled or swapped; element
 //! counts in PLY headers made huge). Seeds are fixed; `MULTIRES_HOSTILE_CASES` sets the
-//! number of cases per test for a long run.
+//! number of cases per test for a long run (and `MULTIRES_HOSTILE_SEED` another seed).
 
 mod common;
 
@@ -27,7 +27,12 @@ fn config(default_cases: u32) -> Config {
             .ok()
             .and_then(|c| c.parse().ok())
             .unwrap_or(default_cases),
-        rng_seed: RngSeed::Fixed(0x696f_5f66_757a_7a31),
+        rng_seed: RngSeed::Fixed(
+            std::env::var("MULTIRES_HOSTILE_SEED")
+                .ok()
+                .and_then(|c| c.parse().ok())
+                .unwrap_or(0x696f_5f66_757a_7a31),
+        ),
         failure_persistence: None,
         ..Config::default()
     }

@@ -52,7 +52,10 @@ impl LocalFrames {
     ///
     /// # Errors
     /// [`EditError::PrimitiveOutsideArea`] when the seed is not in the area (the seed is
-    /// a picked vertex like a primitive's).
+    /// a picked vertex like a primitive's); [`EditError::AreaStale`] for an area of
+    /// another mesh; [`EditError::VertexArrayLength`] when
+    /// `positions` does not have one entry per local vertex, and
+    /// [`EditError::InvalidParameter`] for a `default_seed` out of range (normal frames).
     pub fn new(
         mesh: &Mesh,
         area: &EditingArea,
@@ -63,6 +66,22 @@ impl LocalFrames {
         let FrameKind::Normal { seed, x_axis } = kind else {
             return Ok(Self::global());
         };
+        area.check_mesh(mesh)?;
+        if positions.len() != area.vertices().len() {
+            return Err(EditError::VertexArrayLength {
+                expected: area.vertices().len(),
+                found: positions.len(),
+            });
+        }
+        if default_seed >= positions.len() {
+            return Err(EditError::InvalidParameter {
+                name: "default_seed",
+                reason: format!(
+                    "local vertex {default_seed} of an area of {} vertices",
+                    positions.len()
+                ),
+            });
+        }
         let seed = match seed {
             Some(v) => area
                 .local_index(mesh, *v)
@@ -108,29 +127,35 @@ impl LocalFrames {
         self.frames.is_none()
     }
 
-    /// The frame of local vertex `i` (columns `x`, `y`, `n`).
+    /// The frame of local vertex `i` (columns `x`, `y`, `n`); the global frame for an
+    /// index out of range.
     #[must_use]
     pub fn frame(&self, i: usize) -> DMat3 {
-        self.frames.as_ref().map_or(DMat3::IDENTITY, |f| f[i])
+        self.frames
+            .as_ref()
+            .and_then(|f| f.get(i).copied())
+            .unwrap_or(DMat3::IDENTITY)
     }
 
-    /// Offset `Δd = (x·Δp, y·Δp, n·Δp)` of displacement `Δp` at local vertex `i` (eq. 1).
+    /// Offset `Δd = (x·Δp, y·Δp, n·Δp)` of displacement `Δp` at local vertex `i` (eq. 1);
+    /// in the global frame for an index out of range.
     #[inline]
     #[must_use]
     pub fn to_offset(&self, i: usize, displacement: DVec3) -> DVec3 {
-        match &self.frames {
+        match self.frames.as_ref().and_then(|f| f.get(i)) {
             None => displacement,
-            Some(f) => f[i].transpose() * displacement,
+            Some(f) => f.transpose() * displacement,
         }
     }
 
-    /// Displacement `Δd_x x + Δd_y y + Δd_n n` of offset `Δd` at local vertex `i`.
+    /// Displacement `Δd_x x + Δd_y y + Δd_n n` of offset `Δd` at local vertex `i`; in the
+    /// global frame for an index out of range.
     #[inline]
     #[must_use]
     pub fn to_displacement(&self, i: usize, offset: DVec3) -> DVec3 {
-        match &self.frames {
+        match self.frames.as_ref().and_then(|f| f.get(i)) {
             None => offset,
-            Some(f) => f[i] * offset,
+            Some(f) => *f * offset,
         }
     }
 }

@@ -103,7 +103,7 @@ pub const DEFAULT_PARALLEL_THRESHOLD: usize = 1 << 18;
 /// Most dense B-spline levels of a session: the finest lattice then has `(2^11 + 3)²`
 /// control points (101 MB of `DVec3`; a drag holds about 2.5 such lattices), far finer
 /// than the embedded edges of any area that fits in memory.
-pub const MAX_SESSION_LEVELS: usize = 12;
+pub const MAX_SESSION_LEVELS: usize = MAX_LEVELS;
 const NONE: u32 = u32::MAX;
 
 /// An area-editing session after Lee 1999: see the [module docs](self).
@@ -405,15 +405,20 @@ impl EditingSession {
     ///
     /// # Errors
     /// [`EditError::NonFiniteDisplacement`], [`EditError::EmptyPrimitive`],
-    /// [`EditError::AreaStale`]; the mesh is unchanged on error.
+    /// [`EditError::AreaStale`], [`EditError::Overflow`] when a moved vertex would not
+    /// land on a finite position (a displacement of 1e308); the mesh and the current
+    /// displacement are unchanged on error.
     pub fn drag(&mut self, mesh: &mut Mesh, displacement: DVec3) -> Result<()> {
         if !displacement.is_finite() {
             return Err(EditError::NonFiniteDisplacement { displacement });
         }
         self.ready(mesh)?;
-        self.displacements.fill(displacement);
-        self.update(mesh);
-        Ok(())
+        let previous = std::mem::replace(
+            &mut self.displacements,
+            vec![displacement; self.primitive.len()],
+        );
+        self.update(mesh)
+            .inspect_err(|_| self.displacements = previous)
     }
 
     /// Second mode of Lee 1999 §3.3: sets the target position of one primitive vertex;
@@ -444,11 +449,11 @@ impl EditingSession {
     /// frames (after [`move_vertex`](Self::move_vertex), or to show a new scale).
     ///
     /// # Errors
-    /// [`EditError::EmptyPrimitive`], [`EditError::AreaStale`].
+    /// [`EditError::EmptyPrimitive`], [`EditError::AreaStale`], [`EditError::Overflow`]
+    /// (targets too far for the coordinates); the mesh is unchanged on error.
     pub fn apply(&mut self, mesh: &mut Mesh) -> Result<()> {
         self.ready(mesh)?;
-        self.update(mesh);
-        Ok(())
+        self.update(mesh)
     }
 
     fn ready(&self, mesh: &Mesh) -> Result<()> {
@@ -459,8 +464,9 @@ impl EditingSession {
         Ok(())
     }
 
-    /// Fit + evaluate + write; inputs already checked.
-    fn update(&mut self, mesh: &mut Mesh) {
+    /// Fit + evaluate + write; inputs already checked. The new positions are evaluated
+    /// apart and checked before any is written.
+    fn update(&mut self, mesh: &mut Mesh) -> Result<()> {
         for (c, &i) in self.primitive.iter().enumerate() {
             self.offsets[c] = self.frames.to_offset(i as usize, self.displacements[c]);
         }
@@ -479,11 +485,8 @@ impl EditingSession {
             rest: &self.rest,
         };
         let slots = &self.interior_slots;
-        let positions = mesh.positions_mut();
-        if slots.len() < self.parallel_threshold.max(1) {
-            for (i, &slot) in slots.iter().enumerate() {
-                positions[slot as usize] = evaluator.position(i);
-            }
+        let new: Vec<DVec3> = if slots.len() < self.parallel_threshold.max(1) {
+            (0..slots.len()).map(|i| evaluator.position(i)).collect()
         } else {
             // One contiguous block of interior vertices per thread, each writing its own
             // disjoint slice of the position array (few, large tasks: little scheduling).

@@ -31,7 +31,7 @@ use glam::DVec3;
 use halfedge::Mesh;
 use rayon::prelude::*;
 
-use crate::selection::{finite, scatter, Resolved, Vertices};
+use crate::selection::{check_finite_positions, finite, scatter, Resolved, Vertices};
 use crate::{EditError, Result};
 
 pub use bend::Bend;
@@ -62,7 +62,9 @@ pub trait Deformer: Sync {
 }
 
 /// Applies `deformer` to `vertices` of `mesh` (Barr's deformation of the object's points,
-/// here the mesh vertices), in parallel. On error nothing is changed.
+/// here the mesh vertices), in parallel. On error nothing is changed; a deformed position
+/// that is not finite (an inverse taper of a tiny factor, a huge bend) is
+/// [`EditError::Overflow`].
 pub fn deform<D: Deformer + ?Sized>(
     mesh: &mut Mesh,
     deformer: &D,
@@ -72,7 +74,7 @@ pub fn deform<D: Deformer + ?Sized>(
     if deformer.is_identity() {
         return Ok(());
     }
-    let positions = mesh.positions_mut();
+    let positions = mesh.positions();
     if deformer.needs_check() {
         match &resolved {
             Resolved::Dense(_) => positions
@@ -83,18 +85,29 @@ pub fn deform<D: Deformer + ?Sized>(
                 .try_for_each(|&i| deformer.check_point(positions[i as usize]))?,
         }
     }
+    // The new positions are computed apart and checked before any is written.
     match &resolved {
-        Resolved::Dense(_) => positions
-            .par_iter_mut()
-            .with_min_len(4096)
-            .for_each(|p| *p = deformer.deform_point(*p)),
+        Resolved::Dense(_) => {
+            let new: Vec<DVec3> = positions
+                .par_iter()
+                .with_min_len(4096)
+                .map(|&p| deformer.deform_point(p))
+                .collect();
+            check_finite_positions("the deformation", &[], &new)?;
+            mesh.positions_mut()
+                .par_iter_mut()
+                .zip(new.par_iter())
+                .with_min_len(4096)
+                .for_each(|(p, &q)| *p = q);
+        }
         Resolved::Sparse(indices) => {
             let new: Vec<DVec3> = indices
                 .par_iter()
                 .with_min_len(4096)
                 .map(|&i| deformer.deform_point(positions[i as usize]))
                 .collect();
-            scatter(positions, indices, &new);
+            check_finite_positions("the deformation", indices, &new)?;
+            scatter(mesh.positions_mut(), indices, &new);
         }
     }
     Ok(())

@@ -77,6 +77,10 @@ impl Segment {
 
 type Cell = [i32; 3];
 
+/// Most half-cell pieces a [`BorderGrid`] traces its segments in (a segment much longer
+/// than the cell size is traced in many): about a few hundred MB of cell lists at most.
+pub const MAX_TRACED_PIECES: usize = 1 << 22;
+
 /// Border segments in a uniform grid (Bendels & Klein, Sec. 4.1): insertion by tracing
 /// the cells along each segment, single queries by ring search, whole fields by
 /// [`BorderGrid::distances`] (see the module docs).
@@ -148,7 +152,9 @@ impl BorderGrid {
     /// the grid is unchanged.
     ///
     /// # Errors
-    /// [`EditError::InvalidParameter`] for a non-finite endpoint.
+    /// [`EditError::InvalidParameter`] for a non-finite endpoint, or when the segments
+    /// are so long for the cell size that tracing them would take more than
+    /// [`MAX_TRACED_PIECES`] pieces.
     pub fn set_segments(
         &mut self,
         segments: impl IntoIterator<Item = (DVec3, DVec3)>,
@@ -163,6 +169,8 @@ impl BorderGrid {
                 reason: format!("segment {i} has a non-finite endpoint"),
             });
         }
+        let pieces: f64 = segments.iter().map(|&(a, b)| self.pieces(a, b)).sum();
+        self.check_pieces(pieces)?;
         self.clear();
         self.cells.retain(|_, list| !list.is_empty());
         for (a, b) in segments {
@@ -171,11 +179,33 @@ impl BorderGrid {
         Ok(())
     }
 
+    /// Number of half-cell pieces [`push`](Self::push) traces `a b` in (as f64: it may be
+    /// huge or infinite for a tiny cell).
+    fn pieces(&self, a: DVec3, b: DVec3) -> f64 {
+        (a.distance(b) / (0.5 * self.cell)).ceil().max(1.0)
+    }
+
+    /// Refuses to trace more than [`MAX_TRACED_PIECES`] pieces (each lists the segment in
+    /// up to 8 cells): a cell size far below the segments' lengths would fill memory.
+    fn check_pieces(&self, pieces: f64) -> Result<()> {
+        if pieces.is_finite() && pieces + (self.len() as f64) <= MAX_TRACED_PIECES as f64 {
+            return Ok(());
+        }
+        Err(EditError::InvalidParameter {
+            name: "cell_size",
+            reason: format!(
+                "cells of {} would be traced {pieces} times by the segments (at most \
+                 {MAX_TRACED_PIECES}): the cell size is too small for them",
+                self.cell
+            ),
+        })
+    }
+
     /// Adds one segment, tracing the cells it passes through (the paper's incremental
     /// insertion). Returns its index.
     ///
     /// # Errors
-    /// [`EditError::InvalidParameter`] for a non-finite endpoint.
+    /// As [`set_segments`](Self::set_segments).
     pub fn insert_segment(&mut self, a: DVec3, b: DVec3) -> Result<usize> {
         if !(a.is_finite() && b.is_finite()) {
             return Err(EditError::InvalidParameter {
@@ -183,6 +213,7 @@ impl BorderGrid {
                 reason: "non-finite endpoint".into(),
             });
         }
+        self.check_pieces(self.pieces(a, b))?;
         Ok(self.push(a, b))
     }
 
@@ -191,7 +222,7 @@ impl BorderGrid {
         self.segments.push(Segment::new(a, b));
         // Trace: pieces no longer than half a cell, each piece's box of cells. A
         // superset of the cells the segment meets, each listed once.
-        let pieces = ((a.distance(b) / (0.5 * self.cell)).ceil() as usize).max(1);
+        let pieces = self.pieces(a, b) as usize;
         for k in 0..pieces {
             let p = a.lerp(b, k as f64 / pieces as f64);
             let q = a.lerp(b, (k + 1) as f64 / pieces as f64);

@@ -51,6 +51,8 @@ use glam::{DVec2, DVec3};
 use halfedge::{HalfedgeId, Mesh, VertexId};
 use rayon::prelude::*;
 
+use crate::{EditError, Result};
+
 /// The two-point update rule of [`FastMarching`] (see the module docs).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum FastMarchingUpdate {
@@ -326,37 +328,55 @@ impl FastMarching {
     /// always are), and only triangles of active vertices are used: distances within a
     /// region.
     ///
-    /// # Panics
-    /// If a source index is out of range or `active` has the wrong length (programming
-    /// errors: indices come from the same mesh).
-    #[must_use]
-    pub fn distances(&self, sources: &[Source], active: Option<&[bool]>) -> Vec<f64> {
-        self.distances_and_radii(sources, active).0
+    /// # Errors
+    /// [`EditError::VertexArrayLength`] when `active` does not have one entry per vertex
+    /// slot; [`EditError::InvalidParameter`] for a source index out of range or a NaN
+    /// start value.
+    pub fn distances(&self, sources: &[Source], active: Option<&[bool]>) -> Result<Vec<f64>> {
+        Ok(self.distances_and_radii(sources, active)?.0)
     }
 
     /// [`FastMarching::distances`] together with the front radius each vertex was
     /// reached with (0 from point sources, `∞` from curves; see the module docs): what
     /// refinement needs to place a virtual origin.
     ///
-    /// # Panics
+    /// # Errors
     /// As [`FastMarching::distances`].
-    #[must_use]
     pub fn distances_and_radii(
         &self,
         sources: &[Source],
         active: Option<&[bool]>,
-    ) -> (Vec<f64>, Vec<f64>) {
+    ) -> Result<(Vec<f64>, Vec<f64>)> {
         const FAR: u8 = 0;
         const DONE: u8 = 1;
         const OFF: u8 = 2;
         let n = self.len();
+        if let Some(mask) = active {
+            if mask.len() != n {
+                return Err(EditError::VertexArrayLength {
+                    expected: n,
+                    found: mask.len(),
+                });
+            }
+        }
+        for source in sources {
+            if source.vertex >= n {
+                return Err(EditError::InvalidParameter {
+                    name: "source vertex",
+                    reason: format!("index {} is outside the {n} vertex slots", source.vertex),
+                });
+            }
+            if source.distance.is_nan() || source.radius.is_nan() {
+                return Err(EditError::InvalidParameter {
+                    name: "source",
+                    reason: format!("{source:?} has a NaN start value or radius"),
+                });
+            }
+        }
         let mut t = vec![f64::INFINITY; n];
         let mut radius = vec![f64::INFINITY; n];
         let mut state = match active {
-            Some(mask) => {
-                assert_eq!(mask.len(), n, "active mask has the wrong length");
-                mask.iter().map(|&a| if a { FAR } else { OFF }).collect()
-            }
+            Some(mask) => mask.iter().map(|&a| if a { FAR } else { OFF }).collect(),
             None => vec![FAR; n],
         };
         let mut heap: BinaryHeap<Reverse<(u64, u32)>> = BinaryHeap::with_capacity(1024);
@@ -434,39 +454,56 @@ impl FastMarching {
                 }
             }
         }
-        (t, radius)
+        Ok((t, radius))
     }
 
     /// [`FastMarching::distances`] from isolated point sources at distance 0.
-    #[must_use]
+    ///
+    /// # Errors
+    /// [`EditError::InvalidVertex`] for a source that is not a live vertex of `mesh`; as
+    /// [`FastMarching::distances`].
     pub fn distances_from_points(
         &self,
         mesh: &Mesh,
         sources: &[VertexId],
         active: Option<&[bool]>,
-    ) -> Vec<f64> {
-        let sources: Vec<Source> = sources
-            .iter()
-            .map(|&v| Source::point(mesh.vertex_index(v)))
-            .collect();
+    ) -> Result<Vec<f64>> {
+        let sources = live_sources(mesh, sources, Source::point)?;
         self.distances(&sources, active)
     }
 
     /// [`FastMarching::distances`] from the vertices of a curve (a region border) at
     /// distance 0.
-    #[must_use]
+    ///
+    /// # Errors
+    /// As [`FastMarching::distances_from_points`].
     pub fn distances_from_curve(
         &self,
         mesh: &Mesh,
         sources: &[VertexId],
         active: Option<&[bool]>,
-    ) -> Vec<f64> {
-        let sources: Vec<Source> = sources
-            .iter()
-            .map(|&v| Source::on_curve(mesh.vertex_index(v)))
-            .collect();
+    ) -> Result<Vec<f64>> {
+        let sources = live_sources(mesh, sources, Source::on_curve)?;
         self.distances(&sources, active)
     }
+}
+
+/// Sources at the given vertices, which must be live vertices of `mesh`.
+fn live_sources(
+    mesh: &Mesh,
+    vertices: &[VertexId],
+    source: fn(usize) -> Source,
+) -> Result<Vec<Source>> {
+    vertices
+        .iter()
+        .map(|&v| {
+            if mesh.is_valid_vertex(v) {
+                Ok(source(mesh.vertex_index(v)))
+            } else {
+                Err(EditError::InvalidVertex(v))
+            }
+        })
+        .collect()
 }
 
 /// Planar-wavefront update (see the module docs); `None` when not causal.
@@ -679,7 +716,7 @@ mod tests {
             .vertices()
             .filter(|&v| mesh.position(v).x == 0.0)
             .collect();
-        let d = fm.distances_from_curve(&mesh, &sources, None);
+        let d = fm.distances_from_curve(&mesh, &sources, None).unwrap();
         for v in mesh.vertices() {
             let x = mesh.position(v).x;
             assert!((d[mesh.vertex_index(v)] - x).abs() < 1e-12, "{x}");
@@ -694,7 +731,9 @@ mod tests {
             .map(|i| mesh.vertex_at(i).is_some_and(|v| mesh.position(v).x <= 0.5))
             .collect();
         let source = mesh.vertices().next().unwrap();
-        let d = fm.distances_from_points(&mesh, &[source], Some(&active));
+        let d = fm
+            .distances_from_points(&mesh, &[source], Some(&active))
+            .unwrap();
         for v in mesh.vertices() {
             let i = mesh.vertex_index(v);
             assert_eq!(d[i].is_finite(), active[i]);

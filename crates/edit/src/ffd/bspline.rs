@@ -23,28 +23,65 @@ pub struct BSplineSurface {
     control: Vec<DVec3>,
 }
 
-impl BSplineSurface {
-    /// A surface of degrees `degree = [k_u, k_v]` (≥ 1) with `count = [m_u + 1, m_v + 1]`
-    /// control points per direction (more than the degree) given row by row.
-    pub fn new(degree: [usize; 2], count: [usize; 2], control: Vec<DVec3>) -> Result<Self> {
-        for d in 0..2 {
-            if degree[d] == 0 {
-                return Err(EditError::InvalidSurface(format!(
-                    "degree {} in direction {} (needs at least 1)",
-                    degree[d],
-                    ["u", "v"][d]
-                )));
-            }
-            if count[d] <= degree[d] {
-                return Err(EditError::InvalidSurface(format!(
-                    "{} control points in direction {} for degree {} (needs more than the degree)",
-                    count[d],
-                    ["u", "v"][d],
-                    degree[d]
-                )));
-            }
+/// Largest degree per direction.
+pub const MAX_DEGREE: usize = 15;
+
+/// Largest number of control points of a surface.
+pub const MAX_CONTROL_POINTS: usize = 1 << 20;
+
+/// Largest number of polynomial coefficients of a surface in power form
+/// (`spans_u · spans_v · (k_u + 1) · (k_v + 1)`; the deformation keeps one such table per
+/// surface, 24 bytes a coefficient): about 100 MB.
+pub const MAX_PATCH_COEFFICIENTS: usize = 1 << 22;
+
+/// Checks degrees and control-grid sizes against the limits above, before anything is
+/// allocated.
+fn check_size(degree: [usize; 2], count: [usize; 2]) -> Result<()> {
+    for d in 0..2 {
+        if degree[d] == 0 || degree[d] > MAX_DEGREE {
+            return Err(EditError::InvalidSurface(format!(
+                "degree {} in direction {} (needs 1..={MAX_DEGREE})",
+                degree[d],
+                ["u", "v"][d]
+            )));
         }
-        if control.len() != count[0] * count[1] {
+        if count[d] <= degree[d] {
+            return Err(EditError::InvalidSurface(format!(
+                "{} control points in direction {} for degree {} (needs more than the degree)",
+                count[d],
+                ["u", "v"][d],
+                degree[d]
+            )));
+        }
+    }
+    let points = count[0].checked_mul(count[1]);
+    if points.is_none_or(|n| n > MAX_CONTROL_POINTS) {
+        return Err(EditError::InvalidSurface(format!(
+            "a {}×{} control grid has more than {MAX_CONTROL_POINTS} control points",
+            count[0], count[1]
+        )));
+    }
+    let coefficients = (count[0] - degree[0])
+        .checked_mul(count[1] - degree[1])
+        .and_then(|n| n.checked_mul((degree[0] + 1) * (degree[1] + 1)));
+    if coefficients.is_none_or(|n| n > MAX_PATCH_COEFFICIENTS) {
+        return Err(EditError::InvalidSurface(format!(
+            "a {}×{} control grid of degrees {}×{} has more than {MAX_PATCH_COEFFICIENTS} \
+             polynomial coefficients",
+            count[0], count[1], degree[0], degree[1]
+        )));
+    }
+    Ok(())
+}
+
+impl BSplineSurface {
+    /// A surface of degrees `degree = [k_u, k_v]` (`1 ..= MAX_DEGREE`) with
+    /// `count = [m_u + 1, m_v + 1]` control points per direction (more than the degree, at
+    /// most [`MAX_CONTROL_POINTS`] in all, at most [`MAX_PATCH_COEFFICIENTS`] polynomial
+    /// coefficients) given row by row.
+    pub fn new(degree: [usize; 2], count: [usize; 2], control: Vec<DVec3>) -> Result<Self> {
+        check_size(degree, count)?;
+        if Some(control.len()) != count[0].checked_mul(count[1]) {
             return Err(EditError::InvalidSurface(format!(
                 "{} control points given for a {}×{} grid",
                 control.len(),
@@ -68,6 +105,11 @@ impl BSplineSurface {
     /// surface on the XZ plane, `height = 0`, and height surface on `y = 1`): control
     /// points evenly spaced over `[min_x, max_x] × [min_z, max_z]` in frame coordinates,
     /// `u` along the frame's x axis and `v` along its z axis.
+    ///
+    /// # Errors
+    /// [`EditError::InvalidSurface`] for sizes out of range (see [`new`](Self::new)) or
+    /// control points that are not finite (a rectangle too large for the frame);
+    /// [`EditError::InvalidParameter`] for a non-finite rectangle or height.
     pub fn planar(
         frame: &Frame,
         degree: [usize; 2],
@@ -82,6 +124,16 @@ impl BSplineSurface {
                 count[0], count[1]
             )));
         }
+        check_size(degree, count)?;
+        for (name, x) in [("min", min), ("max", max)] {
+            if !(x[0].is_finite() && x[1].is_finite()) {
+                return Err(EditError::InvalidParameter {
+                    name,
+                    reason: format!("{x:?} is not finite"),
+                });
+            }
+        }
+        crate::selection::finite("height", height)?;
         let mut control = Vec::with_capacity(count[0] * count[1]);
         for i in 0..count[0] {
             let x = min[0] + (max[0] - min[0]) * i as f64 / (count[0] - 1) as f64;
@@ -121,7 +173,8 @@ impl BSplineSurface {
         &self.control
     }
 
-    /// All control points, mutable.
+    /// All control points, mutable. Nothing checks what is written here:
+    /// [`Ffd::deform`](super::Ffd::deform) refuses surfaces with non-finite control points.
     pub fn control_points_mut(&mut self) -> &mut [DVec3] {
         &mut self.control
     }

@@ -38,7 +38,7 @@ use halfedge::Mesh;
 use rayon::prelude::*;
 
 use crate::barr::{Bend, Deformer, Profile, Twist};
-use crate::selection::{finite, finite_point, unit_direction, Vertices};
+use crate::selection::{check_finite_positions, finite, finite_point, unit_direction, Vertices};
 use crate::{EditError, Result};
 
 pub use bspline::BSplineSurface;
@@ -117,6 +117,9 @@ pub enum Mode {
     Local,
 }
 
+/// Most Newton iterations per vertex [`Ffd::attach`] accepts (a bound on its time).
+pub const MAX_ATTACH_ITERATIONS: usize = 10_000;
+
 /// Options of [`Ffd::attach`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct AttachOptions {
@@ -126,7 +129,7 @@ pub struct AttachOptions {
     /// Layers of height-surface control points held fixed along a crossed border (2: the
     /// heights and their slope stay continuous there).
     pub height_layers: usize,
-    /// Newton iterations per vertex at most.
+    /// Newton iterations per vertex at most (at most [`MAX_ATTACH_ITERATIONS`]).
     pub max_iterations: usize,
     /// A vertex is attached when its offset from the foot is along the normal to within
     /// `tolerance ×` the size of the shape surface's control net.
@@ -194,6 +197,15 @@ impl Ffd {
         options: AttachOptions,
     ) -> Result<Self> {
         finite("attach tolerance", options.tolerance)?;
+        if options.max_iterations > MAX_ATTACH_ITERATIONS {
+            return Err(EditError::InvalidParameter {
+                name: "max_iterations",
+                reason: format!(
+                    "{} is more than {MAX_ATTACH_ITERATIONS}",
+                    options.max_iterations
+                ),
+            });
+        }
         let selected = vertices.resolve(mesh)?;
         if selected.len() == 0 {
             return Err(EditError::EmptySubMesh);
@@ -362,21 +374,58 @@ impl Ffd {
     }
 
     /// Moves every (unpinned) shape control point by `t`: the object follows rigidly.
+    ///
+    /// # Errors
+    /// [`EditError::InvalidParameter`] for a non-finite `t`; [`EditError::Overflow`]
+    /// (nothing changed) when a control point would not stay finite. The same holds for
+    /// every edit of the surfaces below.
     pub fn translate(&mut self, t: DVec3) -> Result<()> {
         let t = finite_point("translation", t)?;
+        let saved = self.saved();
         let pinned = &self.pinned_shape;
         for (p, &fixed) in self.shape.control_points_mut().iter_mut().zip(pinned) {
             if !fixed {
                 *p += t;
             }
         }
-        Ok(())
+        self.keep_if_finite(saved, "the translation")
+    }
+
+    /// The surfaces as they are, to put back by [`keep_if_finite`](Self::keep_if_finite).
+    fn saved(&self) -> (BSplineSurface, BSplineSurface) {
+        (self.shape.clone(), self.height.clone())
+    }
+
+    /// Keeps the edited surfaces if all their control points are finite; otherwise puts
+    /// `saved` back and fails with [`EditError::Overflow`].
+    fn keep_if_finite(
+        &mut self,
+        saved: (BSplineSurface, BSplineSurface),
+        what: &str,
+    ) -> Result<()> {
+        let bad = self
+            .shape
+            .control_points()
+            .iter()
+            .chain(self.height.control_points())
+            .find(|p| !p.is_finite())
+            .copied();
+        match bad {
+            None => Ok(()),
+            Some(p) => {
+                (self.shape, self.height) = saved;
+                Err(EditError::Overflow(format!(
+                    "{what} would move a control point to {p}"
+                )))
+            }
+        }
     }
 
     /// Multiplies the frame-`y` coordinate of every (unpinned) height control point by
     /// `k`: every height `h` becomes `k h`.
     pub fn scale_heights(&mut self, k: f64) -> Result<()> {
         let k = finite("height scale", k)?;
+        let saved = self.saved();
         let frame = self.frame;
         let pinned = &self.pinned_height;
         for (p, &fixed) in self.height.control_points_mut().iter_mut().zip(pinned) {
@@ -385,7 +434,7 @@ impl Ffd {
                 *p += (k - 1.0) * y * frame.y;
             }
         }
-        Ok(())
+        self.keep_if_finite(saved, "the height scale")
     }
 
     /// The rest footprint of the shape surface in frame coordinates:
@@ -431,8 +480,9 @@ impl Ffd {
             angle / (x1 - x0),
             Some((-half, half)),
         )?;
+        let saved = self.saved();
         self.deform_shape(&bend);
-        Ok(())
+        self.keep_if_finite(saved, "the bend")
     }
 
     /// Twisting (§4 (3), Fig. 11–12): the shape surface is twisted about its `u` axis
@@ -447,8 +497,9 @@ impl Ffd {
             self.frame.x,
             Profile::local(0.0, x1 - x0, 0.0, angle)?,
         )?;
+        let saved = self.saved();
         self.deform_shape(&twist);
-        Ok(())
+        self.keep_if_finite(saved, "the twist")
     }
 
     /// Tapering (§4 (2), Fig. 9–10): the shape surface is narrowed along `z` about its
@@ -467,6 +518,7 @@ impl Ffd {
                 });
             }
         }
+        let saved = self.saved();
         let (x0, x1, _, zc) = self.footprint();
         let factor = |x: f64| start + (end - start) * (x - x0) / (x1 - x0);
         let frame = self.frame;
@@ -508,7 +560,7 @@ impl Ffd {
                 self.height.control_points_mut()[k] = p + (r - 1.0) * y * frame.y;
             }
         }
-        Ok(())
+        self.keep_if_finite(saved, "the taper")
     }
 
     /// The surfaces with pinned control points at their rest positions, as patches.
@@ -538,6 +590,12 @@ impl Ffd {
 
     /// Moves every attached vertex to `S_new(u, v) + H_new,y(u, v) · h · n_new(u, v)`
     /// (§3, Fig. 2), in parallel. Unattached vertices do not move.
+    ///
+    /// # Errors
+    /// Nothing is changed on error: [`EditError::AttachmentMismatch`] for another mesh,
+    /// [`EditError::InvalidSurface`] when a control point written through
+    /// [`BSplineSurface::control_points_mut`] is not finite, [`EditError::Overflow`] when a
+    /// deformed position would not be finite.
     pub fn deform(&self, mesh: &mut Mesh) -> Result<()> {
         if mesh.vertex_slots() != self.slots {
             return Err(EditError::AttachmentMismatch {
@@ -545,20 +603,40 @@ impl Ffd {
                 found: mesh.vertex_slots(),
             });
         }
+        for (surface, name) in [(&self.shape, "shape"), (&self.height, "height")] {
+            if let Some(k) = surface.control_points().iter().position(|p| !p.is_finite()) {
+                let [_, cv] = surface.count();
+                return Err(EditError::InvalidSurface(format!(
+                    "{name} control point ({}, {}) is {}, not finite",
+                    k / cv,
+                    k % cv,
+                    surface.control_points()[k]
+                )));
+            }
+        }
         let (shape, height) = self.effective_patches();
-        mesh.positions_mut()
-            .par_iter_mut()
+        // Computed apart and checked before any position is written.
+        let new: Vec<DVec3> = mesh
+            .positions()
+            .par_iter()
             .zip(self.params.par_iter())
             .with_min_len(4096)
-            .for_each(|(p, &[u, v, h])| {
+            .map(|(&p, &[u, v, h])| {
                 if u.is_nan() {
-                    return;
+                    return p;
                 }
                 let (s, s_s, s_t) = shape.first_local(u, v);
                 let n = s_t.cross(s_s).normalize_or_zero();
                 let hy = height.value(u, v);
-                *p = s + (hy * h) * n;
-            });
+                s + (hy * h) * n
+            })
+            .collect();
+        check_finite_positions("the deformation", &[], &new)?;
+        mesh.positions_mut()
+            .par_iter_mut()
+            .zip(new.par_iter())
+            .with_min_len(4096)
+            .for_each(|(p, &q)| *p = q);
         Ok(())
     }
 }

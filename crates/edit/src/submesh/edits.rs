@@ -7,7 +7,9 @@ use rayon::prelude::*;
 
 use super::{Plane, SubMesh};
 use crate::barr::twist::rotation_displacement;
-use crate::selection::{finite, finite_point, scatter, unit_direction, Snapshot};
+use crate::selection::{
+    check_finite_positions, finite, finite_point, scatter, unit_direction, Snapshot,
+};
 use crate::{EditError, Result};
 
 /// An oriented line: a point and a unit direction (rotation, taper and twist axes).
@@ -108,7 +110,8 @@ impl Propagation {
         if k > self.levels {
             return 0.0;
         }
-        let t = k as f64 / (self.levels + 1) as f64;
+        // (`levels + 1` in f64: it does not wrap for `usize::MAX`.)
+        let t = k as f64 / (self.levels as f64 + 1.0);
         match self.falloff {
             Falloff::Linear => 1.0 - t,
             Falloff::Smooth => 1.0 - t * t * (3.0 - 2.0 * t),
@@ -306,7 +309,9 @@ fn check_variation(v: &Variation) -> Result<()> {
 
 impl SubMesh {
     /// Applies `edit` with `propagation` and returns the positions it changed, to undo it
-    /// exactly with [`Snapshot::restore`]. On error nothing is changed.
+    /// exactly with [`Snapshot::restore`]. On error nothing is changed: for parameters
+    /// out of range, and [`EditError::Overflow`] when a moved vertex would not land on a
+    /// finite position (a pull of 1e308, a scale factor of 1e300).
     pub fn apply(
         &self,
         mesh: &mut Mesh,
@@ -392,6 +397,7 @@ impl SubMesh {
             })
             .collect();
         let indices = snapshot.indices().to_vec();
+        check_finite_positions("the sub-mesh edit", &indices, &new)?;
         scatter(mesh.positions_mut(), &indices, &new);
         Ok(snapshot)
     }
