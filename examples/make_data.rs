@@ -302,7 +302,14 @@ fn write_text(path: &Path, text: &str) {
     std::fs::write(path, text).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
 }
 
-fn main() -> halfedge::Result<()> {
+fn main() {
+    if let Err(e) = run() {
+        eprintln!("error: {e}");
+        std::process::exit(1);
+    }
+}
+
+fn run() -> halfedge::Result<()> {
     let out: PathBuf = std::env::args()
         .nth(1)
         .map(PathBuf::from)
