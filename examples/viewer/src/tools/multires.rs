@@ -1,5 +1,5 @@
 //! *Multiresolution* — the progressive hierarchy and the sub-mesh labels of *Interactive
-//! Editing of Multiresolution Meshes* (the seed paper, sections 3 and 4.1; DESIGN.md §2).
+//! Editing of Multiresolution Meshes* (the seed paper, sections 3 and 4.1).
 //!
 //! - **Build** a [`Hierarchy`] of the current mesh with the paper's rounds or a QEM
 //!   decimation, down to a target face count; the document stays at the finest level.
