@@ -1,26 +1,29 @@
 //! Area editing after Lee 1999 (*Interactive multiresolution editing of arbitrary
 //! meshes*): load a mesh, take a disk-shaped editing area around a vertex, drag the vertex
-//! along its normal in a few steps as a user would, and write the result as OBJ.
+//! along its normal in a few steps as a user would, and write the result (OBJ or PLY, by
+//! the output's extension).
 //!
 //! ```text
-//! cargo run --release --example area_edit -- ../shared/meshes/spot.obj --scale 0.25
+//! cargo run --release --example area_edit -- data/creature.obj --scale 0.25
 //! ```
 //!
-//! Without a path, the first `.obj` in the workspace's `data/` folder is used.
+//! Without a path, `data/blob.obj` is used. The dragged vertex is by default the one
+//! furthest along +z (the front of a mesh that looks along +z: the creature's snout).
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use clap::Parser;
 use edit::area::{EditingArea, EditingSession, FrameKind, SessionOptions};
+use glam::DVec3;
 use halfedge::VertexId;
 
 #[derive(Parser, Debug)]
-#[command(about = "Drag a vertex with Lee 1999 area editing and write the result as OBJ")]
+#[command(about = "Drag a vertex with Lee 1999 area editing and write the result (OBJ or PLY)")]
 struct Args {
-    /// Mesh to edit (.obj); default: the first .obj in data/.
+    /// Mesh to edit (OBJ or PLY); default: data/blob.obj.
     mesh: Option<PathBuf>,
-    /// Vertex to drag (file index); default: the vertex with the largest z (Spot's snout).
+    /// Vertex to drag (file index); default: the vertex furthest along +z.
     #[arg(long)]
     vertex: Option<usize>,
     /// Approximate number of vertices of the editing area (grown in rings around the vertex).
@@ -35,37 +38,25 @@ struct Args {
     /// Local frames: "global" or "normal".
     #[arg(long, default_value = "global")]
     frames: String,
-    /// Output OBJ; default: area_edit.obj in the system's temporary folder.
+    /// Output mesh, OBJ or PLY by extension; default: area_edit.obj in the system's
+    /// temporary folder.
     #[arg(long)]
     output: Option<PathBuf>,
 }
 
-fn default_mesh() -> Result<PathBuf, String> {
-    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("data");
-    let mut found: Vec<PathBuf> = std::fs::read_dir(&data)
-        .map(|entries| {
-            entries
-                .filter_map(|e| e.ok().map(|e| e.path()))
-                .filter(|p| p.extension().is_some_and(|e| e.eq_ignore_ascii_case("obj")))
-                .collect()
-        })
-        .unwrap_or_default();
-    found.sort();
-    found.into_iter().next().ok_or_else(|| {
-        format!(
-            "no mesh given and no .obj file in {}; pass one, e.g. \
-             `cargo run --release --example area_edit -- ../shared/meshes/spot.obj`",
-            data.display()
-        )
-    })
+fn default_mesh() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("data/blob.obj")
 }
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let args = Args::parse();
-    let path = match args.mesh {
-        Some(p) => p,
-        None => default_mesh()?,
-    };
+fn main() {
+    if let Err(e) = run(Args::parse()) {
+        eprintln!("error: {e}");
+        std::process::exit(1);
+    }
+}
+
+fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
+    let path = args.mesh.unwrap_or_else(default_mesh);
     let t = Instant::now();
     let (mut mesh, _) = halfedge::io::read(&path)?;
     println!(
@@ -76,14 +67,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         t.elapsed()
     );
     let vertex: VertexId = match args.vertex {
-        Some(i) => mesh
-            .vertex_at(i)
-            .ok_or_else(|| format!("vertex {i} does not exist"))?,
+        Some(i) => mesh.vertex_at(i).ok_or_else(|| {
+            format!(
+                "vertex {i} does not exist (the mesh has {} vertex slots)",
+                mesh.vertex_slots()
+            )
+        })?,
         None => mesh
-            .vertices()
-            .filter(|&v| !mesh.is_isolated(v))
-            .max_by(|&a, &b| mesh.position(a).z.total_cmp(&mesh.position(b).z))
-            .ok_or("the mesh has no vertex")?,
+            .extreme_vertex(DVec3::Z)?
+            .ok_or("the mesh has no vertex with a face to drag")?,
     };
     let frames = match args.frames.as_str() {
         "global" => FrameKind::Global,
@@ -95,7 +87,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     };
 
     let t = Instant::now();
-    let area = EditingArea::disk_around(&mesh, vertex, args.area_vertices)?;
+    let area = EditingArea::disk_around(&mesh, vertex, args.area_vertices).map_err(|e| {
+        format!(
+            "{e}: the editing area must be a disk inside the mesh; pick another --vertex or \
+             a smaller --area-vertices"
+        )
+    })?;
     let t_area = t.elapsed();
     let t = Instant::now();
     let options = SessionOptions {
@@ -142,7 +139,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .output
         .unwrap_or_else(|| std::env::temp_dir().join("area_edit.obj"));
     let t = Instant::now();
-    halfedge::io::write_obj(&output, &mesh)?;
+    halfedge::io::write(&output, &mesh)?;
     println!("wrote {} in {:.1?}", output.display(), t.elapsed());
     Ok(())
 }

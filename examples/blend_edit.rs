@@ -1,16 +1,16 @@
 //! Bendels & Klein editing with precisely specified regions, from the command line.
 //!
 //! ```text
-//! cargo run --release --example blend_edit -- ../shared/meshes/stanford-bunny.obj \
-//!     --out nose.obj --angle 35
+//! cargo run --release --example blend_edit -- data/blob.obj --out blob-edited.obj --angle 35
 //! ```
 //!
-//! Picks the mesh's extreme vertex along `--direction` (the bunny's nose along −x),
+//! Picks the mesh's extreme vertex along `--direction` (default −x: the nose of a mesh
+//! that looks along −x, as the Stanford bunny does),
 //! draws the handle border and the fixed border as closed loops through vertices
 //! picked around it (radii `--handle-radius` and `--fixed-radius`, as fractions of the
 //! bounding-box diagonal), rotates the handle by `--angle` degrees about an axis through
 //! the fixed border's centre (then moves it by `--pull`), refines stretched triangles,
-//! writes an OBJ and prints the timings of each step.
+//! writes the mesh (OBJ or PLY, by extension) and prints the timings of each step.
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -26,14 +26,17 @@ use glam::{DMat4, DVec3};
 use halfedge::{Mesh, VertexId};
 
 #[derive(Parser, Debug)]
-#[command(about = "Bendels & Klein editing: pick regions, rotate the handle, write OBJ")]
+#[command(
+    about = "Bendels & Klein editing: pick regions around an extreme vertex, rotate the handle, \
+             write the mesh (OBJ or PLY)"
+)]
 struct Args {
-    /// Input mesh (OBJ, or PLY once the kernel reads it).
+    /// Input mesh (OBJ or PLY).
     mesh: PathBuf,
-    /// Output OBJ.
+    /// Output mesh, OBJ or PLY by extension.
     #[arg(long, default_value = "blend_edit.obj")]
     out: PathBuf,
-    /// Direction whose extreme vertex is the centre of the edit, "x,y,z".
+    /// Direction whose extreme vertex is the centre of the edit, "x,y,z" (default −x).
     #[arg(long, default_value = "-1,0,0", value_parser = parse_vec)]
     direction: DVec3,
     /// Handle border radius, as a fraction of the bounding-box diagonal.
@@ -89,8 +92,14 @@ fn picks_around(mesh: &Mesh, centre: DVec3, axis: DVec3, radius: f64, n: usize) 
         .collect()
 }
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let args = Args::parse();
+fn main() {
+    if let Err(e) = run(Args::parse()) {
+        eprintln!("error: {e}");
+        std::process::exit(1);
+    }
+}
+
+fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
     let clock = Instant::now();
     let (mut mesh, _) = progress::read(&args.mesh)?;
     let large = progress::is_large(mesh.n_faces());
@@ -102,22 +111,24 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     );
     let (lo, hi) = mesh.bounding_box().ok_or("empty mesh")?;
     let diagonal = lo.distance(hi);
-    let direction = args.direction.normalize();
+    let direction = args
+        .direction
+        .try_normalize()
+        .ok_or("--direction must be a non-zero vector")?;
     let tip = mesh
-        .vertices()
-        .filter(|&v| !mesh.is_isolated(v))
-        .max_by(|&a, &b| {
-            mesh.position(a)
-                .dot(direction)
-                .total_cmp(&mesh.position(b).dot(direction))
-        })
-        .ok_or("no vertex")?;
+        .extreme_vertex(direction)?
+        .ok_or("the mesh has no vertex with a face")?;
     let centre = mesh.position(tip);
 
     let clock = Instant::now();
     let handle = picks_around(&mesh, centre, direction, args.handle_radius * diagonal, 6);
     let fixed = picks_around(&mesh, centre, direction, args.fixed_radius * diagonal, 12);
-    let regions = Regions::from_picks(&mesh, &handle, &fixed)?;
+    let regions = Regions::from_picks(&mesh, &handle, &fixed).map_err(|e| {
+        format!(
+            "{e}: the loops drawn at --handle-radius and --fixed-radius around the extreme \
+             vertex must be closed and nested; try other radii or another --direction"
+        )
+    })?;
     println!(
         "regions from {} + {} picks in {:.3} s: handle {}, deformable {}, fixed {}",
         handle.len(),
@@ -185,7 +196,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
 
     let clock = Instant::now();
     progress::step(large, format!("writing {}", args.out.display()), || {
-        halfedge::io::write_obj(&args.out, &mesh)
+        halfedge::io::write(&args.out, &mesh)
     })?;
     println!(
         "wrote {} in {:.3} s",

@@ -3,7 +3,7 @@
 //! shape/height-surface FFD bend; prints what each step cost.
 //!
 //! ```text
-//! cargo run --release --example deform -- ../shared/meshes/spot.obj --out spot-deformed.obj
+//! cargo run --release --example deform -- data/creature.obj --out creature-deformed.obj
 //! ```
 
 use std::path::PathBuf;
@@ -22,9 +22,9 @@ use glam::DVec3;
 /// Twist, taper, smooth and bend a mesh.
 #[derive(Parser)]
 struct Args {
-    /// The mesh to deform (OBJ).
+    /// The mesh to deform (OBJ or PLY).
     mesh: PathBuf,
-    /// Where to write the result.
+    /// Where to write the result (OBJ or PLY, by extension).
     #[arg(long, default_value = "deformed.obj")]
     out: PathBuf,
     /// Twist angle over the mesh's length, in degrees.
@@ -54,8 +54,14 @@ fn timed<T>(show: bool, what: &str, f: impl FnOnce() -> T) -> T {
     result
 }
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let args = Args::parse();
+fn main() {
+    if let Err(e) = run(Args::parse()) {
+        eprintln!("error: {e}");
+        std::process::exit(1);
+    }
+}
+
+fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
     let large_file =
         std::fs::metadata(&args.mesh).is_ok_and(|m| m.len() > progress::LARGE_FILE_BYTES);
     let (mut mesh, _) = timed(large_file, "read", || halfedge::io::read(&args.mesh))?;
@@ -115,7 +121,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     timed(large, "FFD deform (bend)", || ffd.deform(&mut mesh))?;
 
     mesh.check()?;
-    timed(large, "write", || halfedge::io::write_obj(&args.out, &mesh))?;
+    timed(large, "write", || halfedge::io::write(&args.out, &mesh))?;
     println!("wrote {}", args.out.display());
     Ok(())
 }

@@ -168,7 +168,7 @@ fn creature() -> Mesh {
         1.0 + 0.03 * (7.0 * d.x).sin() * (5.0 * d.y + 1.0).sin() * (6.0 * d.z).sin()
             + bump(d, ears[0], 0.9, 0.22)
             + bump(d, ears[1], 0.9, 0.22)
-            + bump(d, DVec3::Z, 0.35, 0.35)
+            + bump(d, DVec3::Z, 0.6, 0.12)
     });
     let eye = |x: f64| {
         let mut eye = generators::icosphere(2);
@@ -302,7 +302,14 @@ fn write_text(path: &Path, text: &str) {
     std::fs::write(path, text).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
 }
 
-fn main() -> halfedge::Result<()> {
+fn main() {
+    if let Err(e) = run() {
+        eprintln!("error: {e}");
+        std::process::exit(1);
+    }
+}
+
+fn run() -> halfedge::Result<()> {
     let out: PathBuf = std::env::args()
         .nth(1)
         .map(PathBuf::from)

@@ -192,21 +192,33 @@ impl Image {
         writer.finish().map_err(|e| fail(e.to_string()))
     }
 
-    /// Places images side by side, top-aligned, on white.
-    pub fn side_by_side(images: &[&Image]) -> Image {
+    /// Places images side by side, top-aligned, on white (rows an image lacks bytes for
+    /// stay white).
+    ///
+    /// # Errors
+    /// [`RenderError::Size`] when the result would be wider or higher than [`MAX_SIDE`]
+    /// (checked before allocating).
+    pub fn side_by_side(images: &[&Image]) -> Result<Image> {
         let height = images.iter().map(|i| i.height).max().unwrap_or(0);
-        let width: usize = images.iter().map(|i| i.width).sum();
+        let width = images
+            .iter()
+            .try_fold(0usize, |w, i| w.checked_add(i.width))
+            .unwrap_or(usize::MAX);
+        if width > MAX_SIDE || height > MAX_SIDE {
+            return Err(RenderError::Size { width, height });
+        }
         let mut rgb = vec![255u8; width * height * 3];
         let mut x0 = 0;
         for image in images {
             for y in 0..image.height {
-                let src = &image.rgb[y * image.width * 3..(y + 1) * image.width * 3];
+                let row = y * image.width * 3..(y + 1) * image.width * 3;
+                let Some(src) = image.rgb.get(row) else { break };
                 let dst = (y * width + x0) * 3;
                 rgb[dst..dst + src.len()].copy_from_slice(src);
             }
             x0 += image.width;
         }
-        Image { width, height, rgb }
+        Ok(Image { width, height, rgb })
     }
 }
 
@@ -248,7 +260,7 @@ pub fn render_side_by_side(
         .enumerate()
         .map(|(i, p)| render_panel(i, p, camera, frame, width, height))
         .collect::<Result<Vec<_>>>()?;
-    Ok(Image::side_by_side(&images.iter().collect::<Vec<_>>()))
+    Image::side_by_side(&images.iter().collect::<Vec<_>>())
 }
 
 /// Renders one mesh (see [`render_side_by_side`]).

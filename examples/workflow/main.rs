@@ -379,7 +379,7 @@ fn run(args: Args) -> Result<(), BoxError> {
     )?;
     before.save_png(args.out.join("before.png"))?;
     after.save_png(args.out.join("after.png"))?;
-    render::Image::side_by_side(&[&before, &after]).save_png(args.out.join("before-after.png"))?;
+    render::Image::side_by_side(&[&before, &after])?.save_png(args.out.join("before-after.png"))?;
     coarse.save_png(args.out.join("coarse-edit.png"))?;
     rows.push(Row {
         step: "write",

@@ -22,7 +22,8 @@ pub fn root() -> &'static Path {
 }
 
 /// `../shared/meshes` (the first ancestor of the workspace that has `shared/meshes`), or
-/// `$MULTIRES_MESHES`.
+/// `$MULTIRES_MESHES`. Only the real-mesh and OpenMesh tiers (`#[ignore]`d tests) read it;
+/// it panics, saying how to get the meshes, when there are none.
 pub fn shared_meshes() -> PathBuf {
     if let Some(dir) = std::env::var_os("MULTIRES_MESHES") {
         return PathBuf::from(dir);
@@ -31,5 +32,28 @@ pub fn shared_meshes() -> PathBuf {
         .ancestors()
         .map(|a| a.join("shared/meshes"))
         .find(|d| d.is_dir())
-        .expect("no shared/meshes directory above the workspace (set MULTIRES_MESHES)")
+        .expect(
+            "the real-mesh tier needs the shared test meshes: a `shared/meshes` folder above \
+             the workspace, or MULTIRES_MESHES=DIR",
+        )
+}
+
+/// Panics with what to install unless python3 can import `openmesh` and `numpy` (the
+/// OpenMesh tier).
+pub fn require_openmesh() {
+    let probe = std::process::Command::new("python3")
+        .args(["-c", "import openmesh, numpy"])
+        .output();
+    match probe {
+        Ok(out) if out.status.success() => {}
+        Ok(out) => panic!(
+            "the OpenMesh tier needs the python module openmesh ({}): \
+             `python3 -m pip install openmesh==1.2.1 numpy` (it builds from source with cmake \
+             and a C++ compiler; .ci/run installs everything)",
+            String::from_utf8_lossy(&out.stderr).trim()
+        ),
+        Err(e) => {
+            panic!("the OpenMesh tier needs python3 ({e}) with `pip install openmesh==1.2.1 numpy`")
+        }
+    }
 }

@@ -25,7 +25,8 @@
 //!   summed into **one lattice** of the finest size by B-spline refinement (masks
 //!   `(1, 6, 1)/8` at old knots and `(1, 1)/2` at new ones, applied along each axis), so
 //!   evaluating the fit costs one 4 × 4 lattice lookup whatever the number of levels.
-//! - **Scale parameter** `s ∈ [0, 1]` (Lee 1999 §5.2): `f_k` is
+//! - **Scale parameter** `s ∈ [0, 1]` (Lee 1999 §5.2; the definitions implemented here,
+//!   in full): `f_k` is
 //!   the multilevel fit that *starts* at level `k` (lattices `Φ_k … Φ_l`), `f_{l+1}` is
 //!   the function equal to the data values at the data points and zero elsewhere, and
 //!   `f_k` belongs to `s_k = (l − k + 1)/l`. Between two `s_k` the two functions are

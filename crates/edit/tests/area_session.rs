@@ -4,7 +4,7 @@
 
 mod area_common;
 
-use area_common::{load, vertex, SPOT_NOSE};
+use area_common::nose;
 use edit::area::{EditingArea, EditingSession, FrameKind, SessionOptions};
 use edit::EditError;
 use glam::DVec3;
@@ -12,10 +12,11 @@ use halfedge::{Mesh, VertexId};
 
 const PULL: DVec3 = DVec3::new(0.03, -0.02, 0.12);
 
-/// Spot with an area of about 500 vertices around the snout.
-fn spot_session(options: &SessionOptions) -> (Mesh, EditingSession) {
+/// Spot (or its stand-in, whichever `load` gives) with an area of about 500 vertices
+/// around the snout.
+fn spot_session(load: &dyn Fn(&str) -> Mesh, options: &SessionOptions) -> (Mesh, EditingSession) {
     let mesh = load("spot.obj");
-    let area = EditingArea::disk_around(&mesh, vertex(&mesh, SPOT_NOSE), 500).unwrap();
+    let area = EditingArea::disk_around(&mesh, nose(&mesh), 500).unwrap();
     let session = EditingSession::new(&mesh, area, options).unwrap();
     (mesh, session)
 }
@@ -41,7 +42,7 @@ fn moved_face_area(mesh: &Mesh, before: &[DVec3], threshold: f64) -> f64 {
 }
 
 fn nose_and_ring(mesh: &Mesh) -> Vec<VertexId> {
-    let nose = vertex(mesh, SPOT_NOSE);
+    let nose = nose(mesh);
     std::iter::once(nose)
         .chain(mesh.adjacent_vertices(nose))
         .collect()
@@ -49,6 +50,16 @@ fn nose_and_ring(mesh: &Mesh) -> Vec<VertexId> {
 
 #[test]
 fn boundary_and_outside_never_move_for_any_scale() {
+    boundary_and_outside_never_move_for_any_scale_with(&area_common::stand_in);
+}
+
+#[test]
+#[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
+fn boundary_and_outside_never_move_for_any_scale_on_real_meshes() {
+    boundary_and_outside_never_move_for_any_scale_with(&area_common::load);
+}
+
+fn boundary_and_outside_never_move_for_any_scale_with(load: &dyn Fn(&str) -> Mesh) {
     for frames in [
         FrameKind::Global,
         FrameKind::Normal {
@@ -60,7 +71,7 @@ fn boundary_and_outside_never_move_for_any_scale() {
             frames,
             ..SessionOptions::default()
         };
-        let (mut mesh, mut session) = spot_session(&options);
+        let (mut mesh, mut session) = spot_session(load, &options);
         let rest = mesh.positions().to_vec();
         session.set_primitive(&mesh, &nose_and_ring(&mesh)).unwrap();
         for k in 0..=20 {
@@ -85,7 +96,19 @@ fn boundary_and_outside_never_move_for_any_scale() {
 
 #[test]
 fn scale_zero_moves_only_the_primitive_and_scale_one_the_whole_area() {
-    let (mut mesh, mut session) = spot_session(&SessionOptions::default());
+    scale_zero_moves_only_the_primitive_and_scale_one_the_whole_area_with(&area_common::stand_in);
+}
+
+#[test]
+#[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
+fn scale_zero_moves_only_the_primitive_and_scale_one_the_whole_area_on_real_meshes() {
+    scale_zero_moves_only_the_primitive_and_scale_one_the_whole_area_with(&area_common::load);
+}
+
+fn scale_zero_moves_only_the_primitive_and_scale_one_the_whole_area_with(
+    load: &dyn Fn(&str) -> Mesh,
+) {
+    let (mut mesh, mut session) = spot_session(load, &SessionOptions::default());
     let rest = mesh.positions().to_vec();
     let primitive = nose_and_ring(&mesh);
     session.set_primitive(&mesh, &primitive).unwrap();
@@ -112,11 +135,19 @@ fn scale_zero_moves_only_the_primitive_and_scale_one_the_whole_area() {
 
 #[test]
 fn moved_region_grows_monotonically_with_scale() {
-    let (mut mesh, mut session) = spot_session(&SessionOptions::default());
+    moved_region_grows_monotonically_with_scale_with(&area_common::stand_in);
+}
+
+#[test]
+#[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
+fn moved_region_grows_monotonically_with_scale_on_real_meshes() {
+    moved_region_grows_monotonically_with_scale_with(&area_common::load);
+}
+
+fn moved_region_grows_monotonically_with_scale_with(load: &dyn Fn(&str) -> Mesh) {
+    let (mut mesh, mut session) = spot_session(load, &SessionOptions::default());
     let rest = mesh.positions().to_vec();
-    session
-        .set_primitive(&mesh, &[vertex(&mesh, SPOT_NOSE)])
-        .unwrap();
+    session.set_primitive(&mesh, &[nose(&mesh)]).unwrap();
     let mut previous: Vec<bool> = vec![false; mesh.vertex_slots()];
     let mut counts = Vec::new();
     for k in 0..=40 {
@@ -142,9 +173,19 @@ fn moved_region_grows_monotonically_with_scale() {
 
 #[test]
 fn primitive_reaches_its_targets_away_from_the_boundary() {
-    let (mut mesh, mut session) = spot_session(&SessionOptions::default());
+    primitive_reaches_its_targets_away_from_the_boundary_with(&area_common::stand_in);
+}
+
+#[test]
+#[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
+fn primitive_reaches_its_targets_away_from_the_boundary_on_real_meshes() {
+    primitive_reaches_its_targets_away_from_the_boundary_with(&area_common::load);
+}
+
+fn primitive_reaches_its_targets_away_from_the_boundary_with(load: &dyn Fn(&str) -> Mesh) {
+    let (mut mesh, mut session) = spot_session(load, &SessionOptions::default());
     let rest = mesh.positions().to_vec();
-    let nose = vertex(&mesh, SPOT_NOSE);
+    let nose = nose(&mesh);
     // a single vertex is interpolated exactly at every scale
     session.set_primitive(&mesh, &[nose]).unwrap();
     for k in 0..=10 {
@@ -199,12 +240,24 @@ fn primitive_reaches_its_targets_away_from_the_boundary() {
 
 #[test]
 fn holding_adjacent_vertices_reaches_every_target_at_any_level_count() {
+    holding_adjacent_vertices_reaches_every_target_at_any_level_count_with(&area_common::stand_in);
+}
+
+#[test]
+#[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
+fn holding_adjacent_vertices_reaches_every_target_at_any_level_count_on_real_meshes() {
+    holding_adjacent_vertices_reaches_every_target_at_any_level_count_with(&area_common::load);
+}
+
+fn holding_adjacent_vertices_reaches_every_target_at_any_level_count_with(
+    load: &dyn Fn(&str) -> Mesh,
+) {
     // Moving the nose while holding its one-ring (second mode): the ring is 0.3 % of the
     // rectangle away in the embedding, closer than the dense lattice separates at 6
     // levels; the sparse detail levels at the primitive separate the targets.
-    let (mut mesh, mut session) = spot_session(&SessionOptions::default());
+    let (mut mesh, mut session) = spot_session(load, &SessionOptions::default());
     let rest = mesh.positions().to_vec();
-    let nose = vertex(&mesh, SPOT_NOSE);
+    let nose = nose(&mesh);
     let ring = nose_and_ring(&mesh);
     let lift = DVec3::new(0.0, 0.05, 0.05);
     let mut errors = Vec::new();
@@ -232,10 +285,20 @@ fn holding_adjacent_vertices_reaches_every_target_at_any_level_count() {
 
 #[test]
 fn pulling_the_nose_makes_a_narrower_bump_at_a_smaller_scale() {
+    pulling_the_nose_makes_a_narrower_bump_at_a_smaller_scale_with(&area_common::stand_in);
+}
+
+#[test]
+#[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
+fn pulling_the_nose_makes_a_narrower_bump_at_a_smaller_scale_on_real_meshes() {
+    pulling_the_nose_makes_a_narrower_bump_at_a_smaller_scale_with(&area_common::load);
+}
+
+fn pulling_the_nose_makes_a_narrower_bump_at_a_smaller_scale_with(load: &dyn Fn(&str) -> Mesh) {
     // Lee 1999 Fig. 7 (b), (c): the nose pulled with s = 0.75 and s = 0.25, global frame.
-    let (mut mesh, mut session) = spot_session(&SessionOptions::default());
+    let (mut mesh, mut session) = spot_session(load, &SessionOptions::default());
     let rest = mesh.positions().to_vec();
-    let nose = vertex(&mesh, SPOT_NOSE);
+    let nose = nose(&mesh);
     session.set_primitive(&mesh, &[nose]).unwrap();
     let pull = DVec3::new(0.0, 0.0, 0.15);
     let (mut visible, mut any) = (Vec::new(), Vec::new());
@@ -261,6 +324,16 @@ fn pulling_the_nose_makes_a_narrower_bump_at_a_smaller_scale() {
 
 #[test]
 fn normal_frames_move_vertices_along_their_normals() {
+    normal_frames_move_vertices_along_their_normals_with(&area_common::stand_in);
+}
+
+#[test]
+#[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
+fn normal_frames_move_vertices_along_their_normals_on_real_meshes() {
+    normal_frames_move_vertices_along_their_normals_with(&area_common::load);
+}
+
+fn normal_frames_move_vertices_along_their_normals_with(load: &dyn Fn(&str) -> Mesh) {
     let options = SessionOptions {
         frames: FrameKind::Normal {
             seed: None,
@@ -269,9 +342,9 @@ fn normal_frames_move_vertices_along_their_normals() {
         scale: 0.75,
         ..SessionOptions::default()
     };
-    let (mut mesh, mut session) = spot_session(&options);
+    let (mut mesh, mut session) = spot_session(load, &options);
     let rest = mesh.positions().to_vec();
-    let nose = vertex(&mesh, SPOT_NOSE);
+    let nose = nose(&mesh);
     session.set_primitive(&mesh, &[nose]).unwrap();
     let normal = mesh.vertex_normal(nose);
     session.drag(&mut mesh, 0.1 * normal).unwrap();
@@ -309,9 +382,19 @@ fn normal_frames_move_vertices_along_their_normals() {
 
 #[test]
 fn bad_input_is_refused_and_leaves_the_mesh_unchanged() {
-    let (mut mesh, mut session) = spot_session(&SessionOptions::default());
+    bad_input_is_refused_and_leaves_the_mesh_unchanged_with(&area_common::stand_in);
+}
+
+#[test]
+#[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
+fn bad_input_is_refused_and_leaves_the_mesh_unchanged_on_real_meshes() {
+    bad_input_is_refused_and_leaves_the_mesh_unchanged_with(&area_common::load);
+}
+
+fn bad_input_is_refused_and_leaves_the_mesh_unchanged_with(load: &dyn Fn(&str) -> Mesh) {
+    let (mut mesh, mut session) = spot_session(load, &SessionOptions::default());
     let rest = mesh.positions().to_vec();
-    let nose = vertex(&mesh, SPOT_NOSE);
+    let nose = nose(&mesh);
     assert!(matches!(
         session.drag(&mut mesh, PULL),
         Err(EditError::EmptyPrimitive)
@@ -386,13 +469,23 @@ fn bad_input_is_refused_and_leaves_the_mesh_unchanged() {
 
 #[test]
 fn parallel_evaluation_matches_the_sequential_one() {
-    let (mut sequential, mut a) = spot_session(&SessionOptions::default());
+    parallel_evaluation_matches_the_sequential_one_with(&area_common::stand_in);
+}
+
+#[test]
+#[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
+fn parallel_evaluation_matches_the_sequential_one_on_real_meshes() {
+    parallel_evaluation_matches_the_sequential_one_with(&area_common::load);
+}
+
+fn parallel_evaluation_matches_the_sequential_one_with(load: &dyn Fn(&str) -> Mesh) {
+    let (mut sequential, mut a) = spot_session(load, &SessionOptions::default());
     let parallel_options = SessionOptions {
         parallel_threshold: 1,
         ..SessionOptions::default()
     };
-    let (mut parallel, mut b) = spot_session(&parallel_options);
-    let nose = vertex(&sequential, SPOT_NOSE);
+    let (mut parallel, mut b) = spot_session(load, &parallel_options);
+    let nose = nose(&sequential);
     a.set_primitive(&sequential, &nose_and_ring(&sequential))
         .unwrap();
     b.set_primitive(&parallel, &nose_and_ring(&parallel))
@@ -408,14 +501,14 @@ fn parallel_evaluation_matches_the_sequential_one() {
 }
 
 #[test]
-#[ignore = "real-mesh tier: run with cargo test --release -- --include-ignored"]
+#[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
 fn spots_snout_areas_fall_off_smoothly_to_the_border() {
     // The areas where the finest-lattice-only fixing creased the surface (the first ring
     // moved 70-86 % of the pull at s = 1): the first ring moves at most d/D of the pull
     // (d its embedded distance to the border, D the nose's), no face next to the border
     // turns over under a pull with a sideways part, and the nose with its ring lands.
-    let spot = load("spot.obj");
-    let nose = vertex(&spot, SPOT_NOSE);
+    let spot = area_common::load("spot.obj");
+    let nose = nose(&spot);
     for n in [150, 500] {
         let mut mesh = spot.clone();
         let rest = mesh.positions().to_vec();

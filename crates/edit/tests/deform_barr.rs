@@ -2,7 +2,7 @@
 
 mod deform_common;
 
-use deform_common::{bit_identical, closed_box, load, max_distance};
+use deform_common::{bit_identical, closed_box, max_distance};
 use edit::barr::{deform, Bend, Deformer, Profile, Taper, Twist};
 use edit::selection::Vertices;
 use edit::EditError;
@@ -59,6 +59,16 @@ fn identity_parameters_leave_positions_bit_identical() {
 
 #[test]
 fn twist_then_inverse_restores_to_1e12() {
+    twist_then_inverse_restores_to_1e12_with(&deform_common::stand_in);
+}
+
+#[test]
+#[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
+fn twist_then_inverse_restores_to_1e12_on_real_meshes() {
+    twist_then_inverse_restores_to_1e12_with(&deform_common::load);
+}
+
+fn twist_then_inverse_restores_to_1e12_with(load: &dyn Fn(&str) -> halfedge::Mesh) {
     let mut mesh = load("spot.obj");
     let before = mesh.positions().to_vec();
     let (_, twist, _) = deformers();
@@ -80,6 +90,16 @@ fn twist_then_inverse_restores_to_1e12() {
 
 #[test]
 fn taper_and_bend_inverses_restore_to_1e12() {
+    taper_and_bend_inverses_restore_to_1e12_with(&deform_common::stand_in);
+}
+
+#[test]
+#[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
+fn taper_and_bend_inverses_restore_to_1e12_on_real_meshes() {
+    taper_and_bend_inverses_restore_to_1e12_with(&deform_common::load);
+}
+
+fn taper_and_bend_inverses_restore_to_1e12_with(load: &dyn Fn(&str) -> halfedge::Mesh) {
     let mut mesh = load("spot.obj");
     let before = mesh.positions().to_vec();
     let (taper, _, bend) = deformers();

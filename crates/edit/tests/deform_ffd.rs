@@ -4,7 +4,7 @@ mod deform_common;
 
 use std::collections::HashMap;
 
-use deform_common::{closed_box, load, max_distance};
+use deform_common::{closed_box, max_distance};
 use edit::barr::{Deformer, Twist};
 use edit::ffd::{AttachOptions, BSplineSurface, Ffd, Frame, Mode};
 use edit::selection::Vertices;
@@ -39,6 +39,16 @@ fn box_mesh() -> Mesh {
 
 #[test]
 fn undisplaced_surfaces_reproduce_the_bunny_to_1e9() {
+    undisplaced_surfaces_reproduce_the_bunny_to_1e9_with(&deform_common::stand_in);
+}
+
+#[test]
+#[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
+fn undisplaced_surfaces_reproduce_the_bunny_to_1e9_on_real_meshes() {
+    undisplaced_surfaces_reproduce_the_bunny_to_1e9_with(&deform_common::load);
+}
+
+fn undisplaced_surfaces_reproduce_the_bunny_to_1e9_with(load: &dyn Fn(&str) -> Mesh) {
     let mut mesh = load("stanford-bunny.obj");
     let before = mesh.positions().to_vec();
     // S cubic 6×5, H quadratic 4×4: the two surfaces differ
@@ -93,6 +103,16 @@ fn undisplaced_surfaces_reproduce_the_bunny_to_1e9() {
 
 #[test]
 fn translating_the_shape_surface_translates_the_object() {
+    translating_the_shape_surface_translates_the_object_with(&deform_common::stand_in);
+}
+
+#[test]
+#[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
+fn translating_the_shape_surface_translates_the_object_on_real_meshes() {
+    translating_the_shape_surface_translates_the_object_with(&deform_common::load);
+}
+
+fn translating_the_shape_surface_translates_the_object_with(load: &dyn Fn(&str) -> Mesh) {
     let mut mesh = load("spot.obj");
     let before = mesh.positions().to_vec();
     let mut ffd = world_ffd(&mesh, ([3, 3], [5, 5]), ([3, 3], [5, 5]), 0.1);
@@ -106,6 +126,16 @@ fn translating_the_shape_surface_translates_the_object() {
 
 #[test]
 fn scaling_the_height_surface_scales_every_height() {
+    scaling_the_height_surface_scales_every_height_with(&deform_common::stand_in);
+}
+
+#[test]
+#[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
+fn scaling_the_height_surface_scales_every_height_on_real_meshes() {
+    scaling_the_height_surface_scales_every_height_with(&deform_common::load);
+}
+
+fn scaling_the_height_surface_scales_every_height_with(load: &dyn Fn(&str) -> Mesh) {
     let mut mesh = load("spot.obj");
     let mut ffd = world_ffd(&mesh, ([2, 3], [4, 6]), ([3, 1], [5, 3]), 0.1);
     let k = 2.5;
@@ -262,6 +292,20 @@ fn twist_is_barr_twist_of_the_shape_surface() {
 
 #[test]
 fn local_mode_pins_the_crossed_border_and_keeps_the_object_continuous() {
+    local_mode_pins_the_crossed_border_and_keeps_the_object_continuous_with(
+        &deform_common::stand_in,
+    );
+}
+
+#[test]
+#[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
+fn local_mode_pins_the_crossed_border_and_keeps_the_object_continuous_on_real_meshes() {
+    local_mode_pins_the_crossed_border_and_keeps_the_object_continuous_with(&deform_common::load);
+}
+
+fn local_mode_pins_the_crossed_border_and_keeps_the_object_continuous_with(
+    load: &dyn Fn(&str) -> Mesh,
+) {
     let mut mesh = load("stanford-bunny.obj");
     let before = mesh.positions().to_vec();
     let (lo, hi) = mesh.bounding_box().unwrap();
@@ -367,6 +411,16 @@ fn local_mode_pins_the_crossed_border_and_keeps_the_object_continuous() {
 
 #[test]
 fn errors_are_typed_and_change_nothing() {
+    errors_are_typed_and_change_nothing_with(&deform_common::stand_in);
+}
+
+#[test]
+#[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
+fn errors_are_typed_and_change_nothing_on_real_meshes() {
+    errors_are_typed_and_change_nothing_with(&deform_common::load);
+}
+
+fn errors_are_typed_and_change_nothing_with(load: &dyn Fn(&str) -> Mesh) {
     let mut mesh = box_mesh();
     let other = load("spot.obj");
     let ffd = world_ffd(&mesh, ([2, 2], [4, 4]), ([2, 2], [4, 4]), 0.1);

@@ -3,7 +3,7 @@
 
 mod deform_common;
 
-use deform_common::{bit_identical, load, volume};
+use deform_common::{bit_identical, volume};
 use edit::selection::Vertices;
 use edit::smoothing::{taubin, Smoother, TaubinOptions, Weights};
 use edit::submesh::SubMesh;
@@ -67,6 +67,16 @@ fn taubin_keeps_sphere_volume_where_laplacian_shrinks_it() {
 
 #[test]
 fn identity_parameters_leave_positions_bit_identical() {
+    identity_parameters_leave_positions_bit_identical_with(&deform_common::stand_in);
+}
+
+#[test]
+#[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
+fn identity_parameters_leave_positions_bit_identical_on_real_meshes() {
+    identity_parameters_leave_positions_bit_identical_with(&deform_common::load);
+}
+
+fn identity_parameters_leave_positions_bit_identical_with(load: &dyn Fn(&str) -> halfedge::Mesh) {
     let mut mesh = load("stanford-bunny.obj");
     let before = mesh.positions().to_vec();
     let zero = TaubinOptions {
@@ -81,6 +91,18 @@ fn identity_parameters_leave_positions_bit_identical() {
 
 #[test]
 fn submesh_smoothing_moves_only_the_submesh_and_its_collar() {
+    submesh_smoothing_moves_only_the_submesh_and_its_collar_with(&deform_common::stand_in);
+}
+
+#[test]
+#[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
+fn submesh_smoothing_moves_only_the_submesh_and_its_collar_on_real_meshes() {
+    submesh_smoothing_moves_only_the_submesh_and_its_collar_with(&deform_common::load);
+}
+
+fn submesh_smoothing_moves_only_the_submesh_and_its_collar_with(
+    load: &dyn Fn(&str) -> halfedge::Mesh,
+) {
     let mut mesh = load("stanford-bunny.obj");
     let before = mesh.positions().to_vec();
     let ear = deform_common::bunny_ear(&mesh);

@@ -3,7 +3,7 @@
 
 mod deform_common;
 
-use deform_common::{bit_identical, bunny_ear, bunny_head, load, max_distance};
+use deform_common::{bit_identical, bunny_ear, bunny_head, max_distance};
 use edit::submesh::{Axis, Edit, Propagation, SubMesh, Variation};
 use glam::DVec3;
 use halfedge::{generators, Mesh};
@@ -58,6 +58,16 @@ fn all_edits(mesh: &Mesh, sub: &SubMesh) -> Vec<Edit> {
 
 #[test]
 fn identity_edits_leave_positions_bit_identical() {
+    identity_edits_leave_positions_bit_identical_with(&deform_common::stand_in);
+}
+
+#[test]
+#[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
+fn identity_edits_leave_positions_bit_identical_on_real_meshes() {
+    identity_edits_leave_positions_bit_identical_with(&deform_common::load);
+}
+
+fn identity_edits_leave_positions_bit_identical_with(load: &dyn Fn(&str) -> Mesh) {
     let mut mesh = load("stanford-bunny.obj");
     let sub = SubMesh::from_mask(&mesh, &bunny_ear(&mesh)).unwrap();
     let before = mesh.positions().to_vec();
@@ -239,6 +249,16 @@ fn inverse_edits_restore_and_snapshots_undo_exactly() {
 
 #[test]
 fn bunny_ear_scaled_with_and_without_propagation() {
+    bunny_ear_scaled_with_and_without_propagation_with(&deform_common::stand_in);
+}
+
+#[test]
+#[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
+fn bunny_ear_scaled_with_and_without_propagation_on_real_meshes() {
+    bunny_ear_scaled_with_and_without_propagation_with(&deform_common::load);
+}
+
+fn bunny_ear_scaled_with_and_without_propagation_with(load: &dyn Fn(&str) -> Mesh) {
     let mesh0 = load("stanford-bunny.obj");
     let ear = bunny_ear(&mesh0);
     let sub = SubMesh::from_mask(&mesh0, &ear).unwrap();
@@ -302,6 +322,22 @@ fn bunny_ear_scaled_with_and_without_propagation() {
 
 #[test]
 fn bunny_ear_rotated_about_a_vertex_normal_and_bounded_by_the_frontier_plane() {
+    bunny_ear_rotated_about_a_vertex_normal_and_bounded_by_the_frontier_plane_with(
+        &deform_common::stand_in,
+    );
+}
+
+#[test]
+#[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
+fn bunny_ear_rotated_about_a_vertex_normal_and_bounded_by_the_frontier_plane_on_real_meshes() {
+    bunny_ear_rotated_about_a_vertex_normal_and_bounded_by_the_frontier_plane_with(
+        &deform_common::load,
+    );
+}
+
+fn bunny_ear_rotated_about_a_vertex_normal_and_bounded_by_the_frontier_plane_with(
+    load: &dyn Fn(&str) -> Mesh,
+) {
     let mesh0 = load("stanford-bunny.obj");
     let ear = bunny_ear(&mesh0);
     let sub = SubMesh::from_mask(&mesh0, &ear).unwrap();
@@ -378,6 +414,17 @@ fn perpendicular_distance(axis: &Axis, p: DVec3) -> f64 {
 
 #[test]
 fn bunny_head_tapered_over_20_levels() {
+    // Three subdivisions: the sub-mesh is as many rings deep as the bunny's.
+    bunny_head_tapered_over_20_levels_with(&|_: &str| deform_common::bunny_stand_in(3));
+}
+
+#[test]
+#[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
+fn bunny_head_tapered_over_20_levels_on_real_meshes() {
+    bunny_head_tapered_over_20_levels_with(&deform_common::load);
+}
+
+fn bunny_head_tapered_over_20_levels_with(load: &dyn Fn(&str) -> Mesh) {
     let mesh0 = load("stanford-bunny.obj");
     let head = bunny_head(&mesh0);
     let sub = SubMesh::from_mask(&mesh0, &head).unwrap();
@@ -432,6 +479,17 @@ fn bunny_head_tapered_over_20_levels() {
 
 #[test]
 fn bunny_ear_twisted_over_10_levels_and_back() {
+    // Three subdivisions: the sub-mesh is as many rings deep as the bunny's.
+    bunny_ear_twisted_over_10_levels_and_back_with(&|_: &str| deform_common::bunny_stand_in(3));
+}
+
+#[test]
+#[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
+fn bunny_ear_twisted_over_10_levels_and_back_on_real_meshes() {
+    bunny_ear_twisted_over_10_levels_and_back_with(&deform_common::load);
+}
+
+fn bunny_ear_twisted_over_10_levels_and_back_with(load: &dyn Fn(&str) -> Mesh) {
     let mesh0 = load("stanford-bunny.obj");
     let ear = bunny_ear(&mesh0);
     let sub = SubMesh::from_mask(&mesh0, &ear).unwrap();

@@ -1,9 +1,9 @@
 //! Selecting vertices: the queries an editing program makes before it edits — the
 //! vertex nearest to a point, the extreme vertex in a direction, the vertices within a
 //! Euclidean or an edge-path (graph geodesic) radius, connected components, select
-//! linked, grow and shrink. Picking along a ray is in [`crate::bvh`]; the surface
-//! geodesic distance of fast marching is in the `edit` crate
-//! (`edit::distance::geodesic`, with a geodesic ball there too).
+//! linked, grow and shrink. Picking along a ray is in [`crate::bvh`]; the exact geodesic
+//! (surface) ball, by fast marching, is `edit::distance::geodesic_ball` in the `edit`
+//! crate.
 //!
 //! A [`Selection`] is a set of vertices of one mesh kept as a mask indexed by
 //! [`Mesh::vertex_index`] (what the `edit` deformers take as `Vertices::Mask`). Queries
@@ -307,7 +307,7 @@ impl Mesh {
     /// `max_distance` or not reachable. The walk stops at `max_distance`, so a small
     /// radius costs little on a large mesh. An edge path is never shorter than the
     /// surface distance; on a regular triangulation it is up to about 15 % longer (the
-    /// fast-marching distance of `edit::distance::geodesic` is the surface distance).
+    /// fast-marching distance of `edit::distance::geodesic_ball` is the surface distance).
     ///
     /// # Errors
     /// [`Error::InvalidHandle`] for a seed that is not a live vertex;

@@ -9,8 +9,8 @@
 //! connectivity is upgraded on the fly (the snapshot becomes the old mesh: exact, since
 //! the connectivity had not changed yet).
 //!
-//! Revisions (`geometry`, `topology`) tell the renderer and the picking structure what
-//! to refresh.
+//! Revisions (`geometry`, `topology`) tell the renderer what to refresh; the picking
+//! structure (the library's `halfedge::bvh::Bvh`) keeps itself current from the mesh.
 
 use std::path::PathBuf;
 

@@ -1,5 +1,7 @@
-//! Scripted runs of the region-based editing tools on the Stanford bunny: *Lee area
-//! editing* (Lee 1999) and *Bendels–Klein* (precisely specified editing regions).
+//! Scripted runs of the region-based editing tools on the Stanford bunny (real-mesh
+//! tier) and on a stand-in the project makes (default tier: `data/creature.obj` turned
+//! to look along −x as the bunny does): *Lee area editing* (Lee 1999) and
+//! *Bendels–Klein* (precisely specified editing regions).
 //!
 //! Each test selects the tool, sets its parameters, picks, drags or changes the
 //! transform, saves the mesh, undoes, saves again and takes a screenshot; then checks
@@ -12,7 +14,7 @@ mod common;
 
 use common::{display_command, meshes_dir, read, scratch_dir};
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use edit::area::{AreaSide, EditingArea};
@@ -96,6 +98,20 @@ fn picks_around(mesh: &Mesh, centre: DVec3, axis: DVec3, radius: f64, n: usize) 
     picks
 }
 
+/// The bunny's stand-in: `data/creature.obj` (snout along +z) subdivided twice (92,160
+/// faces, the bunny's density) and turned to look along −x, written as OBJ into `dir`.
+fn creature_looking_along_minus_x(dir: &Path) -> PathBuf {
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/creature.obj");
+    let subdivide = halfedge::generators::subdivide;
+    let mut mesh = subdivide(&subdivide(&read(&data)));
+    for p in mesh.positions_mut() {
+        *p = DVec3::new(-p.z, p.y, p.x);
+    }
+    let path = dir.join("creature.obj");
+    halfedge::io::write_obj(&path, &mesh).unwrap();
+    path
+}
+
 fn indices(mesh: &Mesh, vertices: &[VertexId]) -> Vec<usize> {
     vertices.iter().map(|&v| mesh.vertex_index(v)).collect()
 }
@@ -107,10 +123,24 @@ fn diagonal(mesh: &Mesh) -> f64 {
 
 #[test]
 fn lee_area_drag_moves_the_area_only_and_undoes_exactly() {
+    lee_area_drag_moves_the_area_only_and_undoes_exactly_with(&creature_looking_along_minus_x);
+}
+
+#[test]
+#[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
+fn lee_area_drag_moves_the_area_only_and_undoes_exactly_on_the_bunny() {
+    lee_area_drag_moves_the_area_only_and_undoes_exactly_with(&|_: &Path| {
+        meshes_dir().join("stanford-bunny.obj")
+    });
+}
+
+/// Runs the test on the mesh file `mesh` gives (it may write one into the scratch folder).
+fn lee_area_drag_moves_the_area_only_and_undoes_exactly_with(mesh: &dyn Fn(&Path) -> PathBuf) {
     let Some(prefix) = display_command() else {
         return;
     };
-    let bunny_path = meshes_dir().join("stanford-bunny.obj");
+    let dir = scratch_dir("lee");
+    let bunny_path = mesh(&dir);
     let original = read(&bunny_path);
     let diag = diagonal(&original);
     // The bunny looks along −x: an area around its nose, bounded by six clicks.
@@ -121,7 +151,6 @@ fn lee_area_drag_moves_the_area_only_and_undoes_exactly() {
     assert!(area.local_index(&original, nose).unwrap() < area.n_interior());
     let pull = DVec3::new(-0.04, 0.015, 0.0) * diag / 0.2;
 
-    let dir = scratch_dir("lee");
     let (edited, undone, shot) = (
         dir.join("edited.obj"),
         dir.join("undone.obj"),
@@ -192,10 +221,28 @@ fn lee_area_drag_moves_the_area_only_and_undoes_exactly() {
 
 #[test]
 fn bendels_klein_transform_moves_handle_by_a_keeps_fixed_and_undoes_exactly() {
+    bendels_klein_transform_moves_handle_by_a_keeps_fixed_and_undoes_exactly_with(
+        &creature_looking_along_minus_x,
+    );
+}
+
+#[test]
+#[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
+fn bendels_klein_transform_moves_handle_by_a_keeps_fixed_and_undoes_exactly_on_the_bunny() {
+    bendels_klein_transform_moves_handle_by_a_keeps_fixed_and_undoes_exactly_with(&|_: &Path| {
+        meshes_dir().join("stanford-bunny.obj")
+    });
+}
+
+/// Runs the test on the mesh file `mesh` gives (it may write one into the scratch folder).
+fn bendels_klein_transform_moves_handle_by_a_keeps_fixed_and_undoes_exactly_with(
+    mesh: &dyn Fn(&Path) -> PathBuf,
+) {
     let Some(prefix) = display_command() else {
         return;
     };
-    let bunny_path = meshes_dir().join("stanford-bunny.obj");
+    let dir = scratch_dir("bk");
+    let bunny_path = mesh(&dir);
     let original = read(&bunny_path);
     let diag = diagonal(&original);
     // Handle: the nose tip, inside a small loop; fixed: outside a loop further back.
@@ -211,7 +258,6 @@ fn bendels_klein_transform_moves_handle_by_a_keeps_fixed_and_undoes_exactly() {
     let pull = DVec3::new(0.0, 0.02, 0.0) * diag;
     let (angle, scale) = (20.0f64, 1.1);
 
-    let dir = scratch_dir("bk");
     let (edited, refined, undone, shot) = (
         dir.join("edited.obj"),
         dir.join("refined.obj"),

@@ -11,9 +11,13 @@
 //!   1998, obtuse triangles unfolded), multi-source from all border vertices. The edit
 //!   then behaves like spline editing, and α grows monotonically along the surface from
 //!   the fixed area to the handle (the paper's Fig. 3).
+//! - [`ball`]: the vertices within a geodesic distance of seed vertices (a selection,
+//!   by fast marching).
 
+pub mod ball;
 pub mod euclidean;
 pub mod geodesic;
 
+pub use ball::geodesic_ball;
 pub use euclidean::{point_segment_distance, BorderGrid, QueryPoints};
 pub use geodesic::{FastMarching, FastMarchingUpdate, Source};

@@ -7,26 +7,69 @@ use std::path::PathBuf;
 use glam::DVec3;
 use halfedge::Mesh;
 
-/// `shared/meshes` found by walking up from the crate (or `MULTIRES_MESHES`).
+/// `shared/meshes` found by walking up from the crate (or `MULTIRES_MESHES`); only the
+/// real-mesh tier (`#[ignore]`d tests) reads it.
 pub fn meshes_dir() -> PathBuf {
     if let Ok(dir) = std::env::var("MULTIRES_MESHES") {
         return PathBuf::from(dir);
     }
-    let mut dir = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
-    loop {
-        let candidate = dir.join("shared").join("meshes");
-        if candidate.is_dir() {
-            return candidate;
-        }
-        if !dir.pop() {
-            panic!("no shared/meshes above {}", env!("CARGO_MANIFEST_DIR"));
-        }
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .ancestors()
+        .map(|a| a.join("shared/meshes"))
+        .find(|d| d.is_dir())
+        .expect(
+            "the real-mesh tier needs the shared test meshes: a `shared/meshes` folder above \
+             the workspace, or MULTIRES_MESHES=DIR",
+        )
+}
+
+/// Loads a shared mesh (real-mesh tier).
+pub fn load(name: &str) -> Mesh {
+    halfedge::io::read(meshes_dir().join(name)).unwrap().0
+}
+
+/// Loads a mesh of the workspace's `data/` folder.
+pub fn data(name: &str) -> Mesh {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../data")
+        .join(name);
+    halfedge::io::read(path).unwrap().0
+}
+
+/// The default tier's stand-in for a shared mesh: `spot` → `data/creature.obj` (closed,
+/// about Spot's size, separate eyes); `stanford-bunny` → [`bunny_stand_in`].
+pub fn stand_in(name: &str) -> Mesh {
+    match name {
+        "spot.obj" => data("creature.obj"),
+        "stanford-bunny.obj" => bunny_stand_in(2),
+        other => panic!("no stand-in for {other}"),
     }
 }
 
-/// Loads a shared mesh.
-pub fn load(name: &str) -> Mesh {
-    halfedge::io::read(meshes_dir().join(name)).unwrap().0
+/// The bunny's stand-in: `data/creature.obj` (ears up, snout along +z) subdivided
+/// `times` times (twice: 92,160 faces, the bunny's density), turned to look along −x as
+/// the bunny does, and placed in the bunny's bounding box (same centre and diagonal), so
+/// that the bunny's regions — the ear above `y = 0.16`, the head at `x < −0.04`,
+/// `y > 0.09` — are the creature's ear and head.
+pub fn bunny_stand_in(times: usize) -> Mesh {
+    let mut mesh = data("creature.obj");
+    for _ in 0..times {
+        mesh = halfedge::generators::subdivide(&mesh);
+    }
+    for p in mesh.positions_mut() {
+        *p = DVec3::new(-p.z, p.y, p.x);
+    }
+    let (lo, hi) = mesh.bounding_box().unwrap();
+    let (bunny_lo, bunny_hi) = (
+        DVec3::new(-0.0947, 0.0330, -0.0619),
+        DVec3::new(0.0610, 0.1873, 0.0588),
+    );
+    let scale = bunny_lo.distance(bunny_hi) / lo.distance(hi);
+    let (from, to) = (0.5 * (lo + hi), 0.5 * (bunny_lo + bunny_hi));
+    for p in mesh.positions_mut() {
+        *p = to + scale * (*p - from);
+    }
+    mesh
 }
 
 /// A closed box `[lo, hi]` with `n` cells per axis, triangulated, outward faces.

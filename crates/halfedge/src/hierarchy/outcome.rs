@@ -94,7 +94,7 @@ impl BuildOutcome {
 }
 
 fn degrees(radians: f64) -> String {
-    format!("{:.0}°", radians.to_degrees())
+    format!("{:.0} degrees", radians.to_degrees())
 }
 
 impl fmt::Display for Refusals {

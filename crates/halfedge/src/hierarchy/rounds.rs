@@ -21,7 +21,7 @@
 //! When the rounds stall short of a face target, the bounds are widened step by step and
 //! the rounds go on ([`HierarchyOptions::relax_when_stalled`]); every widening and, when
 //! the target is still not reached, what refused the last round's edges are recorded in
-//! the build's [`outcome`](super::outcome).
+//! the build's outcome ([`super::outcome`]).
 
 use std::ops::ControlFlow;
 

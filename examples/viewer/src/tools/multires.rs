@@ -1,5 +1,5 @@
 //! *Multiresolution* — the progressive hierarchy and the sub-mesh labels of *Interactive
-//! Editing of Multiresolution Meshes* (the seed paper, sections 3 and 4.1; DESIGN.md §2).
+//! Editing of Multiresolution Meshes* (the seed paper, sections 3 and 4.1).
 //!
 //! - **Build** a [`Hierarchy`] of the current mesh with the paper's rounds or a QEM
 //!   decimation, down to a target face count; the document stays at the finest level.
@@ -509,10 +509,17 @@ impl Multires {
         self.level = 0;
         // Counted as the panel counts them: the input is level 0.
         let levels = h.coarsest_level() + 1;
+        // Say plainly when the target was missed, or reached only by widening the bounds.
+        let outcome = h.build_outcome();
+        let how = if !outcome.target_reached() || !outcome.relaxations.is_empty() {
+            format!(" ({outcome})")
+        } else {
+            String::new()
+        };
         self.hierarchy = Some(h);
         // ASCII only: the status line's font has no arrows.
         ctx.info(format!(
-            "Built {} hierarchy: {levels} levels, {} down to {} faces in {:.0} ms",
+            "Built {} hierarchy: {levels} levels, {} down to {} faces in {:.0} ms{how}",
             method_name(pending.method),
             group(input_faces),
             group(coarse_faces),
