@@ -188,11 +188,9 @@ fn openmesh_reads_what_we_write() {
 /// the repeats of a face (`f 1 2 4 2 3` is `1 2 4 3`); its PLY reader drops such faces.
 /// The OBJ file also has polylines (`l`), which neither reads as faces.
 #[test]
+#[ignore = "OpenMesh tier: needs python3 with openmesh==1.2.1 and numpy (pip; builds with cmake and a C++ compiler); run with cargo test --release -- --include-ignored (.ci/run installs them)"]
 fn repeated_face_indices_read_as_openmesh_reads_them() {
     use rand::{Rng, SeedableRng};
-    if !openmesh_available() {
-        return;
-    }
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(14);
     let n = 6usize;
     let positions: Vec<[f64; 3]> = (0..n * n)

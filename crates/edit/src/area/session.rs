@@ -55,7 +55,8 @@ use rayon::prelude::*;
 
 use super::fit::{self, CellIndex, FitPlan, FitState, FIRST_LEVEL};
 use super::{EditingArea, Embedding, EmbeddingOptions, FrameKind, LocalFrames};
-use crate::mba::{level_size, LatticeBasis};
+use crate::mba::{level_size, LatticeBasis, MAX_LEVELS};
+use crate::selection::{check_finite_positions, scatter};
 use crate::{EditError, Result};
 
 /// Options of [`EditingSession::new`].
@@ -485,38 +486,30 @@ impl EditingSession {
             rest: &self.rest,
         };
         let slots = &self.interior_slots;
-        let new: Vec<DVec3> = if slots.len() < self.parallel_threshold.max(1) {
+        let mut new: Vec<DVec3> = if slots.len() < self.parallel_threshold.max(1) {
             (0..slots.len()).map(|i| evaluator.position(i)).collect()
         } else {
-            // One contiguous block of interior vertices per thread, each writing its own
-            // disjoint slice of the position array (few, large tasks: little scheduling).
-            let blocks = rayon::current_num_threads().max(1);
-            let per_block = slots.len().div_ceil(blocks);
-            let mut tasks = Vec::with_capacity(blocks);
-            let mut rest_of_positions = &mut *positions;
-            let mut offset = 0usize;
-            for start in (0..slots.len()).step_by(per_block) {
-                let end = (start + per_block).min(slots.len());
-                let hi = slots[end - 1] as usize + 1;
-                let (block, tail) = rest_of_positions.split_at_mut(hi - offset);
-                tasks.push((start, end, offset, block));
-                rest_of_positions = tail;
-                offset = hi;
-            }
-            tasks.into_par_iter().for_each(|(start, end, lo, out)| {
-                for (i, &slot) in slots.iter().enumerate().take(end).skip(start) {
-                    out[slot as usize - lo] = evaluator.position(i);
-                }
-            });
-        }
+            // One contiguous block of interior vertices per thread (few, large tasks:
+            // little scheduling).
+            let per_block = slots.len().div_ceil(rayon::current_num_threads().max(1));
+            (0..slots.len())
+                .into_par_iter()
+                .with_min_len(per_block)
+                .map(|i| evaluator.position(i))
+                .collect()
+        };
         // the detail levels, near the primitive only
         if self.state.detail_used() > 0 {
             let details = self.plan.detail_vertices();
             for (&i, &detail) in details.iter().zip(self.state.detail_offsets()) {
                 let i = i as usize;
-                positions[slots[i] as usize] = evaluator.position_with(i, detail);
+                new[i] = evaluator.position_with(i, detail);
             }
         }
+        check_finite_positions("the drag", slots, &new)?;
+        // In slot order: the writes into the mesh's position array run forward.
+        scatter(mesh.positions_mut(), slots, &new);
+        Ok(())
     }
 }
 
@@ -566,7 +559,7 @@ impl Evaluator<'_> {
     #[inline]
     fn primitive_offset(&self, c: usize) -> DVec3 {
         let smooth = match self.lattice {
-            Some(phi) => self.primitive_bases[c].evaluate(phi, self.n),
+            Some(phi) => self.primitive_bases[c].evaluate_unchecked(phi, self.n),
             None => DVec3::ZERO,
         };
         smooth + self.offsets[c] * self.data_weight

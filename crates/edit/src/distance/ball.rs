@@ -61,7 +61,7 @@ pub fn geodesic_ball(
         .iter()
         .map(|&v| Source::point(mesh.vertex_index(v)))
         .collect();
-    let mut distance = FastMarching::new(mesh).distances(&sources, Some(&near));
+    let mut distance = FastMarching::new(mesh).distances(&sources, Some(&near))?;
     for d in &mut distance {
         if *d > radius {
             *d = f64::INFINITY;
