@@ -43,8 +43,13 @@ pub fn display_command() -> Option<Command> {
     None
 }
 
+/// A fresh folder of its own for one test: tests of one binary run in parallel in one
+/// process, so the process id alone does not keep two tests (say a default-tier test and
+/// its real-mesh twin) from writing and removing each other's files.
 pub fn scratch_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("viewer-test-{name}-{}", std::process::id()));
+    static NEXT: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let n = NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let dir = std::env::temp_dir().join(format!("viewer-test-{name}-{}-{n}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     dir
 }
