@@ -6,10 +6,10 @@
 //! edit of at most 1 % of the diagonal.
 //!
 //! The default tier runs on generated meshes (closed, open, genus one, two components,
-//! flat) and asserts the first two targets everywhere (all four on the flat patch); the
-//! last two fail today in some measurements (see the ignore reason) and are asserted by
-//! an ignored test (`--ignored`). The real-mesh tier (`--include-ignored`) asserts all
-//! four on the shared meshes.
+//! flat) and asserts the first two targets and the RMS one everywhere (all four on the
+//! flat patch); the flip target fails today in some measurements (see the ignore
+//! reasons) and is asserted by ignored `known_failure_*` tests. The real-mesh tier
+//! (`--include-ignored`) asserts the same three on the shared meshes.
 
 mod common;
 #[path = "../examples/coarse_edit/measure.rs"]
@@ -172,10 +172,11 @@ fn generated_reports() -> Vec<(String, Report)> {
 }
 
 #[test]
-fn coarse_edits_keep_their_regions_and_land_their_handles_on_generated_meshes() {
+fn coarse_edits_keep_their_regions_land_their_handles_and_stay_close_on_generated_meshes() {
     let reports = generated_reports();
     assert_all(&reports, "outside_moved = 0", Report::region_is_exact);
     assert_all(&reports, "handle_error <= 1e-9", Report::handles_land);
+    assert_all(&reports, "rms_vs_full_res <= 0.01", Report::is_close);
     // the measurements measure something: rigid parts were marked and compared, regions
     // were not empty, and both edits moved the surface
     for (name, r) in &reports {
@@ -192,7 +193,7 @@ fn coarse_edits_keep_their_regions_and_land_their_handles_on_generated_meshes() 
 }
 
 #[test]
-#[ignore = "known failure (issue 12): the hierarchy puts the whole step between a moved and an unmoved coarse vertex into one fine edge, so smooth coarse edits flip fine faces (and one torus twist ends 1.006 % of the diagonal from the full-resolution edit); cargo test --release -- --ignored"]
+#[ignore = "known failure (issue 12): 17 of 192 runs (mostly twists and tapers at levels 3-4, whose linear ramps have kinks that a coarse level puts on cluster boundaries) flip a few more fine faces than the full-resolution edit; cargo test --release -- --ignored known_failure"]
 fn known_failure_coarse_edits_end_like_full_resolution_edits_on_generated_meshes() {
     let reports = generated_reports();
     assert_all(
@@ -200,7 +201,6 @@ fn known_failure_coarse_edits_end_like_full_resolution_edits_on_generated_meshes
         "flips_coarse_path <= flips_full_res",
         Report::no_extra_flips,
     );
-    assert_all(&reports, "rms_vs_full_res <= 0.01", Report::is_close);
 }
 
 #[test]
@@ -312,14 +312,15 @@ fn shared_reports() -> Vec<(String, Report)> {
 
 #[test]
 #[ignore = "real-mesh tier: needs ../shared/meshes; cargo test --release -- --include-ignored"]
-fn coarse_edits_keep_their_regions_and_land_their_handles_on_the_shared_meshes() {
+fn coarse_edits_keep_their_regions_land_their_handles_and_stay_close_on_the_shared_meshes() {
     let reports = shared_reports();
     assert_all(&reports, "outside_moved = 0", Report::region_is_exact);
     assert_all(&reports, "handle_error <= 1e-9", Report::handles_land);
+    assert_all(&reports, "rms_vs_full_res <= 0.01", Report::is_close);
 }
 
 #[test]
-#[ignore = "known failure (issue 12): smooth coarse edits flip fine faces where moved and unmoved coarse vertices meet; needs ../shared/meshes; cargo test --release -- --ignored known_failure"]
+#[ignore = "known failure (issue 12): 19 of 144 runs (12 twists or tapers, whose ramp kinks a coarse level puts on cluster boundaries; fandisk's QEM bk) flip a few more fine faces than the full-resolution edit; needs ../shared/meshes; cargo test --release -- --ignored known_failure"]
 fn known_failure_coarse_edits_meet_the_targets_on_the_shared_meshes() {
     assert_all(&shared_reports(), "the targets", Report::meets_targets);
 }

@@ -75,7 +75,8 @@
 //! At level `N`, every rigid or affine part (the pulled, rotated or scaled sub-mesh, the
 //! rigid end of a twist or taper, the B&K handle, the Lee primitive) is declared with
 //! `Hierarchy::mark_affine` (with the map found from the edit's parameters and checked
-//! against the moved positions to 1e-12 of the diagonal) before refining back. At level
+//! against the moved positions to 1e-12 of the diagonal), and the coarse vertices the edit
+//! may move (its region) with `Hierarchy::mark_region`, before refining back. At level
 //! 0, the same edit acts on the *corresponding* region: the input vertices whose ancestor
 //! at level `N` (`Hierarchy::ancestors`) is in the coarse region (sub-mesh, Lee primitive,
 //! B&K handle and fixed area, FFD attachment ball; the Lee area is the input faces the

@@ -638,6 +638,18 @@ pub fn measure(prepared: &Prepared, options: &Options) -> Result<Measured, Failu
                 .map_err(lib("this is a bug of the example; report it"))?;
             marks += 1;
         }
+        // The edit's region: its finer vertices follow the motion of their neighbourhood
+        // (the edit's own transition), everything else stays exactly where it was.
+        let region: Vec<VertexId> = applied
+            .movable
+            .iter()
+            .enumerate()
+            .filter(|&(_, &m)| m)
+            .filter_map(|(i, _)| hierarchy.mesh().vertex_at(i))
+            .collect();
+        hierarchy
+            .mark_region(&region)
+            .map_err(lib("this is a bug of the example; report it"))?;
     }
     let clock = Instant::now();
     hierarchy.refine_to(0).map_err(lib(

@@ -503,8 +503,11 @@ impl BlendSession {
     /// [`apply`](Self::apply) to the mesh of `hierarchy` (the session was made on it at
     /// its current level), and tells the hierarchy that the handle moved by `a`
     /// ([`Hierarchy::set_affine_mark`]), so that at every finer level the handle is
-    /// exactly `a` of its original vertices. With the paper's translations
-    /// ([`halfedge::DetailMode::Translation`]) nothing is marked.
+    /// exactly `a` of its original vertices, and that the handle and the deformable
+    /// region are the edit's region ([`Hierarchy::mark_region`]), so that refinement
+    /// interpolates the blend's motion over them while the fixed region stays exactly
+    /// where it was. With the paper's translations ([`halfedge::DetailMode::Translation`])
+    /// nothing is marked.
     ///
     /// # Errors
     /// As [`apply`](Self::apply); nothing is changed then.
@@ -515,8 +518,21 @@ impl BlendSession {
             if map.is_finite() {
                 hierarchy.set_affine_mark(self.regions.handle(), map)?;
             }
+            hierarchy.mark_region(&self.moving_vertices(hierarchy.mesh()))?;
         }
         Ok(())
+    }
+
+    /// The live vertices of the handle and the deformable region (what a blend may move).
+    fn moving_vertices(&self, mesh: &Mesh) -> Vec<halfedge::VertexId> {
+        let roles = self.regions.roles();
+        mesh.vertices()
+            .filter(|&v| {
+                roles
+                    .get(mesh.vertex_index(v))
+                    .is_some_and(|&r| r != Role::Fixed)
+            })
+            .collect()
     }
 
     /// Adaptive refinement (Sec. 6) of an edit made at a coarse level of a hierarchy:
@@ -565,6 +581,7 @@ impl BlendSession {
             if a.is_finite() {
                 hierarchy.set_affine_mark(self.regions.handle(), a)?;
             }
+            hierarchy.mark_region(&self.moving_vertices(hierarchy.mesh()))?;
         }
         let report = hierarchy.edit_input(|mesh| {
             Ok::<_, EditError>(split_long_edges(

@@ -113,4 +113,15 @@ fn a_handle_rotated_at_a_coarse_level_lands_exactly() {
         }
     }
     assert!(handle_vertices > 100);
+    // The fine vertices of the deformable region interpolate the blend's motion: no
+    // face turns over where the handle's motion meets the rest.
+    let normal = |m: &halfedge::Mesh, f| {
+        let [p, q, r] = m.triangle(f).map(|v| m.position(v));
+        (q - p).cross(r - p)
+    };
+    let flipped = original
+        .faces()
+        .filter(|&f| normal(&original, f).dot(normal(h.mesh(), f)) <= 0.0)
+        .count();
+    assert_eq!(flipped, 0);
 }

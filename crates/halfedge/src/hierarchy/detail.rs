@@ -6,14 +6,22 @@
 //! - [`DetailMode::LocalFrame`] (the default), after the local-frame details of Kobbelt,
 //!   Campagna, Vorsatz & Seidel (1998) and Guskov, Sweldens & Schröder (1999): at collapse
 //!   time each endpoint's position is stored as an offset from the survivor's placed
-//!   position, in a frame built from the record's neighbours (both endpoints' one-rings
-//!   without the endpoints): their centroid, the normal of the rings, a tangent towards
-//!   the first neighbour that is not along the normal, and their RMS distance to the
-//!   centroid as unit length. At split time the same frame is built from the neighbours'
-//!   current positions, and both endpoints are placed at the survivor's current position
-//!   plus the stored offset expressed in the new frame. A neighbourhood that was
-//!   translated, rotated, scaled or bent at a coarse level takes its detail along, turned
-//!   and scaled with it; a survivor dragged on its own carries its detail with it.
+//!   position, in a frame of the collapsed edge's link (the ring of vertices around the
+//!   edge): its first Fourier mode `Σ cos(2πj/n) q_j`, `Σ sin(2πj/n) q_j` gives two
+//!   tangents that follow every affine map of the ring, the third axis is their normal
+//!   scaled by the square root of their area. The centroid of that ring is stored in the
+//!   same frame. At split time the frame is built again from the neighbours' current
+//!   positions. Where the survivor moved *with* its ring (it is where the ring's motion,
+//!   read through the frame, puts it), both endpoints go to the survivor's position plus
+//!   their offsets in the new frame: a neighbourhood translated, rotated, scaled or
+//!   sheared at a coarse level takes its detail along, turned and scaled with it. Where
+//!   it moved *apart* from its ring (a vertex dragged on its own, the edge of a moved
+//!   region, a fast-varying edit), each endpoint is also written in the affine frame of
+//!   the coarse triangle it lies over (survivor and two link vertices, where they were
+//!   before the edit), and the two placements are blended by the survivor's hat function:
+//!   the frame's near the survivor, the triangle's towards the link, where it meets the
+//!   neighbours' own motion. So the fine vertices' motion interpolates the coarse
+//!   vertices' (to second order for smooth edits) instead of stepping between them.
 //! - [`DetailMode::Translation`], the seed paper's centroid translations ("Interactive
 //!   Editing of Multiresolution Meshes", section 3, Fig. 1): each endpoint takes its
 //!   recorded position plus the translation `C_f − C_i` of the centroid of its own
@@ -22,21 +30,27 @@
 //!   about one ring further at every level. Kept for fidelity with the paper.
 //!
 //! **Regions** (local frames only): a split whose survivor is exactly where the hierarchy
-//! left it (bit for bit) puts both endpoints back at their recorded positions. So a fine
-//! vertex moves only when its *ancestor* at the edited level (the vertex it was collapsed
-//! into) moved: everything an edit left in place stays exact at every finer level, and the
-//! transition between moved and still parts is the edit's own. A survivor marked with an
-//! affine map ([`crate::Hierarchy::mark_affine`]) whose position is that map's image of
-//! where the hierarchy left it places both endpoints at the map's image of their recorded
-//! positions, exactly: rigidly moved handles land where the user put them.
+//! left it (bit for bit) puts both endpoints back at their recorded positions, unless the
+//! survivor is in an edit's region ([`crate::Hierarchy::mark_region`]). So outside the
+//! regions a fine vertex moves only when its *ancestor* at the edited level (the vertex
+//! it was collapsed into) moved: everything an edit left in place stays exact at every
+//! finer level. Inside a region, an unmoved vertex next to moved ones takes its share of
+//! their motion, so the transition between moved and still parts is the edit's own. A
+//! survivor marked with an affine map ([`crate::Hierarchy::mark_affine`]) whose position
+//! is that map's image of where the hierarchy left it places both endpoints at the map's
+//! image of their recorded positions, exactly: rigidly moved handles land where the user
+//! put them.
 //!
 //! Exactness: the frame (and the centroids) are computed by one function over the same
 //! neighbour list in the same order at collapse and at split time, so with no edit they
 //! agree bit for bit; and the hierarchy skips all of this while no position was edited.
 //!
 //! Storage is flat: one `Vec<u32>` of neighbour vertex indices for all records, with two
-//! lists per record (`v0`'s, then `v1`'s) delimited by one offset array, and two vectors
-//! per record (the local offsets, or the recorded centroids).
+//! lists per record (`v0`'s, then `v1`'s) delimited by one offset array, two vectors per
+//! record (the local offsets, or the recorded centroids), and with local frames the
+//! ring's centroid and which ring the frame is built from. The positions before an edit,
+//! which the triangle placement reads, are kept by the hierarchy (one copy of the edited
+//! level's vertices, taken by `Hierarchy::mesh_mut`).
 
 use glam::{DAffine3, DVec3};
 
@@ -78,6 +92,16 @@ fn ring_tables() -> &'static [(f64, f64)] {
 /// linear part. `None` for rings of fewer than three vertices or longer than the table.
 #[inline]
 fn ring_tangents(positions: &[DVec3], list: &[u32]) -> Option<(DVec3, DVec3)> {
+    ring_tangents_with(list, |i| positions.get(i as usize).copied())
+}
+
+/// [`ring_tangents`] of the positions `position` gives (the same operations in the same
+/// order, so the same bits for the same positions).
+#[inline]
+fn ring_tangents_with(
+    list: &[u32],
+    position: impl Fn(u32) -> Option<DVec3>,
+) -> Option<(DVec3, DVec3)> {
     let n = list.len();
     if !(3..=TABLED_RING).contains(&n) {
         return None;
@@ -86,7 +110,7 @@ fn ring_tangents(positions: &[DVec3], list: &[u32]) -> Option<(DVec3, DVec3)> {
     let table = ring_tables().get(start..start + n)?;
     let (mut x, mut y) = (DVec3::ZERO, DVec3::ZERO);
     for (&i, &(c, s)) in list.iter().zip(table) {
-        let q = positions[i as usize];
+        let q = position(i)?;
         x += c * q;
         y += s * q;
     }
@@ -116,6 +140,18 @@ pub(crate) type Ring = u8;
 const NO_RING: Ring = 0;
 /// The frame is built from the edge's link (both lists, one loop).
 const LINK: Ring = 3;
+
+impl Lists<'_> {
+    /// The list of ring `ring` (1: `l0`, 2: `l1`, otherwise the link).
+    #[inline]
+    fn ring(&self, ring: Ring) -> &[u32] {
+        match ring {
+            1 => self.l0,
+            2 => self.l1,
+            _ => self.link,
+        }
+    }
+}
 
 impl Frame {
     /// The frame of ring `ring` (1: `l0`, 2: `l1`), or `None` when that ring spans no
@@ -206,6 +242,10 @@ pub(crate) struct Details {
     /// Local frames: the ring the record's frame is built from ([`NO_RING`]: the
     /// neighbourhood had no frame at collapse time, the offsets are in world axes).
     framed: Vec<Ring>,
+    /// Local frames: the centroid of the frame's ring, as an offset from the placed
+    /// survivor in the record's frame (what lets a split tell how far the survivor moved
+    /// apart from its ring, see [`Details::placement`]).
+    centres: Vec<DVec3>,
 }
 
 /// Centroid of the positions of the listed vertices, summed in list order (the order is
@@ -233,10 +273,227 @@ pub(crate) fn translate_exact(p: DVec3, d: DVec3) -> DVec3 {
     )
 }
 
+/// True when the survivor moved with its ring (within rounding): `delta`, the part of its
+/// motion the ring does not explain, is below `1e-10` of the ring's size (or not finite:
+/// the caller refuses non-finite placements).
+#[inline]
+fn moved_together(f: &Frame, ring_len: usize, delta: DVec3) -> bool {
+    let [x, y, _] = f.axes.to_cols_array_2d().map(DVec3::from_array);
+    let scale2 = (x.length_squared() + y.length_squared()) / (ring_len.max(1) as f64).powi(2);
+    let apart = delta.length_squared() > 1e-20 * scale2;
+    !apart
+}
+
+/// What refinement knows of the positions before an edit: the positions themselves (by
+/// vertex slot) and, for a vertex, the motion of its whole cluster at a point when that
+/// motion is exact (`Some(0)` for a vertex that stayed and is in no region).
+pub(crate) type Before<'a> = (&'a [[f64; 3]], &'a dyn Fn(u32, DVec3) -> Option<DVec3>);
+
+/// Where the split of a survivor that moved apart from its ring puts its endpoints, from
+/// where the neighbourhood was before the edit (`rest`, the positions the record was
+/// collapsed from) and the frame's placement `carried`.
+///
+/// Each endpoint is written in the affine frame of the triangle of the coarse mesh it
+/// lies nearest to (the survivor and two consecutive vertices of the edge's link, at
+/// rest): `p − s = β e₁ + γ e₂ + h n`, with the triangle's edges `e₁`, `e₂` from the
+/// survivor `s` and its normal `n` scaled to the square root of its area, and read back
+/// at the same coordinates in the triangle now: its motion is then the linear
+/// interpolation of the triangle's corners' motion (it meets the neighbours' own motion
+/// at the link, so there is no step between the descendants of a moved and of a still
+/// coarse vertex), a similarity of the triangle carries it exactly, and creases are
+/// kept (each endpoint follows the face it lies on, not an averaged plane). The result
+/// blends from `carried` at the survivor to the triangle's placement at the link by the
+/// survivor's hat function `λ = β + γ`. `None` when some data is missing (the caller
+/// falls back to [`settle`]).
+#[allow(clippy::too_many_arguments)]
+fn interpolate(
+    positions: &[DVec3],
+    rest: &[[f64; 3]],
+    link: &[u32],
+    anchor: DVec3,
+    at: Collapsed,
+    (now, ring): (&Frame, &[u32]),
+    carried: [DVec3; 2],
+    exact: &dyn Fn(u32, DVec3) -> Option<DVec3>,
+) -> Option<[DVec3; 2]> {
+    let n = link.len();
+    if !(2..=2 * TABLED_RING).contains(&n) {
+        return None;
+    }
+    let rest_of = |i: u32| rest.get(i as usize).map(|&p| DVec3::from_array(p));
+    // Each triangle's rest frame, inverted once for both endpoints.
+    let mut frames = [(glam::DMat3::ZERO, 0usize); 2 * TABLED_RING];
+    let mut count = 0;
+    for j in 0..n {
+        let k = (j + 1) % n;
+        if link[j] == link[k] {
+            continue;
+        }
+        let (e1, e2) = (rest_of(link[j])? - at.placed, rest_of(link[k])? - at.placed);
+        let normal = e1.cross(e2);
+        let area2 = normal.length();
+        let spans = area2 > 1e-12 * e1.length() * e2.length();
+        if !spans {
+            continue;
+        }
+        let m = glam::DMat3::from_cols(e1, e2, normal / area2.sqrt());
+        frames[count] = (m.inverse(), j);
+        count += 1;
+    }
+    let frames = &frames[..count];
+    let place = |p: DVec3| -> Option<(DVec3, f64)> {
+        let d = p - at.placed;
+        // The triangle the point lies over (weights in [0, 1]) nearest to it, else the
+        // one it is least outside of.
+        let (mut best, mut best_score) = (None, f64::INFINITY);
+        for &(inverse, j) in frames {
+            let c = inverse * d;
+            let outside = (-c.x).max(-c.y).max(c.x + c.y - 1.0).max(0.0);
+            let score = outside * 1e6 + c.z.abs();
+            if score < best_score {
+                (best, best_score) = (Some((c, j)), score);
+            }
+        }
+        let (c, j) = best?;
+        let k = (j + 1) % n;
+        let (rj, rk) = (rest_of(link[j])?, rest_of(link[k])?);
+        let (qj, qk) = (positions[link[j] as usize], positions[link[k] as usize]);
+        let normal = |s: DVec3, a: DVec3, b: DVec3| {
+            let n = (a - s).cross(b - s);
+            let scale = n.length().sqrt();
+            if scale > 0.0 {
+                n / scale
+            } else {
+                DVec3::ZERO
+            }
+        };
+        // Barycentric weights. A corner whose whole cluster moves exactly (`exact` gives
+        // that motion at a point: none for a vertex that stayed and is in no region)
+        // gives every point of that cluster its exact motion, so the survivor's share
+        // falls to zero half-way towards it (where that cluster begins) instead of at
+        // it, and the corner's weight there brings the cluster's motion at this point.
+        let (beta, gamma) = (c.x, c.y);
+        let alpha = 1.0 - beta - gamma;
+        let (ej, ek) = (exact(link[j], p), exact(link[k], p));
+        let to_exact =
+            if ej.is_some() { beta } else { 0.0 } + if ek.is_some() { gamma } else { 0.0 };
+        let survivor = if to_exact > 0.0 {
+            (alpha - to_exact).max(0.0)
+        } else {
+            alpha
+        };
+        let grow = if to_exact > 0.0 {
+            1.0 + (alpha - survivor) / to_exact
+        } else {
+            1.0
+        };
+        let corner = |w: f64, e: Option<DVec3>, q: DVec3, r: DVec3| match e {
+            Some(m) => w * grow * m,
+            None => w * (q - r),
+        };
+        let motion = survivor * (anchor - at.placed)
+            + corner(beta, ej, qj, rj)
+            + corner(gamma, ek, qk, rk)
+            + c.z * (normal(anchor, qj, qk) - normal(at.placed, rj, rk));
+        Some((p + motion, (1.0 - survivor).clamp(0.0, 1.0)))
+    };
+    // Near the survivor the frame's placement (exact for any affine map of the
+    // neighbourhood, second order for smooth ones); towards the link the triangle's
+    // (which meets the neighbours' own motion): weight λ = β + γ, the hat function of
+    // the survivor, so a quadratic motion is followed to second order too. Next to a
+    // still neighbour the ring's motion is a step, which the frame reads as a stretch:
+    // the triangles' placement alone then.
+    // How far the link's motion is from the one map the frame reads from it, relative
+    // to the motion: small for smooth edits, large at a step (a still neighbour, a
+    // fast-varying edit), where the frame's placement is no guide and overshoots.
+    let (x, y) = ring_tangents_with(ring, rest_of)?;
+    let then = Frame::from_tangents(x, y)?;
+    let map = now.axes * then.axes.inverse();
+    let (mut residual, mut motion) = (0.0f64, (anchor - at.placed).length());
+    for &i in link {
+        let (q, r) = (positions[i as usize], rest_of(i)?);
+        residual = residual.max((q - anchor - map * (r - at.placed)).length());
+        motion = motion.max((q - r).length());
+    }
+    let step = link.iter().any(|&i| exact(i, at.p0).is_some());
+    let moved = motion > 0.0;
+    let trust = if step || !moved {
+        0.0
+    } else {
+        (1.0 - (residual / motion - 0.05) / 0.2).clamp(0.0, 1.0)
+    };
+    let blend = |(q, lambda): (DVec3, f64), carried: DVec3| {
+        carried + (1.0 - trust * (1.0 - lambda)) * (q - carried)
+    };
+    Some([
+        blend(place(at.p0)?, carried[0]),
+        blend(place(at.p1)?, carried[1]),
+    ])
+}
+
+/// Where the split of a survivor that moved apart from its ring puts its endpoints when
+/// the positions before the edit are not known (an edit made after a walk coarser that
+/// followed an earlier edit, see `Hierarchy::mesh_mut`).
+///
+/// `carried` is the survivor's current position `anchor` plus the endpoints' offsets in
+/// the current frame `f`: right where the whole neighbourhood moved together. Where the
+/// survivor moved apart from its ring (`predicted` is where the ring's motion, read
+/// through the frame, puts the survivor; `anchor − predicted` is the part of the
+/// survivor's motion the ring did not share), each endpoint gives back that part in
+/// proportion to the coarse mesh's hat function of the survivor at the endpoint: `λ = 0`
+/// at the survivor, `1` on its ring (the barycentric weight of the ring in the fan of
+/// triangles around the survivor, in the frame's tangent plane). So the fine vertices'
+/// displacement falls from the survivor's to its ring's, and the step between a moved vertex and a still neighbour is spread over the moved vertex's
+/// descendants instead of landing on one fine edge (the part given back grows as `λ²`,
+/// which a quadratic motion needs).
+fn settle(
+    f: &Frame,
+    positions: &[DVec3],
+    link: &[u32],
+    anchor: DVec3,
+    predicted: DVec3,
+    local: [DVec3; 2],
+    carried: [DVec3; 2],
+) -> [DVec3; 2] {
+    let delta = anchor - predicted;
+    let inverse = f.axes.inverse();
+    let ring: Vec<DVec3> = link
+        .iter()
+        .map(|&i| inverse * (positions[i as usize] - predicted))
+        .collect();
+    let hat = |d: DVec3| -> f64 {
+        let mut best = f64::INFINITY;
+        for (j, u) in ring.iter().enumerate() {
+            let w = ring[(j + 1) % ring.len()];
+            let det = u.x * w.y - u.y * w.x;
+            if det.abs() <= 1e-12 * (u.x.abs() + u.y.abs()) * (w.x.abs() + w.y.abs()) {
+                continue;
+            }
+            let beta = (d.x * w.y - d.y * w.x) / det;
+            let gamma = (u.x * d.y - u.y * d.x) / det;
+            if beta >= -1e-12 && gamma >= -1e-12 {
+                best = best.min(beta + gamma);
+            }
+        }
+        // Beyond the fan (an open ring): the ring's motion.
+        let l = if best.is_finite() {
+            best.clamp(0.0, 1.0)
+        } else {
+            1.0
+        };
+        l * l
+    };
+    [
+        carried[0] - hat(local[0]) * delta,
+        carried[1] - hat(local[1]) * delta,
+    ]
+}
+
 /// The coefficients of a range of records ([`Details::save`]).
 pub(crate) struct SavedRange {
     coefficients: Vec<[DVec3; 2]>,
     framed: Vec<Ring>,
+    centres: Vec<DVec3>,
 }
 
 /// Where a split puts its two vertices, given the survivor's position before the split.
@@ -271,6 +528,11 @@ impl Details {
             } else {
                 0
             }),
+            centres: Vec::with_capacity(if mode == DetailMode::LocalFrame {
+                records
+            } else {
+                0
+            }),
         }
     }
 
@@ -301,6 +563,7 @@ impl Details {
         self.coefficients.push([DVec3::ZERO; 2]);
         if self.mode == DetailMode::LocalFrame {
             self.framed.push(NO_RING);
+            self.centres.push(DVec3::ZERO);
         }
         self.refresh(self.coefficients.len() - 1, positions, at);
     }
@@ -363,26 +626,37 @@ impl Details {
             }
             DetailMode::LocalFrame => {
                 let offsets = [at.p0 - at.placed, at.p1 - at.placed];
-                let framed =
-                    Frame::choose(positions, self.record_lists(r)).and_then(|(ring, f)| {
-                        Some((ring, [f.local(offsets[0])?, f.local(offsets[1])?]))
-                    });
-                let (framed, coefficients) = framed.unwrap_or((NO_RING, offsets));
+                let lists = self.record_lists(r);
+                let framed = Frame::choose(positions, lists).and_then(|(ring, f)| {
+                    let centre = centroid(positions, lists.ring(ring)) - at.placed;
+                    Some((
+                        ring,
+                        [f.local(offsets[0])?, f.local(offsets[1])?],
+                        f.local(centre)?,
+                    ))
+                });
+                let (framed, coefficients, centre) =
+                    framed.unwrap_or((NO_RING, offsets, DVec3::ZERO));
                 self.framed[r] = framed;
                 self.coefficients[r] = coefficients;
+                self.centres[r] = centre;
             }
         }
     }
 
     /// Where splitting record `r` puts `v0` and `v1`, with the survivor now at `anchor`,
-    /// the neighbours at `positions`, and the collapse as recorded in `at`.
+    /// the neighbours at `positions`, and the collapse as recorded in `at`. `in_region`:
+    /// the survivor is in an edit's region ([`crate::Hierarchy::mark_region`]), so it is
+    /// placed by its neighbourhood's motion even when it did not move itself.
     #[inline]
     pub(crate) fn placement(
         &self,
         r: usize,
         positions: &[DVec3],
+        rest: Option<Before<'_>>,
         anchor: DVec3,
         at: Collapsed,
+        in_region: bool,
     ) -> Placement {
         let (l0, l1) = self.lists(r);
         let [a, b] = self.coefficients[r];
@@ -393,15 +667,46 @@ impl Details {
                 Placement::At([translate_exact(at.p0, d0), translate_exact(at.p1, d1)])
             }
             DetailMode::LocalFrame => {
-                if anchor == at.placed {
+                if anchor == at.placed && !in_region {
                     return Placement::Recorded;
                 }
                 let ring = self.framed[r];
                 if ring == NO_RING {
                     return Placement::At([anchor + a, anchor + b]);
                 }
-                match Frame::of_ring(positions, self.record_lists(r), ring) {
-                    Some(f) => Placement::At([anchor + f.world(a), anchor + f.world(b)]),
+                let lists = self.record_lists(r);
+                match Frame::of_ring(positions, lists, ring) {
+                    Some(f) => {
+                        let carried = [anchor + f.world(a), anchor + f.world(b)];
+                        let centre = centroid(positions, lists.ring(ring));
+                        let predicted = centre - f.world(self.centres[r]);
+                        if moved_together(&f, lists.link.len(), anchor - predicted) {
+                            return Placement::At(carried);
+                        }
+                        let interpolated = rest.and_then(|(rest, exact)| {
+                            interpolate(
+                                positions,
+                                rest,
+                                lists.link,
+                                anchor,
+                                at,
+                                (&f, lists.ring(ring)),
+                                carried,
+                                exact,
+                            )
+                        });
+                        Placement::At(interpolated.unwrap_or_else(|| {
+                            settle(
+                                &f,
+                                positions,
+                                lists.link,
+                                anchor,
+                                predicted,
+                                [a, b],
+                                carried,
+                            )
+                        }))
+                    }
                     // Coordinates so large that the frame overflows: the caller refuses
                     // the non-finite placement.
                     None if Frame::overflows(positions, self.record_lists(r), ring) => {
@@ -449,8 +754,13 @@ impl Details {
             coefficients: self.coefficients[range.clone()].to_vec(),
             framed: self
                 .framed
-                .get(range)
+                .get(range.clone())
                 .map(<[Ring]>::to_vec)
+                .unwrap_or_default(),
+            centres: self
+                .centres
+                .get(range)
+                .map(<[DVec3]>::to_vec)
                 .unwrap_or_default(),
         }
     }
@@ -458,8 +768,11 @@ impl Details {
     /// Puts back the coefficients [`save`](Self::save)d for `range`.
     pub(crate) fn restore(&mut self, range: std::ops::Range<usize>, saved: SavedRange) {
         self.coefficients[range.clone()].copy_from_slice(&saved.coefficients);
-        if let Some(framed) = self.framed.get_mut(range) {
+        if let Some(framed) = self.framed.get_mut(range.clone()) {
             framed.copy_from_slice(&saved.framed);
+        }
+        if let Some(centres) = self.centres.get_mut(range) {
+            centres.copy_from_slice(&saved.centres);
         }
     }
 
@@ -482,6 +795,7 @@ impl Details {
             + self.offsets.capacity() * 4
             + self.coefficients.capacity() * std::mem::size_of::<[DVec3; 2]>()
             + self.framed.capacity()
+            + self.centres.capacity() * std::mem::size_of::<DVec3>()
     }
 }
 
@@ -523,7 +837,7 @@ mod tests {
             at,
         );
         assert_eq!(
-            d.placement(0, &positions, DVec3::Z, at),
+            d.placement(0, &positions, None, DVec3::Z, at, false),
             Placement::At([at.p0, at.p1])
         );
         let (a, b) = d.lists(0);
@@ -558,7 +872,7 @@ mod tests {
         );
         // Unmoved survivor: the recorded positions, exactly.
         assert_eq!(
-            d.placement(0, &positions, at.placed, at),
+            d.placement(0, &positions, None, at.placed, at, false),
             Placement::Recorded
         );
         // Rotate, scale and translate everything: the endpoints follow exactly.
@@ -568,7 +882,8 @@ mod tests {
             DVec3::new(4.0, -2.0, 3.0),
         );
         let moved: Vec<DVec3> = positions.iter().map(|&p| t.transform_point3(p)).collect();
-        let Placement::At([q0, q1]) = d.placement(0, &moved, t.transform_point3(at.placed), at)
+        let Placement::At([q0, q1]) =
+            d.placement(0, &moved, None, t.transform_point3(at.placed), at, false)
         else {
             panic!("a moved survivor is placed")
         };
@@ -583,7 +898,8 @@ mod tests {
             [7, 8],
             at,
         );
-        let Placement::At([r0, _]) = paper.placement(0, &moved, t.transform_point3(at.placed), at)
+        let Placement::At([r0, _]) =
+            paper.placement(0, &moved, None, t.transform_point3(at.placed), at, false)
         else {
             panic!()
         };
@@ -645,7 +961,8 @@ mod tests {
             DVec3::Z,
         ));
         let moved: Vec<DVec3> = positions.iter().map(|&p| t.transform_point3(p)).collect();
-        let Placement::At([q0, q1]) = d.placement(0, &moved, t.transform_point3(at.placed), at)
+        let Placement::At([q0, q1]) =
+            d.placement(0, &moved, None, t.transform_point3(at.placed), at, false)
         else {
             panic!()
         };
@@ -666,5 +983,58 @@ mod tests {
         assert_eq!(q0, t.transform_point3(at.p0));
         assert_eq!(q1, t.transform_point3(at.p1));
         assert!(Details::affine_placement(&t, anchor + DVec3::Y * 1e-6, at).is_none());
+    }
+
+    #[test]
+    fn a_survivor_moved_apart_from_its_ring_spreads_its_motion_over_its_endpoints() {
+        // The hexagon at rest, the survivor at the centre lifted by 1 along z: each
+        // endpoint takes `max(1 − 2λ, 0)` of the lift, `λ` its hat coordinate (its
+        // fraction of the way to the ring): the motion falls to zero half-way to the
+        // still ring, where the ring's own (exact) descendants begin.
+        let positions = ring();
+        let rest: Vec<[f64; 3]> = positions.iter().map(|p| p.to_array()).collect();
+        let at = Collapsed {
+            p0: DVec3::new(-0.25, 0.0, 0.0),
+            p1: DVec3::new(0.75, 0.0, 0.0),
+            placed: DVec3::ZERO,
+        };
+        let mut d = Details::with_capacity(DetailMode::LocalFrame, 1);
+        d.push(
+            &positions,
+            [0u32, 1, 2, 3].into_iter(),
+            [3u32, 4, 5, 0].into_iter(),
+            [7, 8],
+            at,
+        );
+        // The ring's vertices stay where they were (their clusters do not move).
+        let still = |i: u32, _: DVec3| (i < 6).then_some(DVec3::ZERO);
+        let lifted = DVec3::Z;
+        let Placement::At([q0, q1]) =
+            d.placement(0, &positions, Some((&rest, &still)), lifted, at, false)
+        else {
+            panic!("a moved survivor is placed")
+        };
+        for (q, p, lambda) in [(q0, at.p0, 0.25), (q1, at.p1, 0.75)] {
+            let motion = q - p;
+            assert!(
+                (motion - f64::max(1.0 - 2.0 * lambda, 0.0) * DVec3::Z).length() < 1e-12,
+                "{motion} at λ = {lambda}"
+            );
+        }
+        // Unmoved and outside any region: exactly where it was; in a region with its
+        // ring moved, it takes its share of the ring's motion.
+        assert_eq!(
+            d.placement(0, &positions, Some((&rest, &still)), at.placed, at, false),
+            Placement::Recorded
+        );
+        let mut moved = positions.clone();
+        moved[0] += DVec3::Z;
+        let others_still = |i: u32, _: DVec3| (i > 0 && i < 6).then_some(DVec3::ZERO);
+        let Placement::At([_, q1]) =
+            d.placement(0, &moved, Some((&rest, &others_still)), at.placed, at, true)
+        else {
+            panic!("a survivor in a region is placed")
+        };
+        assert!(q1.z > 0.1 && q1.z < 1.0, "{q1}");
     }
 }

@@ -374,8 +374,55 @@ pub struct Hierarchy {
     /// was when its record was collapsed, every split restores its recorded positions,
     /// and steps skip the detail coefficients. `None` for good after the first edit.
     clean_positions: Option<u64>,
+    /// Where the vertices were before the edits (see [`Rest`]), newest last; empty while
+    /// nothing was edited.
+    rests: Vec<Rest>,
+    /// Records at or above this index were collapsed since the last call of
+    /// [`Hierarchy::mesh_mut`] (or the build): their neighbourhoods were then where the
+    /// current positions have them, unless edited since.
+    consistent_from: usize,
     /// How the build ended ([`Hierarchy::build_outcome`]).
     outcome: outcome::BuildOutcome,
+}
+
+/// The positions edits started from, for refinement to interpolate the edits' motion
+/// ([`DetailMode::LocalFrame`]): a copy of every live vertex's position taken when
+/// [`Hierarchy::mesh_mut`] hands out the mesh, kept up to date by the splits of the
+/// records it serves (each puts its recorded positions in). It serves the records
+/// `floor..ceil`, whose neighbourhoods were at these positions when they were collapsed:
+/// those collapsed since the previous edit, up to the level it was taken at; a collapse
+/// (which takes the current positions into its record) ends the range below itself.
+#[derive(Clone, Debug)]
+struct Rest {
+    positions: Vec<[f64; 3]>,
+    floor: usize,
+    ceil: usize,
+}
+
+/// At most this many [`Rest`]s are kept (edits at levels walked coarser from one
+/// another); records only older ones served fall back to the local frame alone.
+const MAX_RESTS: usize = 4;
+
+impl Rest {
+    /// The live vertices' positions of `mesh` (other slots zero, left untouched by the
+    /// allocator: a coarse level of a large mesh costs its live vertices only).
+    fn take(mesh: &Mesh, floor: usize, ceil: usize) -> Self {
+        let mut positions = vec![[0.0f64; 3]; mesh.vertex_slots()];
+        for v in mesh.vertices() {
+            let i = mesh.vertex_index(v);
+            positions[i] = mesh.positions[i].to_array();
+        }
+        Self {
+            positions,
+            floor,
+            ceil,
+        }
+    }
+
+    /// True when this copy serves record `r`.
+    fn serves(&self, r: usize) -> bool {
+        (self.floor..self.ceil).contains(&r)
+    }
 }
 
 /// The clone's mesh is a mesh instance of its own; the clone trusts it exactly when the
@@ -387,6 +434,8 @@ impl Clone for Hierarchy {
         Self {
             stamp: trusted.then(|| mesh.topology_stamp()),
             clean_positions: self.clean_positions,
+            rests: self.rests.clone(),
+            consistent_from: self.consistent_from,
             mesh,
             records: self.records.clone(),
             placements: self.placements.clone(),
@@ -474,6 +523,8 @@ impl Hierarchy {
             labels: None,
             stamp: None,
             clean_positions: None,
+            rests: Vec::new(),
+            consistent_from: 0,
             outcome: outcome::BuildOutcome::default(),
         };
         match options.method {
@@ -559,8 +610,25 @@ impl Hierarchy {
     }
     /// The mesh at the current position, for editing positions and attributes. Do not
     /// change its topology: the next split or collapse of the hierarchy would be refused.
+    ///
+    /// With [`DetailMode::LocalFrame`], the first call after a walk coarser (or the
+    /// build) keeps a copy of the live vertices' positions, which refinement needs to
+    /// interpolate the edit's motion (one copy of the current level's vertices).
     #[inline]
     pub fn mesh_mut(&mut self) -> &mut Mesh {
+        let covered = self.rests.last().is_some_and(|r| r.ceil >= self.applied);
+        if !covered && self.details.mode() == DetailMode::LocalFrame {
+            let floor = if self.clean_positions == Some(self.mesh.position_edits) {
+                0
+            } else {
+                self.consistent_from
+            };
+            if self.rests.len() == MAX_RESTS {
+                self.rests.remove(0);
+            }
+            self.rests.push(Rest::take(&self.mesh, floor, self.applied));
+        }
+        self.consistent_from = self.applied;
         &mut self.mesh
     }
     /// Gives the mesh back, at its current level.
@@ -777,6 +845,10 @@ impl Hierarchy {
         // Marks describe motion relative to the records below the current position; a
         // record collapsed again now holds the moved positions.
         self.marks.clear();
+        for rest in &mut self.rests {
+            rest.ceil = rest.ceil.min(r);
+        }
+        self.rests.retain(|rest| rest.floor < rest.ceil);
         self.stamp = self.stamp.map(|_| self.mesh.topology_stamp());
         Ok(true)
     }
@@ -832,14 +904,36 @@ impl Hierarchy {
         let placement = match self.mesh.positions.get(i1) {
             Some(&anchor) if !clean => {
                 mark = self.marks.of(i1);
-                let affine = (mark != UNMARKED)
+                let affine = (mark < IN_REGION)
                     .then(|| Details::affine_placement(&self.marks.maps[mark as usize], anchor, at))
                     .flatten();
                 match affine {
                     Some(both) => Placement::At(both),
                     None => {
-                        mark = UNMARKED;
-                        self.details.placement(r, self.mesh.positions(), anchor, at)
+                        // An affine mark that does not fit still says "in the region".
+                        if mark != UNMARKED {
+                            mark = IN_REGION;
+                        }
+                        let free = mark == IN_REGION;
+                        let rest = self.rests.iter().rev().find(|rest| rest.serves(r));
+                        let (marks, positions) = (&self.marks, self.mesh.positions());
+                        // The motion of a link vertex's whole cluster when it is exact:
+                        // none for a vertex that stayed and is in no region; `None` for
+                        // the others (they interpolate).
+                        let exact = |i: u32, _: DVec3| -> Option<DVec3> {
+                            let i = i as usize;
+                            let at_rest = rest?.positions.get(i).map(|&q| DVec3::from_array(q))?;
+                            (marks.of(i) == UNMARKED && positions[i] == at_rest)
+                                .then_some(DVec3::ZERO)
+                        };
+                        let rest = rest.map(|rest| {
+                            (
+                                rest.positions.as_slice(),
+                                &exact as &dyn Fn(u32, DVec3) -> Option<DVec3>,
+                            )
+                        });
+                        self.details
+                            .placement(r, self.mesh.positions(), rest, anchor, at, free)
                     }
                 }
             }
@@ -897,6 +991,14 @@ impl Hierarchy {
             self.marks.set(i0, mark);
             self.marks.set(i1, mark);
         }
+        if let Some(rest) = self.rests.iter_mut().rev().find(|rest| rest.serves(r)) {
+            // Where the record's baseline has them (the positions the edits started from).
+            if let (Some(_), Some(_)) = (rest.positions.get(i0), rest.positions.get(i1)) {
+                rest.positions[i0] = record.p0.to_array();
+                rest.positions[i1] = record.p1.to_array();
+            }
+        }
+        self.consistent_from = self.consistent_from.min(r);
         if let Some(binding) = classify {
             labels::classify_split(&mut self.mesh, binding.attribute, record.v0);
         }
@@ -1042,6 +1144,8 @@ struct Saved {
     placements: Vec<(DVec3, f64)>,
     details: detail::SavedRange,
     marks: Marks,
+    rests: Vec<Rest>,
+    consistent_from: usize,
     applied: usize,
     clean_positions: Option<u64>,
 }
@@ -1056,6 +1160,8 @@ impl Saved {
             details: h.details.save(range.clone()),
             range,
             marks: h.marks.clone(),
+            rests: h.rests.clone(),
+            consistent_from: h.consistent_from,
             applied: h.applied,
             clean_positions: h.clean_positions,
         }
@@ -1072,6 +1178,8 @@ impl Saved {
         h.placements[self.range.clone()].copy_from_slice(&self.placements);
         h.details.restore(self.range, self.details);
         h.marks = self.marks;
+        h.rests = self.rests;
+        h.consistent_from = self.consistent_from;
         h.applied = self.applied;
         h.clean_positions = self.clean_positions;
         h.stamp = None;
@@ -1080,6 +1188,9 @@ impl Saved {
 
 /// No affine mark on a vertex.
 const UNMARKED: u32 = u32::MAX;
+/// The mark of a vertex in an edit's region without an affine map of its own
+/// ([`Hierarchy::mark_region`]).
+const IN_REGION: u32 = u32::MAX - 1;
 
 /// Affine maps that moved vertices since the hierarchy placed them
 /// ([`Hierarchy::mark_affine`]): a map index per vertex slot (allocated on first use) and
@@ -1093,7 +1204,7 @@ struct Marks {
 impl Marks {
     #[inline]
     fn is_empty(&self) -> bool {
-        self.maps.is_empty()
+        self.of_vertex.is_empty()
     }
     #[inline]
     fn of(&self, i: usize) -> u32 {
@@ -1175,10 +1286,9 @@ impl Hierarchy {
         let mut composed: Vec<(u32, u32)> = Vec::new();
         for &v in vertices {
             let i = self.mesh.vertex_index(v);
-            let old = if compose {
-                self.marks.of_vertex[i]
-            } else {
-                UNMARKED
+            let old = match self.marks.of_vertex[i] {
+                o if compose && o < IN_REGION => o,
+                _ => UNMARKED,
             };
             let new = match composed.iter().find(|&&(o, _)| o == old) {
                 Some(&(_, n)) => n,
@@ -1198,7 +1308,51 @@ impl Hierarchy {
         Ok(())
     }
 
-    /// Removes every affine mark ([`mark_affine`](Self::mark_affine)).
+    /// Tells the hierarchy that `vertices` (live at the current position) are the region
+    /// of an edit made at this level: refinement places the finer vertices collapsed into
+    /// them by the motion of their neighbourhood even where they did not move themselves,
+    /// so the edit's transition from moved to still comes back at full resolution as
+    /// smooth as the edit made it (the piecewise-linear interpolation of the coarse motion
+    /// over the descendants, see [`DetailMode::LocalFrame`]), instead of a step on the
+    /// last fine edge before an unmoved coarse vertex. Vertices outside every region
+    /// keep the default rule: a fine vertex whose ancestor did not move stays exactly
+    /// where it was, so mark only what the edit may move (a sub-mesh's inside, a Lee
+    /// editing area's interior, a Bendels–Klein handle and deformable region, an FFD
+    /// footprint). Affinely marked vertices ([`mark_affine`](Self::mark_affine)) are in
+    /// the region already; marking a vertex here keeps its affine map.
+    ///
+    /// Walking coarser drops the marks, as for [`mark_affine`](Self::mark_affine).
+    ///
+    /// # Errors
+    /// [`Error::InvalidArgument`] in [`DetailMode::Translation`] or for a vertex that is
+    /// not live; nothing is marked then.
+    pub fn mark_region(&mut self, vertices: &[VertexId]) -> Result<()> {
+        if self.details.mode() != DetailMode::LocalFrame {
+            return Err(Error::InvalidArgument(
+                "region marks need DetailMode::LocalFrame (the paper's translations ignore them)"
+                    .into(),
+            ));
+        }
+        if let Some(&v) = vertices.iter().find(|&&v| !self.mesh.is_valid_vertex(v)) {
+            return Err(Error::InvalidArgument(format!(
+                "mark_region: vertex {v} is not a live vertex of the hierarchy's mesh"
+            )));
+        }
+        let slots = self.mesh.vertex_slots();
+        if self.marks.of_vertex.len() < slots {
+            self.marks.of_vertex.resize(slots, UNMARKED);
+        }
+        for &v in vertices {
+            let m = &mut self.marks.of_vertex[self.mesh.vertex_index(v)];
+            if *m == UNMARKED {
+                *m = IN_REGION;
+            }
+        }
+        Ok(())
+    }
+
+    /// Removes every affine and region mark ([`mark_affine`](Self::mark_affine),
+    /// [`mark_region`](Self::mark_region)).
     pub fn clear_marks(&mut self) {
         self.marks.clear();
     }
