@@ -95,6 +95,26 @@ fn ring_tangents(positions: &[DVec3], list: &[u32]) -> Option<(DVec3, DVec3)> {
     ring_tangents_with(list, |i| positions.get(i as usize).copied())
 }
 
+/// [`ring_tangents`] and the centroid of the ring, in one pass over its positions (the
+/// same operations in the same order as [`ring_tangents`] and [`centroid`]).
+#[inline]
+fn ring_tangents_and_centroid(positions: &[DVec3], list: &[u32]) -> Option<(DVec3, DVec3, DVec3)> {
+    let n = list.len();
+    if !(3..=TABLED_RING).contains(&n) {
+        return None;
+    }
+    let start = n * (n - 1) / 2;
+    let table = ring_tables().get(start..start + n)?;
+    let (mut x, mut y, mut sum) = (DVec3::ZERO, DVec3::ZERO, DVec3::ZERO);
+    for (&i, &(c, s)) in list.iter().zip(table) {
+        let q = positions[i as usize];
+        x += c * q;
+        y += s * q;
+        sum += q;
+    }
+    Some((x, y, sum / n as f64))
+}
+
 /// [`ring_tangents`] of the positions `position` gives (the same operations in the same
 /// order, so the same bits for the same positions).
 #[inline]
@@ -166,6 +186,20 @@ impl Frame {
         };
         let (x, y) = ring_tangents(positions, list)?;
         Self::from_tangents(x, y)
+    }
+
+    /// [`of_ring`](Self::of_ring) and the centroid of that ring.
+    #[inline]
+    fn of_ring_with_centroid(
+        positions: &[DVec3],
+        lists: Lists<'_>,
+        ring: Ring,
+    ) -> Option<(Self, DVec3)> {
+        if !matches!(ring, 1 | 2 | LINK) {
+            return None;
+        }
+        let (x, y, centre) = ring_tangents_and_centroid(positions, lists.ring(ring))?;
+        Some((Self::from_tangents(x, y)?, centre))
     }
 
     /// True when ring `ring`'s tangents are not finite (its coordinates overflow).
@@ -503,6 +537,9 @@ pub(crate) enum Placement {
     Recorded,
     /// At these positions.
     At([DVec3; 2]),
+    /// The survivor moved apart from its ring: ask again with the positions before the
+    /// edit (only when the caller said it can provide them).
+    NeedsBefore,
 }
 
 /// Positions `[p0, p1]` recorded before a collapse and the survivor's position after it.
@@ -657,6 +694,7 @@ impl Details {
         anchor: DVec3,
         at: Collapsed,
         in_region: bool,
+        before_on_request: bool,
     ) -> Placement {
         let (l0, l1) = self.lists(r);
         let [a, b] = self.coefficients[r];
@@ -675,13 +713,15 @@ impl Details {
                     return Placement::At([anchor + a, anchor + b]);
                 }
                 let lists = self.record_lists(r);
-                match Frame::of_ring(positions, lists, ring) {
-                    Some(f) => {
+                match Frame::of_ring_with_centroid(positions, lists, ring) {
+                    Some((f, centre)) => {
                         let carried = [anchor + f.world(a), anchor + f.world(b)];
-                        let centre = centroid(positions, lists.ring(ring));
                         let predicted = centre - f.world(self.centres[r]);
                         if moved_together(&f, lists.link.len(), anchor - predicted) {
                             return Placement::At(carried);
+                        }
+                        if rest.is_none() && before_on_request {
+                            return Placement::NeedsBefore;
                         }
                         let interpolated = rest.and_then(|(rest, exact)| {
                             interpolate(
@@ -787,6 +827,7 @@ impl Details {
             crate::prefetch::prefetch(&self.neighbours, start + 15);
         }
         crate::prefetch::prefetch(&self.coefficients, r);
+        crate::prefetch::prefetch(&self.centres, r);
     }
 
     /// Bytes used (for reports).
@@ -837,7 +878,7 @@ mod tests {
             at,
         );
         assert_eq!(
-            d.placement(0, &positions, None, DVec3::Z, at, false),
+            d.placement(0, &positions, None, DVec3::Z, at, false, false),
             Placement::At([at.p0, at.p1])
         );
         let (a, b) = d.lists(0);
@@ -872,7 +913,7 @@ mod tests {
         );
         // Unmoved survivor: the recorded positions, exactly.
         assert_eq!(
-            d.placement(0, &positions, None, at.placed, at, false),
+            d.placement(0, &positions, None, at.placed, at, false, false),
             Placement::Recorded
         );
         // Rotate, scale and translate everything: the endpoints follow exactly.
@@ -882,9 +923,15 @@ mod tests {
             DVec3::new(4.0, -2.0, 3.0),
         );
         let moved: Vec<DVec3> = positions.iter().map(|&p| t.transform_point3(p)).collect();
-        let Placement::At([q0, q1]) =
-            d.placement(0, &moved, None, t.transform_point3(at.placed), at, false)
-        else {
+        let Placement::At([q0, q1]) = d.placement(
+            0,
+            &moved,
+            None,
+            t.transform_point3(at.placed),
+            at,
+            false,
+            false,
+        ) else {
             panic!("a moved survivor is placed")
         };
         assert!((q0 - t.transform_point3(at.p0)).length() < 1e-12);
@@ -898,9 +945,15 @@ mod tests {
             [7, 8],
             at,
         );
-        let Placement::At([r0, _]) =
-            paper.placement(0, &moved, None, t.transform_point3(at.placed), at, false)
-        else {
+        let Placement::At([r0, _]) = paper.placement(
+            0,
+            &moved,
+            None,
+            t.transform_point3(at.placed),
+            at,
+            false,
+            false,
+        ) else {
             panic!()
         };
         assert!((r0 - t.transform_point3(at.p0)).length() > 1e-3);
@@ -961,9 +1014,15 @@ mod tests {
             DVec3::Z,
         ));
         let moved: Vec<DVec3> = positions.iter().map(|&p| t.transform_point3(p)).collect();
-        let Placement::At([q0, q1]) =
-            d.placement(0, &moved, None, t.transform_point3(at.placed), at, false)
-        else {
+        let Placement::At([q0, q1]) = d.placement(
+            0,
+            &moved,
+            None,
+            t.transform_point3(at.placed),
+            at,
+            false,
+            false,
+        ) else {
             panic!()
         };
         assert!((q0 - t.transform_point3(at.p0)).length() < 1e-12);
@@ -1009,9 +1068,15 @@ mod tests {
         // The ring's vertices stay where they were (their clusters do not move).
         let still = |i: u32, _: DVec3| (i < 6).then_some(DVec3::ZERO);
         let lifted = DVec3::Z;
-        let Placement::At([q0, q1]) =
-            d.placement(0, &positions, Some((&rest, &still)), lifted, at, false)
-        else {
+        let Placement::At([q0, q1]) = d.placement(
+            0,
+            &positions,
+            Some((&rest, &still)),
+            lifted,
+            at,
+            false,
+            false,
+        ) else {
             panic!("a moved survivor is placed")
         };
         for (q, p, lambda) in [(q0, at.p0, 0.25), (q1, at.p1, 0.75)] {
@@ -1024,15 +1089,29 @@ mod tests {
         // Unmoved and outside any region: exactly where it was; in a region with its
         // ring moved, it takes its share of the ring's motion.
         assert_eq!(
-            d.placement(0, &positions, Some((&rest, &still)), at.placed, at, false),
+            d.placement(
+                0,
+                &positions,
+                Some((&rest, &still)),
+                at.placed,
+                at,
+                false,
+                false
+            ),
             Placement::Recorded
         );
         let mut moved = positions.clone();
         moved[0] += DVec3::Z;
         let others_still = |i: u32, _: DVec3| (i > 0 && i < 6).then_some(DVec3::ZERO);
-        let Placement::At([_, q1]) =
-            d.placement(0, &moved, Some((&rest, &others_still)), at.placed, at, true)
-        else {
+        let Placement::At([_, q1]) = d.placement(
+            0,
+            &moved,
+            Some((&rest, &others_still)),
+            at.placed,
+            at,
+            true,
+            false,
+        ) else {
             panic!("a survivor in a region is placed")
         };
         assert!(q1.z > 0.1 && q1.z < 1.0, "{q1}");

@@ -397,6 +397,12 @@ struct Rest {
     positions: Vec<[f64; 3]>,
     floor: usize,
     ceil: usize,
+    /// The splits of records `synced..ceil` have put their positions in (the others are
+    /// put in when a split first needs the copy: a refinement whose every survivor moved
+    /// with its neighbours, a translation or rotation of the whole level, never does).
+    synced: usize,
+    /// A split needed the copy: from then on every split puts its positions in.
+    active: bool,
 }
 
 /// At most this many [`Rest`]s are kept (edits at levels walked coarser from one
@@ -416,6 +422,8 @@ impl Rest {
             positions,
             floor,
             ceil,
+            synced: ceil,
+            active: false,
         }
     }
 
@@ -782,6 +790,13 @@ impl Hierarchy {
         let r = self.applied;
         // Decided before the collapse changes the mesh's topology stamp.
         let clean = self.positions_are_clean();
+        if r < self.records.len() {
+            // A copy of the positions before an edit that has not taken in every split
+            // since catches up now: the collapse replaces the record it would read them from.
+            for k in 0..self.rests.len() {
+                self.sync_rest(k, r);
+            }
+        }
         let Some(old) = self.records.get(r) else {
             return Ok(false);
         };
@@ -915,25 +930,7 @@ impl Hierarchy {
                             mark = IN_REGION;
                         }
                         let free = mark == IN_REGION;
-                        let rest = self.rests.iter().rev().find(|rest| rest.serves(r));
-                        let (marks, positions) = (&self.marks, self.mesh.positions());
-                        // The motion of a link vertex's whole cluster when it is exact:
-                        // none for a vertex that stayed and is in no region; `None` for
-                        // the others (they interpolate).
-                        let exact = |i: u32, _: DVec3| -> Option<DVec3> {
-                            let i = i as usize;
-                            let at_rest = rest?.positions.get(i).map(|&q| DVec3::from_array(q))?;
-                            (marks.of(i) == UNMARKED && positions[i] == at_rest)
-                                .then_some(DVec3::ZERO)
-                        };
-                        let rest = rest.map(|rest| {
-                            (
-                                rest.positions.as_slice(),
-                                &exact as &dyn Fn(u32, DVec3) -> Option<DVec3>,
-                            )
-                        });
-                        self.details
-                            .placement(r, self.mesh.positions(), rest, anchor, at, free)
+                        self.place(r, anchor, at, free)
                     }
                 }
             }
@@ -943,6 +940,12 @@ impl Hierarchy {
             self.mesh.prefetch_split(&self.records[ahead]);
             if !clean {
                 self.details.prefetch(ahead, self.mesh.positions());
+                if let Some(rest) = self.rests.last().filter(|rest| rest.active) {
+                    let record = &self.records[ahead];
+                    for v in [record.v0, record.v1] {
+                        crate::prefetch::prefetch(&rest.positions, self.mesh.vertex_index(v));
+                    }
+                }
             }
         }
         if !clean {
@@ -992,10 +995,14 @@ impl Hierarchy {
             self.marks.set(i1, mark);
         }
         if let Some(rest) = self.rests.iter_mut().rev().find(|rest| rest.serves(r)) {
-            // Where the record's baseline has them (the positions the edits started from).
-            if let (Some(_), Some(_)) = (rest.positions.get(i0), rest.positions.get(i1)) {
-                rest.positions[i0] = record.p0.to_array();
-                rest.positions[i1] = record.p1.to_array();
+            // Where the record's baseline has them (the positions the edits started from),
+            // once the copy is in use (else `sync_rest` catches up when it is needed).
+            if rest.active && rest.synced == r + 1 {
+                if let (Some(_), Some(_)) = (rest.positions.get(i0), rest.positions.get(i1)) {
+                    rest.positions[i0] = record.p0.to_array();
+                    rest.positions[i1] = record.p1.to_array();
+                }
+                rest.synced = r;
             }
         }
         self.consistent_from = self.consistent_from.min(r);
@@ -1005,6 +1012,80 @@ impl Hierarchy {
         self.applied = r;
         self.stamp = self.stamp.map(|_| self.mesh.topology_stamp());
         Ok(true)
+    }
+}
+
+impl Hierarchy {
+    /// Where splitting record `r` puts its vertices (local frames, no affine mark that
+    /// fits): the survivor is at `anchor`, `in_region` when it is in an edit's region.
+    /// Brings the positions before the edit up to date first when the split needs them.
+    fn place(&mut self, r: usize, anchor: DVec3, at: Collapsed, in_region: bool) -> Placement {
+        let serving = self.rests.iter().rposition(|rest| rest.serves(r));
+        let synced = serving.is_some_and(|k| self.rests[k].active && self.rests[k].synced == r + 1);
+        let given = serving.filter(|_| synced);
+        let first = self.place_with(r, anchor, at, in_region, given, given.is_none());
+        match (first, serving) {
+            (Placement::NeedsBefore, Some(k)) => {
+                self.sync_rest(k, r + 1);
+                self.rests[k].active = true;
+                self.place_with(r, anchor, at, in_region, Some(k), false)
+            }
+            (Placement::NeedsBefore, None) => {
+                self.place_with(r, anchor, at, in_region, None, false)
+            }
+            (placement, _) => placement,
+        }
+    }
+
+    /// [`Details::placement`] with the positions before the edit of `self.rests[rest]`
+    /// (or, with `None` and `can_ask`, asking for them when a copy serves the record).
+    fn place_with(
+        &self,
+        r: usize,
+        anchor: DVec3,
+        at: Collapsed,
+        in_region: bool,
+        rest: Option<usize>,
+        can_ask: bool,
+    ) -> Placement {
+        let can_ask = can_ask && self.rests.iter().any(|rest| rest.serves(r));
+        let rest = rest.map(|k| &self.rests[k]);
+        let (marks, positions) = (&self.marks, self.mesh.positions());
+        // The motion of a link vertex's whole cluster when it is exact: none for a vertex
+        // that stayed and is in no region; `None` for the others (they interpolate).
+        let exact = |i: u32, _: DVec3| -> Option<DVec3> {
+            let i = i as usize;
+            let at_rest = rest?.positions.get(i).map(|&q| DVec3::from_array(q))?;
+            (marks.of(i) == UNMARKED && positions[i] == at_rest).then_some(DVec3::ZERO)
+        };
+        let before = rest.map(|rest| {
+            (
+                rest.positions.as_slice(),
+                &exact as &dyn Fn(u32, DVec3) -> Option<DVec3>,
+            )
+        });
+        self.details
+            .placement(r, positions, before, anchor, at, in_region, can_ask)
+    }
+
+    /// Puts into `self.rests[k]` the positions of the splits it has not taken in yet,
+    /// down to record `down_to` (as the splits would have, in their order).
+    fn sync_rest(&mut self, k: usize, down_to: usize) {
+        let rest = &mut self.rests[k];
+        if rest.synced <= down_to {
+            return;
+        }
+        for record in self.records[down_to..rest.synced].iter().rev() {
+            let (i0, i1) = (
+                self.mesh.vertex_index(record.v0),
+                self.mesh.vertex_index(record.v1),
+            );
+            if let (Some(_), Some(_)) = (rest.positions.get(i0), rest.positions.get(i1)) {
+                rest.positions[i0] = record.p0.to_array();
+                rest.positions[i1] = record.p1.to_array();
+            }
+        }
+        rest.synced = down_to;
     }
 }
 
