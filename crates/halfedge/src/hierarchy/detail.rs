@@ -686,6 +686,7 @@ impl Details {
     /// the survivor is in an edit's region ([`crate::Hierarchy::mark_region`]), so it is
     /// placed by its neighbourhood's motion even when it did not move itself.
     #[inline]
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn placement(
         &self,
         r: usize,
