@@ -120,6 +120,8 @@ pub struct BlendSession {
     extent: f64,
     power: AffinePower,
     grids: Option<(BorderGrid, BorderGrid)>,
+    /// The mesh the session was made on (see [`halfedge::MeshBinding`]).
+    binding: halfedge::MeshBinding,
 }
 
 impl BlendSession {
@@ -221,6 +223,7 @@ impl BlendSession {
             .map(|(p, _)| magnitude(*p))
             .fold(1.0, f64::max);
         let mut session = Self {
+            binding: mesh.binding(),
             n_vertices: mesh.n_vertices(),
             alpha: vec![0.0; slots],
             alphas_in_unit: true,
@@ -315,17 +318,10 @@ impl BlendSession {
         self.alphas_in_unit = self.alpha.par_iter().all(|a| (0.0..=1.0).contains(a));
     }
 
+    /// Fails unless `mesh` is the mesh the session was made on, at the same hierarchy
+    /// level and with the same connectivity (see [`halfedge::MeshBinding`]).
     fn check_mesh(&self, mesh: &Mesh) -> Result<()> {
-        if mesh.vertex_slots() != self.original.len() || mesh.n_vertices() != self.n_vertices {
-            return Err(EditError::SessionMismatch(format!(
-                "the session knows {} vertices in {} slots, the mesh has {} in {}",
-                self.n_vertices,
-                self.original.len(),
-                mesh.n_vertices(),
-                mesh.vertex_slots()
-            )));
-        }
-        Ok(())
+        Ok(self.binding.check(mesh, "the blend session")?)
     }
 
     /// Applies the handle transform `a`: the handle to `A p`, each deformable vertex to
@@ -333,7 +329,7 @@ impl BlendSession {
     /// mesh is unchanged.
     ///
     /// # Errors
-    /// [`EditError::SessionMismatch`] for another mesh; the errors of
+    /// [`EditError::Stale`] for another mesh (or this one at another level); the errors of
     /// [`AffinePower::new`] (no real logarithm, not affine, not finite);
     /// [`EditError::Overflow`] when a moved vertex would not land on a finite position
     /// (a translation of 1e308). The mesh and the session's transform are unchanged on
@@ -347,7 +343,7 @@ impl BlendSession {
     /// Applies the current transform again (after [`BlendSession::set_shape`]).
     ///
     /// # Errors
-    /// [`EditError::SessionMismatch`] for another mesh; [`EditError::Overflow`] as
+    /// [`EditError::Stale`] for another mesh (or this one at another level); [`EditError::Overflow`] as
     /// [`apply`](Self::apply) (the mesh is unchanged on error).
     pub fn reapply(&self, mesh: &mut Mesh) -> Result<()> {
         self.check_mesh(mesh)?;
@@ -357,7 +353,7 @@ impl BlendSession {
     /// Puts the handle and the deformable area back at their original positions.
     ///
     /// # Errors
-    /// [`EditError::SessionMismatch`] for another mesh.
+    /// [`EditError::Stale`] for another mesh (or this one at another level).
     pub fn reset(&self, mesh: &mut Mesh) -> Result<()> {
         self.check_mesh(mesh)?;
         let roles = self.regions.roles();
@@ -427,7 +423,7 @@ impl BlendSession {
     /// coarse level, use [`refine_in_hierarchy`](Self::refine_in_hierarchy).
     ///
     /// # Errors
-    /// [`EditError::SessionMismatch`] for another mesh; [`EditError::InvalidParameter`]
+    /// [`EditError::Stale`] for another mesh (or this one at another level); [`EditError::InvalidParameter`]
     /// for a threshold that is not finite and positive or a vertex budget above
     /// [`MAX_NEW_VERTICES`]. An edge whose split point would not be finite is left
     /// alone.
@@ -488,6 +484,8 @@ impl BlendSession {
                 break;
             }
         }
+        // The session follows its own new vertices.
+        self.binding = mesh.binding();
         let roles = self.regions.roles();
         report.longest_edge = mesh
             .edges()

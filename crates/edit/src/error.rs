@@ -128,23 +128,11 @@ pub enum EditError {
         /// The target given.
         target: glam::DVec3,
     },
-    /// The mesh no longer matches the editing area (its vertex or face slots changed
-    /// since the area was specified), or the session is used with another mesh.
-    #[error(
-        "the editing area does not match this mesh: it was specified on a mesh with \
-         {area_vertex_slots} vertex slots and {area_faces} faces, the mesh has \
-         {mesh_vertex_slots} and {mesh_faces}"
-    )]
-    AreaStale {
-        /// Vertex slots of the mesh the area was specified on.
-        area_vertex_slots: usize,
-        /// Faces of the mesh the area was specified on.
-        area_faces: usize,
-        /// Vertex slots of the mesh given now.
-        mesh_vertex_slots: usize,
-        /// Faces of the mesh given now.
-        mesh_faces: usize,
-    },
+    /// Something derived from a mesh (an editing area, a session, a sub-mesh, an FFD
+    /// attachment) met another mesh, or its mesh at another hierarchy level or after a
+    /// change of connectivity: the one staleness error (see [`halfedge::MeshBinding`]).
+    #[error(transparent)]
+    Stale(#[from] halfedge::StaleBinding),
     /// Multilevel B-spline input: the numbers of points and values differ.
     #[error("MBA input has {points} points but {values} values")]
     MbaLengthMismatch {
@@ -278,14 +266,6 @@ pub enum EditError {
     /// A B-spline surface that cannot be built as asked.
     #[error("invalid B-spline surface: {0}")]
     InvalidSurface(String),
-    /// An FFD attachment used with a mesh of another size than the one it was attached to.
-    #[error("FFD attached to a mesh with {expected} vertex slots, used with one of {found}")]
-    AttachmentMismatch {
-        /// Vertex slots at attach time.
-        expected: usize,
-        /// Vertex slots now.
-        found: usize,
-    },
     /// No selected vertex could be attached to the shape surface: all project outside it.
     #[error("no vertex projects onto the shape surface")]
     NothingAttached,

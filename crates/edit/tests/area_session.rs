@@ -459,7 +459,7 @@ fn bad_input_is_refused_and_leaves_the_mesh_unchanged_with(load: &dyn Fn(&str) -
     let mut other = load("cow.obj");
     assert!(matches!(
         session.drag(&mut other, PULL),
-        Err(EditError::AreaStale { .. })
+        Err(EditError::Stale(_))
     ));
     assert_eq!(mesh.positions(), rest.as_slice());
     // and the session still works afterwards

@@ -427,7 +427,7 @@ fn errors_are_typed_and_change_nothing_with(load: &dyn Fn(&str) -> Mesh) {
     let mut other_mesh = other.clone();
     assert!(matches!(
         ffd.deform(&mut other_mesh),
-        Err(EditError::AttachmentMismatch { .. })
+        Err(EditError::Stale(_))
     ));
     assert_eq!(other_mesh.positions(), other.positions());
     // a shape surface far to the side: every vertex projects onto its border

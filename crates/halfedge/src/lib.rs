@@ -28,6 +28,7 @@
 mod add_face;
 pub mod arrays;
 pub mod attributes;
+pub mod binding;
 pub mod build;
 pub mod bvh;
 mod check;
@@ -51,6 +52,7 @@ mod split;
 mod topology;
 
 pub use attributes::{Attribute, AttributeValue, Element};
+pub use binding::{MeshBinding, StaleBinding};
 pub use build::{AddFaceError, BuildReport};
 pub use collapse::{CollapseRecord, CollapseVeto};
 pub use error::{Error, Invariant, Result};

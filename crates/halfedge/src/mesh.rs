@@ -64,6 +64,10 @@ pub struct Mesh {
     /// See [`Mesh::topology_stamp`]: this mesh instance's id and its count of changes.
     pub(crate) stamp_id: u64,
     pub(crate) stamp_count: u64,
+    /// The hierarchy and its level position, set by a [`crate::Hierarchy`] after its own
+    /// steps while it trusts this mesh, cleared by any change of connectivity (see
+    /// [`crate::MeshBinding`]).
+    pub(crate) level_tag: Option<(u64, usize)>,
     /// The instances this mesh was cloned from, oldest first, each with its change count
     /// when the clone was made (at most `MAX_LINEAGE` of them, the most recent): a
     /// collapse record made on an ancestor before the clone describes this mesh's own
@@ -115,6 +119,7 @@ impl Default for Mesh {
             n_faces: 0,
             stamp_id: next_mesh_id(),
             stamp_count: 0,
+            level_tag: None,
             lineage: Vec::new(),
             position_edits: 0,
             vertex_attributes: AttributeStore::default(),
@@ -148,6 +153,7 @@ impl Clone for Mesh {
             n_faces: self.n_faces,
             stamp_id: next_mesh_id(),
             stamp_count: self.stamp_count,
+            level_tag: None,
             lineage,
             position_edits: self.position_edits,
             vertex_attributes: self.vertex_attributes.clone(),
@@ -163,6 +169,7 @@ impl Mesh {
     #[inline]
     pub(crate) fn touch_topology(&mut self) {
         self.stamp_count += 1;
+        self.level_tag = None;
     }
     /// True when the connectivity change number `count` of mesh instance `mesh` is part
     /// of this mesh's history: `mesh` is this mesh, or an instance it was cloned from

@@ -97,7 +97,7 @@ impl Embedding {
     /// Embeds `area` onto a rectangle.
     ///
     /// # Errors
-    /// [`EditError::AreaStale`], [`EditError::CornerNotOnBoundary`],
+    /// [`EditError::Stale`], [`EditError::CornerNotOnBoundary`],
     /// [`EditError::RepeatedCorner`], [`EditError::InvalidParameter`] for a bad aspect
     /// ratio, [`EditError::Solver`] when the sparse solve fails.
     pub fn new(mesh: &Mesh, area: &EditingArea, options: &EmbeddingOptions) -> Result<Self> {

@@ -52,7 +52,7 @@ impl LocalFrames {
     ///
     /// # Errors
     /// [`EditError::PrimitiveOutsideArea`] when the seed is not in the area (the seed is
-    /// a picked vertex like a primitive's); [`EditError::AreaStale`] for an area of
+    /// a picked vertex like a primitive's); [`EditError::Stale`] for an area of
     /// another mesh; [`EditError::VertexArrayLength`] when
     /// `positions` does not have one entry per local vertex, and
     /// [`EditError::InvalidParameter`] for a `default_seed` out of range (normal frames).

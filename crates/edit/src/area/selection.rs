@@ -34,8 +34,7 @@ pub struct EditingArea {
     n_interior: usize,
     local_of_slot: Vec<u32>,
     picks: Vec<VertexId>,
-    mesh_vertex_slots: usize,
-    mesh_faces: usize,
+    binding: halfedge::MeshBinding,
 }
 
 const NONE: u32 = u32::MAX;
@@ -252,8 +251,7 @@ impl EditingArea {
             n_interior,
             local_of_slot,
             picks: Vec::new(),
-            mesh_vertex_slots: mesh.vertex_slots(),
-            mesh_faces: mesh.n_faces(),
+            binding: mesh.binding(),
         })
     }
 
@@ -398,20 +396,13 @@ impl EditingArea {
             .is_some_and(|i| i >= self.n_interior)
     }
 
-    /// Checks that `mesh` still has the vertex slots and face count the area was made on.
+    /// Checks that `mesh` is the mesh the area was made on, at the same hierarchy level and
+    /// with the same connectivity (see [`halfedge::MeshBinding`]).
     ///
     /// # Errors
-    /// [`EditError::AreaStale`].
+    /// [`EditError::Stale`].
     pub fn check_mesh(&self, mesh: &Mesh) -> Result<()> {
-        if mesh.vertex_slots() != self.mesh_vertex_slots || mesh.n_faces() != self.mesh_faces {
-            return Err(EditError::AreaStale {
-                area_vertex_slots: self.mesh_vertex_slots,
-                area_faces: self.mesh_faces,
-                mesh_vertex_slots: mesh.vertex_slots(),
-                mesh_faces: mesh.n_faces(),
-            });
-        }
-        Ok(())
+        Ok(self.binding.check(mesh, "the editing area")?)
     }
 
     /// Local triangles (three local indices each, in face orientation).

@@ -309,7 +309,7 @@ impl EditingSession {
     /// drag or apply. No re-embedding.
     ///
     /// # Errors
-    /// [`EditError::AreaStale`]; the errors of [`LocalFrames::new`].
+    /// [`EditError::Stale`]; the errors of [`LocalFrames::new`].
     pub fn set_frames(&mut self, mesh: &Mesh, kind: FrameKind) -> Result<()> {
         self.area.check_mesh(mesh)?;
         let seed = nearest_to_centre(&self.area, &self.embedding);
@@ -326,7 +326,7 @@ impl EditingSession {
     /// # Errors
     /// [`EditError::EmptyPrimitive`], [`EditError::InvalidVertex`],
     /// [`EditError::PrimitiveOutsideArea`], [`EditError::PrimitiveOnAreaBoundary`],
-    /// [`EditError::AreaStale`]; nothing changes on error.
+    /// [`EditError::Stale`]; nothing changes on error.
     pub fn set_primitive(&mut self, mesh: &Mesh, vertices: &[VertexId]) -> Result<()> {
         self.area.check_mesh(mesh)?;
         if vertices.is_empty() {
@@ -368,7 +368,7 @@ impl EditingSession {
     /// displacements are reset.
     ///
     /// # Errors
-    /// [`EditError::AreaStale`].
+    /// [`EditError::Stale`].
     pub fn commit(&mut self, mesh: &Mesh) -> Result<()> {
         self.area.check_mesh(mesh)?;
         let rest: Vec<DVec3> = self
@@ -389,7 +389,7 @@ impl EditingSession {
     /// Undoes the current edit: the area's interior vertices go back to the rest positions.
     ///
     /// # Errors
-    /// [`EditError::AreaStale`].
+    /// [`EditError::Stale`].
     pub fn cancel(&mut self, mesh: &mut Mesh) -> Result<()> {
         self.area.check_mesh(mesh)?;
         let positions = mesh.positions_mut();
@@ -406,7 +406,7 @@ impl EditingSession {
     ///
     /// # Errors
     /// [`EditError::NonFiniteDisplacement`], [`EditError::EmptyPrimitive`],
-    /// [`EditError::AreaStale`], [`EditError::Overflow`] when a moved vertex would not
+    /// [`EditError::Stale`], [`EditError::Overflow`] when a moved vertex would not
     /// land on a finite position (a displacement of 1e308); the mesh and the current
     /// displacement are unchanged on error.
     pub fn drag(&mut self, mesh: &mut Mesh, displacement: DVec3) -> Result<()> {
@@ -428,7 +428,7 @@ impl EditingSession {
     ///
     /// # Errors
     /// [`EditError::NonFiniteTarget`], [`EditError::NotInPrimitive`],
-    /// [`EditError::AreaStale`].
+    /// [`EditError::Stale`].
     pub fn move_vertex(&mut self, mesh: &Mesh, v: VertexId, target: DVec3) -> Result<()> {
         self.area.check_mesh(mesh)?;
         if !target.is_finite() {
@@ -450,7 +450,7 @@ impl EditingSession {
     /// frames (after [`move_vertex`](Self::move_vertex), or to show a new scale).
     ///
     /// # Errors
-    /// [`EditError::EmptyPrimitive`], [`EditError::AreaStale`], [`EditError::Overflow`]
+    /// [`EditError::EmptyPrimitive`], [`EditError::Stale`], [`EditError::Overflow`]
     /// (targets too far for the coordinates); the mesh is unchanged on error.
     pub fn apply(&mut self, mesh: &mut Mesh) -> Result<()> {
         self.ready(mesh)?;

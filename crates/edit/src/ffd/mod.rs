@@ -155,7 +155,7 @@ pub struct Ffd {
     height_rest: BSplineSurface,
     shape: BSplineSurface,
     height: BSplineSurface,
-    slots: usize,
+    binding: halfedge::MeshBinding,
     /// Per vertex slot `(u, v, h)`; `u` is NaN for a vertex not attached.
     params: Vec<[f64; 3]>,
     attached: usize,
@@ -263,7 +263,7 @@ impl Ffd {
             height_rest: height.clone(),
             shape,
             height,
-            slots,
+            binding: mesh.binding(),
             params,
             attached,
             crossed,
@@ -592,17 +592,13 @@ impl Ffd {
     /// (§3, Fig. 2), in parallel. Unattached vertices do not move.
     ///
     /// # Errors
-    /// Nothing is changed on error: [`EditError::AttachmentMismatch`] for another mesh,
+    /// Nothing is changed on error: [`EditError::Stale`] for another mesh (or this one at
+    /// another hierarchy level or with other connectivity),
     /// [`EditError::InvalidSurface`] when a control point written through
     /// [`BSplineSurface::control_points_mut`] is not finite, [`EditError::Overflow`] when a
     /// deformed position would not be finite.
     pub fn deform(&self, mesh: &mut Mesh) -> Result<()> {
-        if mesh.vertex_slots() != self.slots {
-            return Err(EditError::AttachmentMismatch {
-                expected: self.slots,
-                found: mesh.vertex_slots(),
-            });
-        }
+        self.binding.check(mesh, "the FFD attachment")?;
         for (surface, name) in [(&self.shape, "shape"), (&self.height, "height")] {
             if let Some(k) = surface.control_points().iter().position(|p| !p.is_finite()) {
                 let [_, cv] = surface.count();

@@ -58,7 +58,7 @@ const UNREACHED: u32 = u32::MAX;
 /// change; rebuild it when the connectivity changes.
 #[derive(Clone, Debug)]
 pub struct SubMesh {
-    slots: usize,
+    binding: halfedge::MeshBinding,
     inside: Vec<bool>,
     vertices: Vec<u32>,
     frontier: Vec<u32>,
@@ -123,7 +123,7 @@ impl SubMesh {
             }
         }
         Ok(Self {
-            slots,
+            binding: mesh.binding(),
             inside: mask,
             vertices,
             frontier,
@@ -298,15 +298,10 @@ impl SubMesh {
             }))
     }
 
-    /// Fails unless `mesh` has the vertex slot count the sub-mesh was built on.
+    /// Fails unless `mesh` is the mesh the sub-mesh was built on, at the same hierarchy
+    /// level and with the same connectivity (see [`halfedge::MeshBinding`]).
     fn check_mesh(&self, mesh: &Mesh) -> Result<()> {
-        if mesh.vertex_slots() != self.slots {
-            return Err(EditError::VertexArrayLength {
-                expected: mesh.vertex_slots(),
-                found: self.slots,
-            });
-        }
-        Ok(())
+        Ok(self.binding.check(mesh, "the sub-mesh")?)
     }
 }
 

@@ -383,6 +383,15 @@ pub struct Hierarchy {
     consistent_from: usize,
     /// How the build ended ([`Hierarchy::build_outcome`]).
     outcome: outcome::BuildOutcome,
+    /// This hierarchy's number, for the level tags of its mesh (see
+    /// [`crate::MeshBinding`]).
+    id: u64,
+}
+
+/// A new hierarchy number.
+fn next_hierarchy_id() -> u64 {
+    static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
+    NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed)
 }
 
 /// The positions edits started from, for refinement to interpolate the edits' motion
@@ -439,7 +448,7 @@ impl Clone for Hierarchy {
     fn clone(&self) -> Self {
         let mesh = self.mesh.clone();
         let trusted = self.stamp == Some(self.mesh.topology_stamp());
-        Self {
+        let mut clone = Self {
             stamp: trusted.then(|| mesh.topology_stamp()),
             clean_positions: self.clean_positions,
             rests: self.rests.clone(),
@@ -456,7 +465,10 @@ impl Clone for Hierarchy {
             options: self.options.clone(),
             labels: self.labels,
             outcome: self.outcome.clone(),
-        }
+            id: next_hierarchy_id(),
+        };
+        clone.tag_level();
+        clone
     }
 }
 
@@ -534,6 +546,7 @@ impl Hierarchy {
             rests: Vec::new(),
             consistent_from: 0,
             outcome: outcome::BuildOutcome::default(),
+            id: next_hierarchy_id(),
         };
         match options.method {
             Method::Rounds => rounds::build(&mut h, options, progress)?,
@@ -547,6 +560,7 @@ impl Hierarchy {
         h.placements.shrink_to_fit();
         h.stamp = Some(h.mesh.topology_stamp());
         h.clean_positions = Some(h.mesh.position_edits);
+        h.tag_level();
         Ok(h)
     }
 
@@ -865,6 +879,7 @@ impl Hierarchy {
         }
         self.rests.retain(|rest| rest.floor < rest.ceil);
         self.stamp = self.stamp.map(|_| self.mesh.topology_stamp());
+        self.tag_level();
         Ok(true)
     }
 
@@ -1011,6 +1026,7 @@ impl Hierarchy {
         }
         self.applied = r;
         self.stamp = self.stamp.map(|_| self.mesh.topology_stamp());
+        self.tag_level();
         Ok(true)
     }
 }
@@ -1086,6 +1102,17 @@ impl Hierarchy {
             }
         }
         rest.synced = down_to;
+    }
+}
+
+impl Hierarchy {
+    /// Tags the mesh with this hierarchy and its position, while the hierarchy trusts it
+    /// (see [`crate::MeshBinding`]).
+    #[inline]
+    fn tag_level(&mut self) {
+        if self.stamp.is_some() {
+            self.mesh.level_tag = Some((self.id, self.applied));
+        }
     }
 }
 
