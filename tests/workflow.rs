@@ -156,15 +156,28 @@ fn workflow_runs_on_the_data_mesh() {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
     let input = root.join("data/blob.obj");
     let out = std::env::temp_dir().join(format!("multires-workflow-{}", std::process::id()));
-    let status = Command::new(workflow_binary())
+    let output = Command::new(workflow_binary())
         .arg(&input)
         .arg("--out")
         .arg(&out)
         .arg("--picture")
         .arg("320")
-        .status()
+        .output()
         .unwrap();
-    assert!(status.success());
+    assert!(output.status.success());
+    // The B&K handle, rotated at the coarse level in the hierarchy, is at full resolution
+    // the rigid image of its input vertices (the refine row says within what).
+    let table = String::from_utf8_lossy(&output.stdout);
+    let within: f64 = table
+        .split("rigid image within ")
+        .nth(1)
+        .and_then(|rest| rest.split_whitespace().next())
+        .and_then(|x| x.parse().ok())
+        .unwrap_or_else(|| panic!("no handle landing in the table:\n{table}"));
+    assert!(
+        within <= 1e-9,
+        "the handle is off by {within} of the diagonal"
+    );
 
     let (before, _) = halfedge::io::read(&input).unwrap();
     let (after, _) = halfedge::io::read(out.join("blob-edited.ply")).unwrap();

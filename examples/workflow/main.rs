@@ -251,14 +251,13 @@ fn run(args: Args) -> Result<(), BoxError> {
         }
     };
     let coarse_before = hierarchy.mesh().clone();
-    let mesh = hierarchy.mesh_mut();
 
     // --- Lee 1999: drag an editing area on the front ----------------------------
     if args.skip.iter().any(|s| s == "lee") {
         rows.push(skipped("Lee drag", "left out (--skip lee)"));
     } else {
         let clock = Instant::now();
-        match lee_drag(mesh, diagonal, large) {
+        match lee_drag(hierarchy.mesh_mut(), diagonal, large) {
             Ok((detail, note)) => {
                 notes.extend(note);
                 rows.push(Row {
@@ -277,13 +276,15 @@ fn run(args: Args) -> Result<(), BoxError> {
     }
 
     // --- Bendels & Klein: rotate a handle on the side ----------------------------
+    let mut landing: Option<Landing> = None;
     if args.skip.iter().any(|s| s == "blend") {
         rows.push(skipped("B&K rotate", "left out (--skip blend)"));
     } else {
         let clock = Instant::now();
-        match blend_rotate(mesh, diagonal, large) {
-            Ok((detail, note)) => {
+        match blend_rotate(&mut hierarchy, diagonal, large) {
+            Ok((detail, note, to_land)) => {
                 notes.extend(note);
+                landing = Some(to_land);
                 rows.push(Row {
                     step: "B&K rotate",
                     detail,
@@ -308,7 +309,7 @@ fn run(args: Args) -> Result<(), BoxError> {
             factor: 0.6,
             variation: Variation::Levels(None),
         };
-        match sub.apply(mesh, &taper, Propagation::linear(2)) {
+        match sub.apply(hierarchy.mesh_mut(), &taper, Propagation::linear(2)) {
             Ok(_) => rows.push(Row {
                 step: "taper",
                 detail: "sub-mesh tapered to 0.6, 2 propagation levels".to_string(),
@@ -323,7 +324,7 @@ fn run(args: Args) -> Result<(), BoxError> {
             }
         }
     }
-    mesh.check()?;
+    hierarchy.mesh().check()?;
     let coarse_after = hierarchy.mesh().clone();
 
     // --- refine back with detail coefficients -----------------------------------
@@ -339,8 +340,29 @@ fn run(args: Args) -> Result<(), BoxError> {
         bar.set_message(format!("({} faces)", hierarchy.mesh().n_faces()));
     }
     bar.finish_and_clear();
+    let ancestors = hierarchy.ancestors(level)?;
     let result = hierarchy.into_mesh();
     progress::step(large, "checking the result", || result.check())?;
+    // How exactly the handle landed: its fine vertices against the rigid image of their
+    // input positions (later edits that moved the handle too make this larger).
+    let landed = landing.map(|landing| {
+        let mut in_handle = vec![false; result.vertex_slots()];
+        for &i in &landing.handle {
+            if let Some(x) = in_handle.get_mut(i as usize) {
+                *x = true;
+            }
+        }
+        let (mut count, mut worst) = (0usize, 0.0f64);
+        for v in original.vertices() {
+            let i = original.vertex_index(v);
+            if ancestors.get(i).is_some_and(|&a| in_handle[a as usize]) {
+                let target = landing.map.transform_point3(original.position(v));
+                worst = worst.max(result.positions()[i].distance(target) / diagonal);
+                count += 1;
+            }
+        }
+        (count, worst)
+    });
     let moved = result
         .vertices()
         .filter(|&v| result.position(v) != original.position(v))
@@ -348,10 +370,14 @@ fn run(args: Args) -> Result<(), BoxError> {
     rows.push(Row {
         step: "refine",
         detail: format!(
-            "back to {} vertices, {} faces; {moved} vertices moved, {} kept bit for bit",
+            "back to {} vertices, {} faces; {moved} vertices moved, {} kept bit for bit{}",
             result.n_vertices(),
             result.n_faces(),
-            result.n_vertices() - moved
+            result.n_vertices() - moved,
+            landed.map_or(String::new(), |(count, worst)| format!(
+                "; the B&K handle's {count} vertices are its rigid image within {worst:.1e} \
+                 of the diagonal"
+            ))
         ),
         seconds: clock.elapsed().as_secs_f64(),
     });
@@ -620,24 +646,36 @@ fn farthest_from_boundary(mesh: &Mesh) -> Option<VertexId> {
         .max_by(|&a, &b| d[mesh.vertex_index(a)].total_cmp(&d[mesh.vertex_index(b)]))
 }
 
+/// Where the Bendels & Klein handle should land: its coarse vertex slots and the rigid
+/// map the user gave it.
+struct Landing {
+    handle: Vec<u32>,
+    map: glam::DAffine3,
+}
+
 /// The Bendels & Klein rule of the module docs: a handle around the vertex furthest
-/// along −x, rotated and pulled. Returns the table's detail and a note when the radii
+/// along −x of the hierarchy's current mesh, rotated and pulled, in the hierarchy
+/// (`BlendSession::apply_in_hierarchy`: the handle lands exactly at full resolution, the
+/// fixed part stays where it was). Returns the table's detail and a note when the radii
 /// had to shrink.
 fn blend_rotate(
-    mesh: &mut Mesh,
+    hierarchy: &mut Hierarchy,
     diagonal: f64,
     large: bool,
-) -> Result<(String, Option<String>), String> {
+) -> Result<(String, Option<String>, Landing), String> {
+    let mesh = hierarchy.mesh();
     let side = mesh
         .extreme_vertex(DVec3::NEG_X)
         .map_err(|e| e.to_string())?
         .ok_or("the mesh has no vertex with a face")?;
     let centre = mesh.position(side);
+    let side_index = mesh.vertex_index(side);
     let mut first_failure: Option<String> = None;
     for halvings in 0..4 {
         let scale = 0.5f64.powi(halvings);
         let (r_handle, r_fixed) = (0.08 * diagonal * scale, 0.3 * diagonal * scale);
-        let attempt = (|| -> Result<(usize, usize), String> {
+        let attempt = (|| -> Result<(usize, usize, Landing), String> {
+            let mesh = hierarchy.mesh();
             let handle = mesh
                 .select_edge_ball(&[side], r_handle)
                 .map_err(|e| e.to_string())?;
@@ -652,6 +690,11 @@ fn blend_rotate(
                 .map_err(|e| e.to_string())?;
             let n_deformable = regions.deformable().len();
             let n_handle = regions.handle().len();
+            let handle_slots: Vec<u32> = regions
+                .handle()
+                .iter()
+                .map(|&v| mesh.vertex_index(v) as u32)
+                .collect();
             let options = BlendOptions {
                 distance: DistanceKind::Geodesic,
                 shape: ShapeFunction::Smoothstep,
@@ -665,16 +708,22 @@ fn blend_rotate(
                 * DMat4::from_axis_angle(DVec3::Z, 25f64.to_radians())
                 * DMat4::from_translation(-centre)
                 * DMat4::from_translation(-DVec3::X * 0.05 * diagonal * scale);
-            blend.apply(mesh, rotation).map_err(|e| e.to_string())?;
-            Ok((n_handle, n_deformable))
+            blend
+                .apply_in_hierarchy(hierarchy, rotation)
+                .map_err(|e| e.to_string())?;
+            let landing = Landing {
+                handle: handle_slots,
+                map: glam::DAffine3::from_mat4(rotation),
+            };
+            Ok((n_handle, n_deformable, landing))
         })();
         match attempt {
-            Ok((n_handle, n_deformable)) => {
+            Ok((n_handle, n_deformable, landing)) => {
                 let detail = format!(
                     "handle of {n_handle} vertices within {r_handle:.3} of v{} (furthest \
                      along -x) rotated 25° and pulled; {n_deformable} deformable vertices, \
                      fixed beyond {r_fixed:.3}",
-                    mesh.vertex_index(side)
+                    side_index
                 );
                 let note = (halvings > 0).then(|| {
                     format!(
@@ -685,7 +734,7 @@ fn blend_rotate(
                         30.0 * scale
                     )
                 });
-                return Ok((detail, note));
+                return Ok((detail, note, landing));
             }
             Err(e) => {
                 first_failure.get_or_insert(e);
