@@ -324,3 +324,60 @@ fn coarse_edits_keep_their_regions_land_their_handles_and_stay_close_on_the_shar
 fn known_failure_coarse_edits_meet_the_targets_on_the_shared_meshes() {
     assert_all(&shared_reports(), "the targets", Report::meets_targets);
 }
+
+/// `--edit bk-refine` on `mesh` at `levels` with both methods: the JSON objects.
+fn bk_refine_reports(name: &str, mesh: &Mesh, levels: &[usize]) -> Vec<serde_json::Value> {
+    let mut reports = Vec::new();
+    for method in [Method::Rounds, Method::Qem] {
+        for &level in levels {
+            let prepared = measure::prepare(mesh.clone(), method, DetailMode::LocalFrame, level)
+                .unwrap_or_else(|e| panic!("{name} {method:?} level {level}: {e}"));
+            let report = measure::measure_bk_refine(&prepared, &Options::new(EditKind::Bk), name)
+                .unwrap_or_else(|e| panic!("{name} {method:?} level {level} bk-refine: {e}"));
+            reports.push(report);
+        }
+    }
+    reports
+}
+
+/// A B&K edit with adaptive refinement made at a coarse level composes with the
+/// hierarchy: vertices were added, every level is reachable and back with a valid mesh,
+/// and the handle is the exact rigid image of its input vertices.
+fn assert_bk_refine(reports: &[serde_json::Value]) {
+    for r in reports {
+        assert_eq!(r["levels_reachable"], true, "{r}");
+        assert!(r["new_vertices"].as_u64().unwrap() > 0, "{r}");
+        assert!(r["handle_vertices"].as_u64().unwrap() > 0, "{r}");
+        assert!(r["handle_error"].as_f64().unwrap() <= 1e-9, "{r}");
+        assert!(r["faces"].as_u64() > r["input_faces"].as_u64(), "{r}");
+    }
+}
+
+#[test]
+fn bk_refine_at_a_coarse_level_keeps_every_level_reachable_on_generated_meshes() {
+    let mut reports = bk_refine_reports("capsule", &bumpy_capsule(), &[2, 3]);
+    reports.extend(bk_refine_reports("torus", &bumpy_torus(72, 24), &[3]));
+    assert_bk_refine(&reports);
+}
+
+#[test]
+#[ignore = "real-mesh tier: needs ../shared/meshes; cargo test --release -- --include-ignored"]
+fn bk_refine_at_a_coarse_level_keeps_every_level_reachable_on_the_shared_meshes() {
+    let dir = common::shared_meshes();
+    let mut reports = Vec::new();
+    for file in [
+        "beast.obj",
+        "cow.obj",
+        "fandisk.obj",
+        "horse.ply",
+        "nefertiti.obj",
+        "spot.obj",
+        "stanford-bunny.obj",
+        "suzanne.obj",
+        "teapot.obj",
+    ] {
+        let (mesh, _) = halfedge::io::read(dir.join(file)).unwrap();
+        reports.extend(bk_refine_reports(file, &mesh, &[3]));
+    }
+    assert_bk_refine(&reports);
+}
