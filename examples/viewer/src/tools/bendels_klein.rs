@@ -232,8 +232,11 @@ impl BendelsKlein {
         ctx: &mut ToolContext<'_>,
         regions: Regions,
     ) -> Result<(), ToolError> {
-        let mesh = ctx.doc.mesh();
-        let session = BlendSession::new(mesh, regions, self.options())?;
+        // Made on the scratch mesh the session is applied to (a session is bound to its
+        // mesh: see `halfedge::MeshBinding`), which has the document's positions.
+        let options = self.options();
+        let mesh = self.scratch.sync(ctx.doc);
+        let session = BlendSession::new(mesh, regions, options)?;
         let handle = session.regions().handle();
         self.pivot =
             handle.iter().map(|&v| mesh.position(v)).sum::<DVec3>() / handle.len().max(1) as f64;
@@ -905,13 +908,15 @@ impl BendelsKlein {
         };
         let start = Instant::now();
         let regions = session.regions().clone();
-        let mut rest = ctx.mesh().clone();
-        if session.original_positions().len() == rest.vertex_slots() {
-            rest.positions_mut()
-                .copy_from_slice(session.original_positions());
+        let original = session.original_positions().to_vec();
+        let options = self.options();
+        // On the scratch mesh the session is applied to, put back at the rest state.
+        let rest = self.scratch.sync(ctx.doc);
+        if original.len() == rest.vertex_slots() {
+            rest.positions_mut().copy_from_slice(&original);
         }
         let (translate, angle, scale) = (self.translate, self.angle, self.scale);
-        let new = BlendSession::new(&rest, regions, self.options())?;
+        let new = BlendSession::new(rest, regions, options)?;
         self.session = Some(new);
         self.translate = translate;
         self.angle = angle;
