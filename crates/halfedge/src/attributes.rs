@@ -24,6 +24,10 @@ use crate::{Error, FaceId, HalfedgeId, Mesh, Result, VertexId};
 /// `FaceId`) with values of type `T`.
 pub struct Attribute<K, T> {
     column: usize,
+    /// Which attribute that column held when the handle was made: a column freed by
+    /// `remove_attribute` and taken by a new attribute has another generation, so an old
+    /// handle never reads the new attribute's values.
+    generation: u64,
     _marker: PhantomData<fn(K) -> T>,
 }
 
@@ -33,9 +37,16 @@ impl<K, T> Clone for Attribute<K, T> {
     }
 }
 impl<K, T> Copy for Attribute<K, T> {}
+/// Two handles are equal when they name the same attribute (column and generation).
+impl<K, T> PartialEq for Attribute<K, T> {
+    fn eq(&self, other: &Self) -> bool {
+        (self.column, self.generation) == (other.column, other.generation)
+    }
+}
+impl<K, T> Eq for Attribute<K, T> {}
 impl<K, T> std::fmt::Debug for Attribute<K, T> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "Attribute({})", self.column)
+        write!(f, "Attribute({}#{})", self.column, self.generation)
     }
 }
 
@@ -77,6 +88,7 @@ impl<T: AttributeValue> Column for TypedColumn<T> {
 
 struct Named {
     name: String,
+    generation: u64,
     column: Box<dyn Column>,
 }
 
@@ -85,6 +97,8 @@ struct Named {
 pub struct AttributeStore {
     columns: Vec<Option<Named>>,
     len: usize,
+    /// Attributes added so far (the next one's generation).
+    added: u64,
 }
 
 impl Clone for AttributeStore {
@@ -96,11 +110,13 @@ impl Clone for AttributeStore {
                 .map(|c| {
                     c.as_ref().map(|n| Named {
                         name: n.name.clone(),
+                        generation: n.generation,
                         column: n.column.clone_box(),
                     })
                 })
                 .collect(),
             len: self.len,
+            added: self.added,
         }
     }
 }
@@ -114,7 +130,7 @@ impl AttributeStore {
             }
         }
     }
-    fn add<T: AttributeValue>(&mut self, name: &str, default: T) -> Result<usize> {
+    fn add<T: AttributeValue>(&mut self, name: &str, default: T) -> Result<(usize, u64)> {
         if self.columns.iter().flatten().any(|c| c.name == name) {
             return Err(Error::DuplicateAttribute(name.to_owned()));
         }
@@ -122,35 +138,40 @@ impl AttributeStore {
             data: vec![default.clone(); self.len],
             default,
         });
+        let generation = self.added;
+        self.added += 1;
         let named = Named {
             name: name.to_owned(),
+            generation,
             column,
         };
         if let Some(i) = self.columns.iter().position(Option::is_none) {
             self.columns[i] = Some(named);
-            Ok(i)
+            Ok((i, generation))
         } else {
             self.columns.push(Some(named));
-            Ok(self.columns.len() - 1)
+            Ok((self.columns.len() - 1, generation))
         }
     }
-    fn has<T: AttributeValue>(&self, column: usize) -> bool {
+    fn has<T: AttributeValue>(&self, column: usize, generation: u64) -> bool {
         self.columns
             .get(column)
             .and_then(Option::as_ref)
-            .is_some_and(|c| c.column.as_any().is::<TypedColumn<T>>())
+            .is_some_and(|c| c.generation == generation && c.column.as_any().is::<TypedColumn<T>>())
     }
-    fn find<T: AttributeValue>(&self, name: &str) -> Option<usize> {
-        self.columns.iter().position(|c| {
+    fn find<T: AttributeValue>(&self, name: &str) -> Option<(usize, u64)> {
+        self.columns.iter().enumerate().find_map(|(i, c)| {
             c.as_ref()
-                .is_some_and(|c| c.name == name && c.column.as_any().is::<TypedColumn<T>>())
+                .filter(|c| c.name == name && c.column.as_any().is::<TypedColumn<T>>())
+                .map(|c| (i, c.generation))
         })
     }
-    fn data<T: AttributeValue>(&self, column: usize) -> &Vec<T> {
+    fn data<T: AttributeValue>(&self, column: usize, generation: u64) -> &Vec<T> {
         let c = self
             .columns
             .get(column)
             .and_then(Option::as_ref)
+            .filter(|c| c.generation == generation)
             .expect("attribute was removed");
         &c.column
             .as_any()
@@ -158,11 +179,12 @@ impl AttributeStore {
             .expect("attribute of another type")
             .data
     }
-    fn data_mut<T: AttributeValue>(&mut self, column: usize) -> &mut Vec<T> {
+    fn data_mut<T: AttributeValue>(&mut self, column: usize, generation: u64) -> &mut Vec<T> {
         let c = self
             .columns
             .get_mut(column)
             .and_then(Option::as_mut)
+            .filter(|c| c.generation == generation)
             .expect("attribute was removed");
         &mut c
             .column
@@ -236,9 +258,10 @@ impl Mesh {
         name: &str,
         default: T,
     ) -> Result<Attribute<K, T>> {
-        let column = K::store_mut(self).add(name, default)?;
+        let (column, generation) = K::store_mut(self).add(name, default)?;
         Ok(Attribute {
             column,
+            generation,
             _marker: PhantomData,
         })
     }
@@ -271,20 +294,43 @@ impl Mesh {
         &self,
         name: &str,
     ) -> Option<Attribute<K, T>> {
-        K::store(self).find::<T>(name).map(|column| Attribute {
-            column,
-            _marker: PhantomData,
-        })
+        K::store(self)
+            .find::<T>(name)
+            .map(|(column, generation)| Attribute {
+                column,
+                generation,
+                _marker: PhantomData,
+            })
     }
-    /// True when `attribute` is an attribute of this mesh: it was not removed (and its
-    /// place was not taken by an attribute of another type since). The accessors below
-    /// panic on an attribute for which this is false.
+    /// True when `attribute` is an attribute of this mesh: it was not removed (an
+    /// attribute added since in its place is another attribute, whatever its type). The
+    /// accessors below panic on an attribute for which this is false; check it (or use
+    /// [`try_attribute_values`](Self::try_attribute_values)) for handles you did not
+    /// just make.
     pub fn has_attribute<K: Element, T: AttributeValue>(&self, attribute: Attribute<K, T>) -> bool {
-        K::store(self).has::<T>(attribute.column)
+        K::store(self).has::<T>(attribute.column, attribute.generation)
+    }
+    /// All values of `attribute` (as [`attribute_values`](Self::attribute_values)), or an
+    /// error when the attribute is not (any longer) an attribute of this mesh.
+    ///
+    /// # Errors
+    /// [`Error::InvalidArgument`] naming the stale handle.
+    pub fn try_attribute_values<K: Element, T: AttributeValue>(
+        &self,
+        attribute: Attribute<K, T>,
+    ) -> Result<&[T]> {
+        if !self.has_attribute(attribute) {
+            return Err(Error::InvalidArgument(format!(
+                "{attribute:?} is not an attribute of this mesh (removed, or made on another mesh)"
+            )));
+        }
+        Ok(K::store(self).data::<T>(attribute.column, attribute.generation))
     }
     /// Removes an attribute; its handle must not be used afterwards.
     pub fn remove_attribute<K: Element, T: AttributeValue>(&mut self, attribute: Attribute<K, T>) {
-        K::store_mut(self).remove(attribute.column);
+        if self.has_attribute(attribute) {
+            K::store_mut(self).remove(attribute.column);
+        }
     }
     /// The value of `attribute` at element `k`.
     ///
@@ -293,7 +339,7 @@ impl Mesh {
     #[inline]
     pub fn attribute<K: Element, T: AttributeValue>(&self, attribute: Attribute<K, T>, k: K) -> &T {
         assert!(K::is_live(self, k), "stale handle {k}");
-        &K::store(self).data::<T>(attribute.column)[slot(k)]
+        &K::store(self).data::<T>(attribute.column, attribute.generation)[slot(k)]
     }
     /// Mutable access to the value of `attribute` at element `k`.
     ///
@@ -306,20 +352,20 @@ impl Mesh {
         k: K,
     ) -> &mut T {
         assert!(K::is_live(self, k), "stale handle {k}");
-        &mut K::store_mut(self).data_mut::<T>(attribute.column)[slot(k)]
+        &mut K::store_mut(self).data_mut::<T>(attribute.column, attribute.generation)[slot(k)]
     }
     /// All values, indexed by element index ([`vertex_index`](Self::vertex_index), …).
     pub fn attribute_values<K: Element, T: AttributeValue>(
         &self,
         attribute: Attribute<K, T>,
     ) -> &[T] {
-        K::store(self).data::<T>(attribute.column)
+        K::store(self).data::<T>(attribute.column, attribute.generation)
     }
     /// All values, mutable, indexed by element index (for parallel updates).
     pub fn attribute_values_mut<K: Element, T: AttributeValue>(
         &mut self,
         attribute: Attribute<K, T>,
     ) -> &mut [T] {
-        K::store_mut(self).data_mut::<T>(attribute.column)
+        K::store_mut(self).data_mut::<T>(attribute.column, attribute.generation)
     }
 }

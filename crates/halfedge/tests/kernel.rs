@@ -422,3 +422,29 @@ fn garbage_collection_reuses_slots_under_new_versions() {
     }
     assert_eq!(mesh.n_vertices(), live_before.len());
 }
+
+#[test]
+fn a_removed_attribute_handle_never_reads_the_attribute_added_in_its_place() {
+    // The new attribute takes the freed column; the old handle, of the same type, is
+    // refused instead of reading the new values.
+    let mut mesh = halfedge::generators::icosphere(1);
+    let v = mesh.vertices().next().unwrap();
+    let old = mesh.add_vertex_attribute("weight", 1.0f64).unwrap();
+    mesh.remove_attribute(old);
+    let new = mesh.add_vertex_attribute("other", 7.0f64).unwrap();
+    assert!(!mesh.has_attribute(old));
+    assert!(mesh.has_attribute(new));
+    assert!(mesh.try_attribute_values(old).is_err());
+    assert_eq!(mesh.try_attribute_values(new).unwrap()[0], 7.0);
+    assert_eq!(*mesh.attribute(new, v), 7.0);
+    let read = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| *mesh.attribute(old, v)));
+    assert!(read.is_err(), "the old handle read {:?}", read.ok());
+    // Removing with the stale handle leaves the new attribute alone.
+    mesh.remove_attribute(old);
+    assert!(mesh.has_attribute(new));
+    // A handle found by name is the live attribute's.
+    assert_eq!(
+        mesh.find_attribute::<halfedge::VertexId, f64>("other"),
+        Some(new)
+    );
+}
