@@ -123,7 +123,9 @@ impl Vertices<'_> {
 /// rounding).
 #[derive(Clone, Debug, Default)]
 pub struct Snapshot {
-    slots: usize,
+    /// The mesh the positions were taken from (`None` for the empty default snapshot,
+    /// which restores nothing on any mesh).
+    binding: Option<halfedge::MeshBinding>,
     indices: Vec<u32>,
     positions: Vec<DVec3>,
 }
@@ -140,7 +142,7 @@ impl Snapshot {
         let all = mesh.positions();
         let positions = indices.par_iter().map(|&i| all[i as usize]).collect();
         Self {
-            slots: mesh.vertex_slots(),
+            binding: Some(mesh.binding()),
             indices,
             positions,
         }
@@ -166,14 +168,14 @@ impl Snapshot {
         &self.positions
     }
 
-    /// Puts the recorded positions back, bit for bit. Fails, changing nothing, when the
-    /// mesh's vertex slot count differs from the one the snapshot was taken on.
+    /// Puts the recorded positions back, bit for bit.
+    ///
+    /// # Errors
+    /// [`EditError::Stale`], changing nothing, for another mesh than the one the snapshot
+    /// was taken on, or that mesh at another hierarchy level or with other connectivity.
     pub fn restore(&self, mesh: &mut Mesh) -> Result<()> {
-        if mesh.vertex_slots() != self.slots {
-            return Err(EditError::VertexArrayLength {
-                expected: mesh.vertex_slots(),
-                found: self.slots,
-            });
+        if let Some(binding) = &self.binding {
+            binding.check(mesh, "the snapshot")?;
         }
         let positions = mesh.positions_mut();
         for (&i, &p) in self.indices.iter().zip(&self.positions) {

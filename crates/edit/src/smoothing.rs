@@ -70,7 +70,7 @@ impl Default for TaubinOptions {
 /// in memory whatever the order of the mesh's vertices (subdivided meshes scatter them).
 #[derive(Clone, Debug)]
 pub struct Smoother {
-    slots: usize,
+    binding: halfedge::MeshBinding,
     /// Local index → vertex slot: rows `0..rows` are the moving vertices, the rest the
     /// fixed neighbours that anchor them.
     local_to_slot: Vec<u32>,
@@ -212,7 +212,7 @@ impl Smoother {
         }
         let n_local = local_to_slot.len();
         Ok(Self {
-            slots,
+            binding: mesh.binding(),
             local_to_slot,
             row_of_slot,
             rows,
@@ -264,7 +264,8 @@ impl Smoother {
     /// Nothing is changed on error: [`EditError::InvalidParameter`] for non-finite
     /// factors or more than [`MAX_ITERATIONS`] iterations, [`EditError::Overflow`] when
     /// the factors make the positions diverge (λ = 1e300), and
-    /// [`EditError::VertexArrayLength`] for another mesh.
+    /// [`EditError::Stale`] for another mesh (or this one at another hierarchy level or
+    /// with other connectivity).
     pub fn taubin(
         &mut self,
         mesh: &mut Mesh,
@@ -288,12 +289,7 @@ impl Smoother {
     }
 
     fn run(&mut self, mesh: &mut Mesh, factors: &[f64], iterations: usize) -> Result<()> {
-        if mesh.vertex_slots() != self.slots {
-            return Err(EditError::VertexArrayLength {
-                expected: mesh.vertex_slots(),
-                found: self.slots,
-            });
-        }
+        self.binding.check(mesh, "the smoother")?;
         if iterations > MAX_ITERATIONS {
             return Err(EditError::InvalidParameter {
                 name: "iterations",
