@@ -5,13 +5,14 @@
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
-use edit::blend::RefineOptions;
+use edit::blend::{BlendOptions, BlendSession, RefineOptions};
 use edit::distance::geodesic_ball;
 use edit::image_edit::{test_pattern, ImageOptions, ImageSession, Mask, Raster};
 use edit::polyline::{CurveRegions, Polyline, PolylineOptions, PolylineSession, Span};
+use edit::regions::Regions;
 use glam::{DMat3, DMat4, DVec2, DVec3};
 use halfedge::bvh::{Bvh, Ray};
-use halfedge::{generators, Mesh, Selection};
+use halfedge::{generators, Hierarchy, HierarchyOptions, Mesh, Selection, VertexId};
 
 /// Runs `f`, turning a panic into a failure message naming the case.
 fn survive<T>(name: &str, f: impl FnOnce() -> T) -> T {
@@ -357,4 +358,98 @@ fn mesh_queries_survive_hostile_arguments() {
         }
     }
     eprintln!("mesh queries: {cases} hostile cases");
+}
+
+/// Blend edits at a coarse level of a hierarchy: unbounded refinement budgets and
+/// hostile transforms are refused with the hierarchy unchanged.
+#[test]
+fn blend_in_hierarchy_survives_hostile_arguments() {
+    let mut cases = 0;
+    let build = || {
+        let mut h =
+            Hierarchy::build(generators::icosphere(3), &HierarchyOptions::rounds()).unwrap();
+        h.go_to_level(1).unwrap();
+        let m = h.mesh();
+        let pick = |f: &dyn Fn(DVec3) -> bool| -> Vec<VertexId> {
+            m.vertices().filter(|&v| f(m.position(v))).collect()
+        };
+        let regions = Regions::from_sets(m, &pick(&|p| p.z > 0.8), &pick(&|p| p.z < -0.2)).unwrap();
+        let s = BlendSession::new(m, regions, BlendOptions::default()).unwrap();
+        (h, s)
+    };
+    let state = |h: &Hierarchy| {
+        let m = h.mesh();
+        (
+            h.current_level(),
+            m.positions()
+                .iter()
+                .map(|p| p.to_array().map(f64::to_bits))
+                .collect::<Vec<_>>(),
+            m.n_faces(),
+        )
+    };
+    for budget in [usize::MAX, (1 << 22) + 1] {
+        cases += 1;
+        let (mut h, mut s) = build();
+        s.apply_in_hierarchy(&mut h, DMat4::from_translation(DVec3::Z))
+            .unwrap();
+        let before = state(&h);
+        let r = survive("refine_in_hierarchy", || {
+            s.refine_in_hierarchy(
+                &mut h,
+                RefineOptions {
+                    max_edge_length: 1e-300,
+                    max_new_vertices: budget,
+                },
+            )
+        });
+        assert!(
+            r.is_err(),
+            "budget {budget}: an unbounded refinement was accepted"
+        );
+        assert_eq!(state(&h), before, "budget {budget}: refused but changed");
+    }
+    for x in HOSTILE {
+        cases += 2;
+        let (mut h, mut s) = build();
+        let before = state(&h);
+        let a = DMat4::from_translation(DVec3::new(x, 0.0, 0.0));
+        match survive("apply_in_hierarchy", || s.apply_in_hierarchy(&mut h, a)) {
+            Ok(()) => {
+                assert!(
+                    h.mesh().positions().iter().all(|p| p.is_finite()),
+                    "apply {x}"
+                );
+                if survive("walk", || h.refine_to(0)).is_ok() {
+                    let bad = h
+                        .mesh()
+                        .positions()
+                        .iter()
+                        .filter(|p| !p.is_finite())
+                        .count();
+                    assert_eq!(
+                        bad, 0,
+                        "translation {x}: {bad} non-finite after refine_to(0)"
+                    );
+                }
+            }
+            Err(_) => assert_eq!(state(&h), before, "apply {x}: refused but changed"),
+        }
+        let (mut h, s) = build();
+        let before = state(&h);
+        if survive("refine hostile", || {
+            s.refine_in_hierarchy(
+                &mut h,
+                RefineOptions {
+                    max_edge_length: x,
+                    max_new_vertices: 200,
+                },
+            )
+        })
+        .is_err()
+        {
+            assert_eq!(state(&h), before, "refine {x}: refused but changed");
+        }
+    }
+    eprintln!("blend in hierarchy: {cases} hostile cases");
 }
