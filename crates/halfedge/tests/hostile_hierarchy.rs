@@ -158,3 +158,48 @@ fn new_hierarchy_calls_survive_hostile_arguments() {
     assert!(r.is_err());
     eprintln!("hierarchy: {cases} hostile cases");
 }
+
+/// Frontiers of other meshes, hostile planes and labels for `label_sides_with`: typed
+/// errors, the mesh unchanged.
+#[test]
+fn label_sides_with_survives_hostile_arguments() {
+    let mut cases = 0;
+    let other = generators::icosphere(4);
+    let foreign = other.frontier_from_plane(DVec3::ZERO, DVec3::Z).unwrap();
+    for (p, n) in [
+        (DVec3::ZERO, DVec3::ZERO),
+        (DVec3::splat(f64::NAN), DVec3::Z),
+        (DVec3::ZERO, DVec3::splat(f64::INFINITY)),
+        (DVec3::splat(1e308), DVec3::Z),
+    ] {
+        cases += 1;
+        let mesh = generators::icosphere(2);
+        assert!(
+            survive("plane", || mesh.frontier_from_plane(p, n)).is_err(),
+            "{p} {n}"
+        );
+    }
+    for (left, right) in [
+        (Some(1), Some(2)),
+        (Some(1), None),
+        (None, None),
+        (Some(u32::MAX), Some(1)),
+        (Some(3), Some(3)),
+    ] {
+        cases += 2;
+        let mut mesh = generators::icosphere(2);
+        let positions = mesh.positions().to_vec();
+        let r = survive("foreign frontier", || {
+            mesh.label_sides_with(&foreign, left, right)
+        });
+        assert!(r.is_err(), "a frontier of another mesh was accepted");
+        assert_eq!(mesh.positions(), &positions[..]);
+        mesh.check().unwrap();
+        let own = mesh.frontier_from_plane(DVec3::ZERO, DVec3::Z).unwrap();
+        let ok = survive("own frontier", || mesh.label_sides_with(&own, left, right)).is_ok();
+        let valid = left.is_some() && left != Some(u32::MAX) && left != right;
+        assert_eq!(ok, valid, "{left:?} {right:?}");
+        mesh.check().unwrap();
+    }
+    eprintln!("labels: {cases} hostile cases");
+}
