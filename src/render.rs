@@ -36,11 +36,16 @@ use halfedge::Mesh;
 /// The largest picture side, in pixels.
 pub const MAX_SIDE: usize = 16_384;
 
+/// The largest picture, in pixels (all panels together): 2²³, e.g. 4096 × 2048. A
+/// render needs about 35 bytes a pixel while it draws, so this keeps one under 300 MB.
+pub const MAX_PIXELS: usize = 1 << 23;
+
 /// What can go wrong making a picture.
 #[derive(Debug, thiserror::Error)]
 pub enum RenderError {
-    /// A width or height of zero, or above [`MAX_SIDE`].
-    #[error("picture size {width} × {height} is out of range (1 to {MAX_SIDE} pixels a side)")]
+    /// A width or height of zero, or above [`MAX_SIDE`], or more than [`MAX_PIXELS`]
+    /// pixels in all.
+    #[error("picture size {width} × {height} is out of range (1 to {MAX_SIDE} pixels a side, at most {MAX_PIXELS} pixels)")]
     Size {
         /// Requested width.
         width: usize,
@@ -197,14 +202,14 @@ impl Image {
     ///
     /// # Errors
     /// [`RenderError::Size`] when the result would be wider or higher than [`MAX_SIDE`]
-    /// (checked before allocating).
+    /// or larger than [`MAX_PIXELS`] (checked before allocating).
     pub fn side_by_side(images: &[&Image]) -> Result<Image> {
         let height = images.iter().map(|i| i.height).max().unwrap_or(0);
         let width = images
             .iter()
             .try_fold(0usize, |w, i| w.checked_add(i.width))
             .unwrap_or(usize::MAX);
-        if width > MAX_SIDE || height > MAX_SIDE {
+        if width > MAX_SIDE || height > MAX_SIDE || width * height > MAX_PIXELS {
             return Err(RenderError::Size { width, height });
         }
         let mut rgb = vec![255u8; width * height * 3];
@@ -234,7 +239,8 @@ pub fn union_bounds<'a>(meshes: impl IntoIterator<Item = &'a Mesh>) -> Option<(D
 /// framed on `frame` (default: the union of the panels' bounding boxes).
 ///
 /// # Errors
-/// [`RenderError::Size`] for a panel size out of range (checked before allocating);
+/// [`RenderError::Size`] for a panel size out of range or more than [`MAX_PIXELS`]
+/// pixels in all (checked before allocating);
 /// [`RenderError::Frame`] without panels, vertices or a finite frame;
 /// [`RenderError::Camera`] for a degenerate camera; [`RenderError::Colors`] for a
 /// colour array shorter than its mesh's vertex slots.
@@ -300,7 +306,10 @@ pub fn displacement_colors(before: &Mesh, after: &Mesh, full: f64) -> Vec<DVec3>
 const CLAY: DVec3 = DVec3::new(0.78, 0.74, 0.68);
 
 fn check_size(width: usize, height: usize) -> Result<()> {
-    if (1..=MAX_SIDE).contains(&width) && (1..=MAX_SIDE).contains(&height) {
+    if (1..=MAX_SIDE).contains(&width)
+        && (1..=MAX_SIDE).contains(&height)
+        && width * height <= MAX_PIXELS
+    {
         Ok(())
     } else {
         Err(RenderError::Size { width, height })
@@ -422,6 +431,59 @@ mod tests {
     fn covered(image: &Image) -> usize {
         // The background is a grey-blue gradient, the mesh is clay (red > blue).
         image.rgb.chunks(3).filter(|p| p[0] > p[2]).count()
+    }
+
+    /// Hostile sizes, cameras, frames and colours (issue 14): typed errors, checked
+    /// before allocating; no panic.
+    #[test]
+    fn hostile_arguments_are_refused_before_allocating() {
+        let mesh = generators::icosphere(1);
+        let camera = Camera::default();
+        // 4096 × 4096 first: were the pixel cap gone, it would render (about 600 MB)
+        // and fail here, before the larger sizes are tried.
+        let sizes = [
+            (4096, 4096),
+            (0, 10),
+            (10, 0),
+            (MAX_SIDE, MAX_SIDE),
+            (MAX_SIDE + 1, 1),
+            (usize::MAX, usize::MAX),
+        ];
+        for (w, h) in sizes {
+            let r = render(Panel::new(&mesh), &camera, None, w, h);
+            assert!(matches!(r, Err(RenderError::Size { .. })), "{w}×{h}: {r:?}");
+        }
+        let panels = vec![Panel::new(&mesh); 3000];
+        let r = render_side_by_side(&panels, &camera, None, 64, 64);
+        assert!(matches!(r, Err(RenderError::Size { .. })), "{r:?}");
+        let big = Image {
+            width: MAX_SIDE / 2,
+            height: MAX_SIDE,
+            rgb: Vec::new(),
+        };
+        let r = Image::side_by_side(&[&big, &big]);
+        assert!(matches!(r, Err(RenderError::Size { .. })), "{r:?}");
+        let bad = [f64::NAN, f64::INFINITY, 0.0, -1.0, 1e308, 4.0];
+        for x in bad {
+            let cam = Camera {
+                direction: DVec3::new(x, 0.0, 1.0),
+                up: DVec3::new(0.0, x, 0.0),
+                fov_y: x,
+            };
+            let _ = render(Panel::new(&mesh), &cam, None, 8, 8);
+            let frame = Some((DVec3::splat(-x), DVec3::splat(x)));
+            let _ = render(Panel::new(&mesh), &camera, frame, 8, 8);
+        }
+        let nan = vec![DVec3::NAN; mesh.vertex_slots()];
+        render(Panel::with_colors(&mesh, &nan), &camera, None, 8, 8).unwrap();
+        let short = vec![DVec3::ONE; 2];
+        let r = render(Panel::with_colors(&mesh, &short), &camera, None, 8, 8);
+        assert!(matches!(r, Err(RenderError::Colors { .. })), "{r:?}");
+        let empty = Mesh::new();
+        let r = render(Panel::new(&empty), &camera, None, 8, 8);
+        assert!(matches!(r, Err(RenderError::Frame(_))), "{r:?}");
+        let _ = displacement_colors(&empty, &mesh, f64::NAN);
+        let _ = displacement_colors(&mesh, &empty, 0.0);
     }
 
     #[test]

@@ -549,7 +549,8 @@ impl BlendSession {
     /// # Errors
     /// [`EditError::SessionMismatch`] when the session was not made on the hierarchy's
     /// mesh, or the hierarchy is between two levels; [`EditError::InvalidParameter`] for a
-    /// threshold that is not finite and positive; the hierarchy's errors (it is then back
+    /// threshold that is not finite and positive or a vertex budget above
+    /// [`MAX_NEW_VERTICES`] (nothing changed then); the hierarchy's errors (it is then back
     /// at its level).
     pub fn refine_in_hierarchy(
         &self,
@@ -562,6 +563,16 @@ impl BlendSession {
             return Err(EditError::InvalidParameter {
                 name: "max_edge_length",
                 reason: format!("must be finite and positive, got {max}"),
+            });
+        }
+        // Each pass may double the edges near the edit: the budget bounds the memory.
+        if options.max_new_vertices > MAX_NEW_VERTICES {
+            return Err(EditError::InvalidParameter {
+                name: "max_new_vertices",
+                reason: format!(
+                    "{} is more than {MAX_NEW_VERTICES}",
+                    options.max_new_vertices
+                ),
             });
         }
         let level = hierarchy.current_level().ok_or_else(|| {

@@ -396,6 +396,12 @@ enum HOp {
     RemoveLabels,
     /// An attribute of another type in the place of the removed labels.
     OtherAttribute,
+    /// A vertex marked (composed when the flag is set) with a translation of 10^e.
+    Mark(u32, i16, bool),
+    /// The ancestors of a level (some out of range).
+    Ancestors(u32),
+    /// `edit_input` moving an input vertex, or refusing in the closure.
+    EditInput(u32, bool),
 }
 
 fn hop() -> impl Strategy<Value = HOp> {
@@ -416,6 +422,9 @@ fn hop() -> impl Strategy<Value = HOp> {
         2 => Just(HOp::AttachLabels),
         1 => Just(HOp::RemoveLabels),
         1 => Just(HOp::OtherAttribute),
+        2 => (any::<u32>(), -320i16..=308, any::<bool>()).prop_map(|(v, e, c)| HOp::Mark(v, e, c)),
+        1 => any::<u32>().prop_map(HOp::Ancestors),
+        1 => (any::<u32>(), any::<bool>()).prop_map(|(v, ok)| HOp::EditInput(v, ok)),
     ]
 }
 
@@ -574,6 +583,53 @@ fn run_hierarchy(
             HOp::OtherAttribute => {
                 let _ = h.mesh_mut().add_vertex_attribute("other", 0.5f64);
             }
+            HOp::Mark(k, e, compose) => {
+                let vs: Vec<VertexId> = h.mesh().vertices().collect();
+                let Some(v) = pick(&vs, k) else { continue };
+                let t = glam::DAffine3::from_translation(DVec3::X * 10f64.powi(i32::from(e)));
+                let r = if compose {
+                    h.mark_affine(&[v], t)
+                } else {
+                    h.set_affine_mark(&[v], t)
+                };
+                stats.count(if r.is_ok() {
+                    "mark accepted"
+                } else {
+                    "mark refused"
+                });
+                prop_assert!(raw(h.mesh()) == before, "a mark changed the mesh");
+            }
+            HOp::Ancestors(k) => {
+                if let Ok(a) = h.ancestors((k % (n_levels + 2)) as usize) {
+                    prop_assert_eq!(a.len(), h.mesh().vertex_slots());
+                }
+            }
+            HOp::EditInput(k, ok) => {
+                let level = h.current_level();
+                let r = h.edit_input(|m| {
+                    if !ok {
+                        return Err("refused by the closure");
+                    }
+                    let vs: Vec<VertexId> = m.vertices().collect();
+                    if let Some(v) = pick(&vs, k) {
+                        m.set_position(v, m.position(v) + DVec3::X * 1e-3);
+                    }
+                    Ok(())
+                });
+                match r {
+                    Ok(()) => {
+                        stats.count("edit_input accepted");
+                        prop_assert!(live_positions_finite(h.mesh()));
+                    }
+                    Err(e) => {
+                        stats.count("edit_input refused");
+                        prop_assert!(
+                            raw(h.mesh()) == before && h.current_level() == level,
+                            "a refused edit_input changed the hierarchy: {e}"
+                        );
+                    }
+                }
+            }
         }
         h.mesh()
             .check()
@@ -641,6 +697,8 @@ fn the_machines_reach_every_case() {
         "collapse refused",
         "overflow refused",
         "other refusal",
+        "mark accepted",
+        "edit_input refused",
     ] {
         assert!(hierarchy.get(what) > 0, "never: {what} ({hierarchy:?})");
     }

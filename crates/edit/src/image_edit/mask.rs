@@ -19,7 +19,7 @@ pub struct Mask {
 fn pixels(width: u32, height: u32) -> ImageResult<usize> {
     (width as usize)
         .checked_mul(height as usize)
-        .filter(|&n| n <= isize::MAX as usize / 8)
+        .filter(|&n| n <= super::MAX_PIXELS)
         .ok_or(ImageEditError::TooLarge {
             width,
             height,
@@ -41,7 +41,8 @@ impl Mask {
     /// The empty mask.
     ///
     /// # Errors
-    /// [`ImageEditError::TooLarge`] when the size overflows.
+    /// [`ImageEditError::TooLarge`] above [`super::MAX_PIXELS`] pixels (checked before
+    /// allocating).
     pub fn empty(width: u32, height: u32) -> ImageResult<Self> {
         Ok(Self {
             width,
@@ -106,7 +107,7 @@ impl Mask {
     /// border stays, everything inside may move).
     ///
     /// # Errors
-    /// [`ImageEditError::TooLarge`] when the size overflows.
+    /// [`ImageEditError::TooLarge`] above [`super::MAX_PIXELS`] pixels.
     pub fn border(width: u32, height: u32, thickness: u32) -> ImageResult<Self> {
         let mut mask = Self::empty(width, height)?;
         let t = thickness;

@@ -47,6 +47,11 @@ use std::path::PathBuf;
 use crate::regions::RegionKind;
 use crate::EditError;
 
+/// The largest picture, in pixels (`width × height`), that rasters, masks and image
+/// sessions accept: 2²⁶, e.g. 8192 × 8192 (an RGBA raster of 256 MiB). Larger sizes are
+/// refused with [`ImageEditError::TooLarge`] before anything is allocated.
+pub const MAX_PIXELS: usize = 1 << 26;
+
 /// What can go wrong with an image edit (module [`crate::image_edit`]).
 #[derive(Debug, thiserror::Error)]
 pub enum ImageEditError {
@@ -58,8 +63,8 @@ pub enum ImageEditError {
         /// Height in pixels.
         height: u32,
     },
-    /// The image's byte size does not fit in memory's address range.
-    #[error("an image of {width}×{height} pixels × {channels} channels is too large")]
+    /// The image has more than [`MAX_PIXELS`] pixels.
+    #[error("an image of {width}×{height} pixels × {channels} channels is too large (at most {MAX_PIXELS} pixels)")]
     TooLarge {
         /// Width in pixels.
         width: u32,

@@ -11,7 +11,7 @@ use super::ImageResult;
 /// Deterministic.
 ///
 /// # Errors
-/// [`super::ImageEditError::TooLarge`] when the size overflows.
+/// [`super::ImageEditError::TooLarge`] above [`super::MAX_PIXELS`] pixels.
 pub fn test_pattern(width: u32, height: u32) -> ImageResult<Raster> {
     let mut out = Raster::filled(width, height, &[0, 0, 0])?;
     let (w, h) = (f64::from(width), f64::from(height));

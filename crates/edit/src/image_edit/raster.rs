@@ -22,8 +22,8 @@ fn byte_len(width: u32, height: u32, channels: u8) -> ImageResult<usize> {
     }
     (width as usize)
         .checked_mul(height as usize)
+        .filter(|&n| n <= super::MAX_PIXELS)
         .and_then(|n| n.checked_mul(channels as usize))
-        .filter(|&n| n <= isize::MAX as usize)
         .ok_or(ImageEditError::TooLarge {
             width,
             height,
@@ -36,7 +36,7 @@ impl Raster {
     ///
     /// # Errors
     /// [`ImageEditError::Channels`] for a channel count outside 1..=4,
-    /// [`ImageEditError::TooLarge`] when the size overflows,
+    /// [`ImageEditError::TooLarge`] above [`super::MAX_PIXELS`] pixels,
     /// [`ImageEditError::DataLength`] when `data` has another length.
     pub fn new(width: u32, height: u32, channels: u8, data: Vec<u8>) -> ImageResult<Self> {
         let expected = byte_len(width, height, channels)?;

@@ -12,6 +12,7 @@ use crate::blend::blend_ratio;
 use crate::matrix::{embed_affine2, AffinePower};
 use crate::regions::{RegionKind, Role};
 use crate::shape::ShapeFunction;
+use crate::EditError;
 
 /// Options of an [`ImageSession`].
 #[derive(Clone, Debug, PartialEq)]
@@ -215,11 +216,23 @@ impl ImageSession {
     /// # Errors
     /// [`ImageEditError::Edit`] with [`crate::EditError::NoRealLogarithm`] (a
     /// reflection, a singular map, a half turn), [`crate::EditError::NotAffine`] or
-    /// [`crate::EditError::NonFiniteMatrix`].
+    /// [`crate::EditError::NonFiniteMatrix`]; [`crate::EditError::Overflow`] naming the
+    /// first grid vertex that would leave the finite range (then nothing changes).
     pub fn apply(&mut self, a: DMat3) -> ImageResult<()> {
-        self.power = AffinePower::new(embed_affine2(a))?;
-        self.transform = a;
+        let power = AffinePower::new(embed_affine2(a))?;
+        let old_power = std::mem::replace(&mut self.power, power);
+        let old_transform = std::mem::replace(&mut self.transform, a);
+        let saved = self.deformed.clone();
         self.deform();
+        if let Some(index) = self.deformed.iter().position(|p| !p.is_finite()) {
+            self.deformed = saved;
+            self.power = old_power;
+            self.transform = old_transform;
+            return Err(EditError::Overflow(format!(
+                "grid vertex {index} would move to a non-finite position under {a}"
+            ))
+            .into());
+        }
         Ok(())
     }
 

@@ -45,7 +45,8 @@ impl CurvePoint for DVec2 {
     }
     #[inline]
     fn midpoint(self, other: Self) -> Self {
-        0.5 * (self + other)
+        // Halves first: finite points give a finite midpoint even near f64::MAX.
+        0.5 * self + 0.5 * other
     }
     fn embed(a: DMat3) -> DMat4 {
         embed_affine2(a)
@@ -79,7 +80,8 @@ impl CurvePoint for DVec3 {
     }
     #[inline]
     fn midpoint(self, other: Self) -> Self {
-        0.5 * (self + other)
+        // Halves first: finite points give a finite midpoint even near f64::MAX.
+        0.5 * self + 0.5 * other
     }
     fn embed(a: DMat4) -> DMat4 {
         a

@@ -7,7 +7,7 @@ use rayon::prelude::*;
 use super::curve::{n_segments, segment, CurvePoint, Polyline};
 use super::regions::CurveRegions;
 use super::CurveResult;
-use crate::blend::{blend_ratio, RefineOptions, RefineReport};
+use crate::blend::{blend_ratio, RefineOptions, RefineReport, MAX_NEW_VERTICES};
 use crate::distance::{BorderGrid, QueryPoints};
 use crate::matrix::AffinePower;
 use crate::regions::Role;
@@ -151,11 +151,24 @@ impl<P: CurvePoint> PolylineSession<P> {
     /// # Errors
     /// [`CurveError::Edit`](super::CurveError::Edit) with
     /// [`EditError::NoRealLogarithm`] (a reflection, a singular map, a half turn),
-    /// [`EditError::NotAffine`] or [`EditError::NonFiniteMatrix`].
+    /// [`EditError::NotAffine`] or [`EditError::NonFiniteMatrix`];
+    /// [`EditError::Overflow`] naming the first point that would leave the finite
+    /// range (then nothing changes).
     pub fn apply(&mut self, a: P::Affine) -> CurveResult<()> {
-        self.power = AffinePower::new(P::embed(a))?;
-        self.transform = a;
+        let power = AffinePower::new(P::embed(a))?;
+        let old_power = std::mem::replace(&mut self.power, power);
+        let old_transform = std::mem::replace(&mut self.transform, a);
+        let saved = self.current.clone();
         self.write_all();
+        if let Some(index) = self.current.iter().position(|p| !p.finite()) {
+            self.current = saved;
+            self.power = old_power;
+            self.transform = old_transform;
+            return Err(EditError::Overflow(format!(
+                "point {index} would move to a non-finite position under {a:?}"
+            ))
+            .into());
+        }
         Ok(())
     }
 
@@ -219,14 +232,24 @@ impl<P: CurvePoint> PolylineSession<P> {
     ///
     /// # Errors
     /// [`CurveError::Edit`](super::CurveError::Edit) with
-    /// [`EditError::InvalidParameter`] for a threshold that is not finite and positive;
-    /// nothing changes then.
+    /// [`EditError::InvalidParameter`] for a threshold that is not finite and positive or
+    /// a point budget above [`MAX_NEW_VERTICES`]; nothing changes then.
     pub fn refine(&mut self, options: RefineOptions) -> CurveResult<RefineReport> {
         let max = options.max_edge_length;
         if !(max.is_finite() && max > 0.0) {
             return Err(EditError::InvalidParameter {
                 name: "max_edge_length",
                 reason: format!("must be finite and positive, got {max}"),
+            }
+            .into());
+        }
+        if options.max_new_vertices > MAX_NEW_VERTICES {
+            return Err(EditError::InvalidParameter {
+                name: "max_new_vertices",
+                reason: format!(
+                    "{} is more than {MAX_NEW_VERTICES}",
+                    options.max_new_vertices
+                ),
             }
             .into());
         }

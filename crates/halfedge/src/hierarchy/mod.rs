@@ -1194,33 +1194,25 @@ impl Hierarchy {
     ///
     /// # Errors
     /// The errors of the walks and of [`build`](Self::build); an error of `change` is
-    /// passed through as [`Error::InvalidArgument`] with its message. When `change`
-    /// fails, or leaves a mesh that fails [`Mesh::check`], the input mesh is put back as
-    /// it was and the hierarchy returns to its level, unchanged but for the walk.
+    /// passed through as [`Error::InvalidArgument`] with its message. On any error
+    /// (a refused walk, `change` failing or leaving a mesh that fails [`Mesh::check`], a
+    /// refused build) the hierarchy is exactly as it was: the walk is made on a copy.
     pub fn edit_input<R, E: std::fmt::Display>(
         &mut self,
         change: impl FnOnce(&mut Mesh) -> std::result::Result<R, E>,
     ) -> Result<R> {
         let level = self.level_at_or_finer();
-        self.seek(0)?;
-        let mut input = self.mesh.clone();
+        // The walk to the input is made on a copy: a refused walk, change or build leaves
+        // the hierarchy exactly as it was (a walk down and back need not be bit-exact).
+        let mut input = {
+            let mut work = self.clone();
+            work.seek(0)?;
+            work.into_mesh()
+        };
         let result = change(&mut input)
             .map_err(|e| Error::InvalidArgument(format!("edit_input: {e}")))
-            .and_then(|r| input.check().map(|()| r));
-        let result = match result {
-            Ok(r) => r,
-            Err(e) => {
-                let _ = self.go_to_level(level);
-                return Err(e);
-            }
-        };
-        let mut rebuilt = match Hierarchy::build(input, &self.options) {
-            Ok(h) => h,
-            Err(e) => {
-                let _ = self.go_to_level(level);
-                return Err(e);
-            }
-        };
+            .and_then(|r| input.check().map(|()| r))?;
+        let mut rebuilt = Hierarchy::build(input, &self.options)?;
         if let Some(b) = self.labels {
             rebuilt.labels = Some(LabelBinding {
                 attribute: b.attribute,
@@ -1232,8 +1224,8 @@ impl Hierarchy {
         rebuilt.mesh.stamp_id = id;
         rebuilt.mesh.stamp_count = count + 1;
         rebuilt.stamp = Some(rebuilt.mesh.topology_stamp());
+        rebuilt.go_to_level(target)?;
         *self = rebuilt;
-        self.go_to_level(target)?;
         Ok(result)
     }
 
