@@ -1299,6 +1299,9 @@ const IN_REGION: u32 = u32::MAX - 1;
 struct Marks {
     of_vertex: Vec<u32>,
     maps: Vec<DAffine3>,
+    /// Maps kept after the last [`Marks::compact`] (the next one runs when there are
+    /// twice as many and 64 more).
+    compacted: usize,
 }
 
 impl Marks {
@@ -1320,6 +1323,24 @@ impl Marks {
         if !self.is_empty() {
             *self = Self::default();
         }
+    }
+    /// Drops the maps no vertex uses any more (an interactive drag replaces its handle's
+    /// map at every step), renumbering the others; amortised over the marks made.
+    fn compact(&mut self) {
+        let mut renumbered = vec![UNMARKED; self.maps.len()];
+        let mut kept = Vec::new();
+        for m in &mut self.of_vertex {
+            if *m < IN_REGION {
+                let k = *m as usize;
+                if renumbered[k] == UNMARKED {
+                    renumbered[k] = kept.len() as u32;
+                    kept.push(self.maps[k]);
+                }
+                *m = renumbered[k];
+            }
+        }
+        self.maps = kept;
+        self.compacted = self.maps.len();
     }
 }
 
@@ -1405,6 +1426,9 @@ impl Hierarchy {
             };
             self.marks.of_vertex[i] = new;
         }
+        if self.marks.maps.len() > 2 * self.marks.compacted + 64 {
+            self.marks.compact();
+        }
         Ok(())
     }
 
@@ -1476,5 +1500,55 @@ impl Hierarchy {
             }
         }
         Ok(map)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn replacing_a_mark_again_and_again_keeps_the_maps_bounded() {
+        // An interactive drag: the handle's map is replaced at every step; maps no
+        // vertex uses are dropped, and the last one still lands exactly.
+        let mesh = crate::generators::icosphere(3);
+        let input = mesh.clone();
+        let mut h = Hierarchy::build(mesh, &HierarchyOptions::rounds()).unwrap();
+        h.go_to_level(2).unwrap();
+        let handle: Vec<VertexId> = h
+            .mesh()
+            .vertices()
+            .filter(|&v| h.mesh().position(v).x > 0.5)
+            .collect();
+        let before: Vec<DVec3> = handle.iter().map(|&v| h.mesh().position(v)).collect();
+        let mut t = DAffine3::IDENTITY;
+        for step in 1..=1000 {
+            t = DAffine3::from_translation(DVec3::new(0.0, 0.0, 1e-4 * step as f64));
+            for (&v, &p) in handle.iter().zip(&before) {
+                h.mesh_mut().set_position(v, t.transform_point3(p));
+            }
+            h.set_affine_mark(&handle, t).unwrap();
+            assert!(
+                h.marks.maps.len() <= 2 * 1 + 64 + 1,
+                "{} maps",
+                h.marks.maps.len()
+            );
+        }
+        let ancestors = h.ancestors(2).unwrap();
+        let marked: Vec<bool> = {
+            let mut m = vec![false; input.vertex_slots()];
+            for &v in &handle {
+                m[h.mesh().vertex_index(v)] = true;
+            }
+            m
+        };
+        h.refine_to(0).unwrap();
+        for v in input.vertices() {
+            let i = input.vertex_index(v);
+            if marked[ancestors[i] as usize] {
+                let target = t.transform_point3(input.position(v));
+                assert!(h.mesh().position(v).distance(target) < 1e-12);
+            }
+        }
     }
 }
