@@ -466,8 +466,8 @@ fn interpolate(
 }
 
 /// Where the split of a survivor that moved apart from its ring puts its endpoints when
-/// the positions before the edit are not known (an edit made after a walk coarser that
-/// followed an earlier edit, see `Hierarchy::mesh_mut`).
+/// the positions before the edit are not known for its record (no copy kept by the
+/// hierarchy serves it: see `Hierarchy::mesh_mut`).
 ///
 /// `carried` is the survivor's current position `anchor` plus the endpoints' offsets in
 /// the current frame `f`: right where the whole neighbourhood moved together. Where the
@@ -477,9 +477,10 @@ fn interpolate(
 /// proportion to the coarse mesh's hat function of the survivor at the endpoint: `λ = 0`
 /// at the survivor, `1` on its ring (the barycentric weight of the ring in the fan of
 /// triangles around the survivor, in the frame's tangent plane). So the fine vertices'
-/// displacement falls from the survivor's to its ring's, and the step between a moved vertex and a still neighbour is spread over the moved vertex's
-/// descendants instead of landing on one fine edge (the part given back grows as `λ²`,
-/// which a quadratic motion needs).
+/// displacement falls from the survivor's to its ring's, and the step between a moved
+/// vertex and a still neighbour is spread over the moved vertex's descendants instead of
+/// landing on one fine edge (the part given back grows as `λ²`, which a quadratic motion
+/// needs).
 fn settle(
     f: &Frame,
     positions: &[DVec3],
