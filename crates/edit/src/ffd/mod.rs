@@ -41,8 +41,8 @@ use crate::barr::{Bend, Deformer, Profile, Twist};
 use crate::selection::{check_finite_positions, finite, finite_point, unit_direction, Vertices};
 use crate::{EditError, Result};
 
-pub use bspline::BSplineSurface;
 use bspline::Patches;
+pub use bspline::{BSplineSurface, MAX_CONTROL_POINTS, MAX_DEGREE, MAX_PATCH_COEFFICIENTS};
 
 /// A right-handed orthonormal placement frame: the shape surface starts on its XZ plane
 /// with `u` along `x` and `v` along `z`, so that the surface normal `∂S/∂v × ∂S/∂u` is
