@@ -4,6 +4,12 @@
 //! removed for good (by [`Mesh::garbage_collection`](crate::Mesh::garbage_collection));
 //! a slot freed there gets a new version when it is reused, so a stale handle is
 //! detected by the validity queries and never silently aliases another element.
+//! Every accessor that takes a handle (`position`, `next`, `to_vertex`, `triangle`, the
+//! circulators, attribute reads, …) checks it in release builds as in debug ones and
+//! panics with "stale … handle" rather than read the element now in its slot; use
+//! [`Mesh::is_valid_vertex`](crate::Mesh::is_valid_vertex) (or `ensure_vertex`, …) on a
+//! handle you did not just get from the mesh. The check is one compare on a mesh that
+//! never collected garbage, a state-bit read after.
 //! Collapsed elements are kept as tombstones so that a vertex split revives the very
 //! handles the collapse removed.
 //!
@@ -132,6 +138,14 @@ impl Slots {
     #[inline]
     pub(crate) fn is_tombstone<K: Key>(&self, k: K) -> bool {
         self.state_of(k) == Some(TOMBSTONE)
+    }
+    /// True once garbage collection freed a slot: only then can a handle of this mesh
+    /// name a vacant slot or an older generation. Before, every slot below the length is
+    /// live or a tombstone, so the accessors' checks need only the bounds check their
+    /// indexing makes anyway.
+    #[inline(always)]
+    pub(crate) fn collected(&self) -> bool {
+        !self.generations.is_empty()
     }
     /// True when `k` names a live element or a tombstone.
     #[inline]

@@ -159,12 +159,14 @@ impl Iterator for FaceHalfedges<'_> {
 
 /// # Circulators
 impl Mesh {
-    #[inline]
+    #[inline(always)]
     fn vertex_walk(&self, v: VertexId) -> Walk<'_, true> {
+        self.check_vertex(v);
         Walk::new(&self.he, self.vertex_conn[crate::handle::slot(v)])
     }
-    #[inline]
+    #[inline(always)]
     fn face_walk(&self, f: FaceId) -> Walk<'_, false> {
+        self.check_face(f);
         Walk::new(&self.he, self.face_conn[crate::handle::slot(f)])
     }
     /// Outgoing halfedges of `v`, counter-clockwise from [`vertex_halfedge`](Self::vertex_halfedge).

@@ -205,20 +205,43 @@ impl Mesh {
     /// The record of halfedge `h`.
     #[inline]
     pub(crate) fn rec(&self, h: HalfedgeId) -> &HalfedgeRec {
-        debug_assert!(
-            self.halfedge_slots_.contains(h),
-            "stale halfedge handle {h}"
-        );
+        self.check_halfedge(h);
         &self.he[slot(h)]
     }
     /// The record of halfedge `h`, mutable.
     #[inline]
     pub(crate) fn rec_mut(&mut self, h: HalfedgeId) -> &mut HalfedgeRec {
-        debug_assert!(
-            self.halfedge_slots_.contains(h),
-            "stale halfedge handle {h}"
-        );
+        self.check_halfedge(h);
         &mut self.he[slot(h)]
+    }
+    /// Refuses a handle that names no vertex of this mesh (never made here, or freed by
+    /// garbage collection: a reused slot has another generation), in release builds too,
+    /// so a stale handle never reads another element's data. Tombstones (collapsed
+    /// vertices) pass: their data is kept for the split that revives them. Until garbage
+    /// collection first frees a slot this is one predictable branch (a handle past the
+    /// arrays is still refused, by the indexing's bounds check).
+    #[inline(always)]
+    #[track_caller]
+    pub(crate) fn check_vertex(&self, v: VertexId) {
+        if self.vertex_slots_.collected() && !self.vertex_slots_.contains(v) {
+            stale_handle("vertex", v);
+        }
+    }
+    /// [`check_vertex`](Self::check_vertex) for halfedges.
+    #[inline(always)]
+    #[track_caller]
+    pub(crate) fn check_halfedge(&self, h: HalfedgeId) {
+        if self.halfedge_slots_.collected() && !self.halfedge_slots_.contains(h) {
+            stale_handle("halfedge", h);
+        }
+    }
+    /// [`check_vertex`](Self::check_vertex) for faces.
+    #[inline(always)]
+    #[track_caller]
+    pub(crate) fn check_face(&self, f: FaceId) {
+        if self.face_slots_.collected() && !self.face_slots_.contains(f) {
+            stale_handle("face", f);
+        }
     }
     /// Slot index of a handle as `u32`.
     #[inline]
@@ -399,13 +422,13 @@ impl Mesh {
     /// Position of a vertex.
     #[inline]
     pub fn position(&self, v: VertexId) -> DVec3 {
-        debug_assert!(self.vertex_slots_.contains(v), "stale vertex handle {v}");
+        self.check_vertex(v);
         self.positions[slot(v)]
     }
     /// Sets the position of a vertex.
     #[inline]
     pub fn set_position(&mut self, v: VertexId, p: DVec3) {
-        assert!(self.vertex_slots_.contains(v), "stale vertex handle {v}");
+        self.check_vertex(v);
         self.position_edits = self.position_edits.wrapping_add(1);
         self.positions[slot(v)] = p;
     }
@@ -510,6 +533,7 @@ impl Mesh {
     /// The vertex a halfedge starts from.
     #[inline]
     pub fn from_vertex(&self, h: HalfedgeId) -> VertexId {
+        self.check_halfedge(h);
         self.vh(self.he[slot(h) ^ 1].to)
     }
     /// The next halfedge around the face (or along the boundary loop).
@@ -525,10 +549,7 @@ impl Mesh {
     /// The other halfedge of the same edge.
     #[inline]
     pub fn opposite(&self, h: HalfedgeId) -> HalfedgeId {
-        debug_assert!(
-            self.halfedge_slots_.contains(h),
-            "stale halfedge handle {h}"
-        );
+        self.check_halfedge(h);
         self.hh(Self::ix(h) ^ 1)
     }
     /// The face left of a halfedge; `None` for a boundary halfedge.
@@ -540,12 +561,14 @@ impl Mesh {
     /// `None` for an isolated vertex.
     #[inline]
     pub fn vertex_halfedge(&self, v: VertexId) -> Option<HalfedgeId> {
+        self.check_vertex(v);
         let h = self.vertex_conn[slot(v)];
         (h != NONE).then(|| self.hh(h))
     }
     /// A halfedge of face `f`.
     #[inline]
     pub fn face_halfedge(&self, f: FaceId) -> HalfedgeId {
+        self.check_face(f);
         self.hh(self.face_conn[slot(f)])
     }
     /// The next outgoing halfedge of `from_vertex(h)`, counter-clockwise:
@@ -572,6 +595,7 @@ impl Mesh {
     /// True when `v` is on the boundary or isolated (as in OpenMesh and pmp).
     #[inline]
     pub fn is_boundary_vertex(&self, v: VertexId) -> bool {
+        self.check_vertex(v);
         match self.vertex_conn[slot(v)] {
             NONE => true,
             h => self.he[h as usize].face == NONE,
@@ -580,6 +604,7 @@ impl Mesh {
     /// True when `v` has no incident edge.
     #[inline]
     pub fn is_isolated(&self, v: VertexId) -> bool {
+        self.check_vertex(v);
         self.vertex_conn[slot(v)] == NONE
     }
     /// True when some edge of `f` is on the boundary.
@@ -598,6 +623,7 @@ impl Mesh {
     /// The three vertices of a triangle, starting at `to_vertex(face_halfedge(f))`.
     #[inline]
     pub fn triangle(&self, f: FaceId) -> [VertexId; 3] {
+        self.check_face(f);
         let h0 = self.face_conn[slot(f)];
         let r0 = &self.he[h0 as usize];
         let r1 = &self.he[r0.next as usize];
@@ -653,4 +679,13 @@ impl Mesh {
             }
         }
     }
+}
+
+/// The panic of the handle checks, out of line so that the checks stay a compare and a
+/// branch in the accessors' loops.
+#[cold]
+#[inline(never)]
+#[track_caller]
+fn stale_handle(kind: &str, handle: impl std::fmt::Display) -> ! {
+    panic!("stale {kind} handle {handle}: not an element of this mesh (removed by garbage collection, or from another mesh)")
 }

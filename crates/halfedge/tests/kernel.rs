@@ -448,3 +448,95 @@ fn a_removed_attribute_handle_never_reads_the_attribute_added_in_its_place() {
         Some(new)
     );
 }
+
+/// Every accessor that takes an element handle refuses a stale one, in release builds
+/// as in debug ones: after garbage collection and the reuse of the freed slots, an old
+/// handle panics with "stale … handle" instead of reading the element now in its slot.
+#[test]
+fn stale_element_handles_never_read_the_element_now_in_their_slot() {
+    use std::panic::{catch_unwind, AssertUnwindSafe};
+    let mut mesh = generators::icosphere(2);
+    let h = mesh
+        .halfedges()
+        .find(|&h| mesh.is_collapse_ok(h).is_ok())
+        .unwrap();
+    let record = mesh.collapse(h).unwrap();
+    let (old_v, old_h, old_f) = (record.v0, h, record.fl.unwrap());
+    mesh.garbage_collection();
+    // Refill the freed slots so that each old handle's slot holds a live element.
+    for _ in 0..4 {
+        let e = mesh.edges().next().unwrap();
+        let p = 0.5 * (mesh.position(mesh.from_vertex(e)) + mesh.position(mesh.to_vertex(e)));
+        mesh.split_edge(e, p).unwrap();
+    }
+    assert!(
+        mesh.vertex_at(mesh.vertex_index(old_v)).is_some(),
+        "vertex slot reused"
+    );
+    assert!(
+        mesh.halfedge_at(mesh.halfedge_index(old_h)).is_some(),
+        "halfedge slot reused"
+    );
+    assert!(
+        mesh.face_at(mesh.face_index(old_f)).is_some(),
+        "face slot reused"
+    );
+    let refused = |what: &str, read: &dyn Fn()| {
+        let result = catch_unwind(AssertUnwindSafe(read));
+        let message = result
+            .err()
+            .unwrap_or_else(|| panic!("{what} read through a stale handle"));
+        let text = message
+            .downcast_ref::<String>()
+            .cloned()
+            .unwrap_or_default();
+        assert!(text.contains("stale"), "{what}: {text}");
+    };
+    let m = &mesh;
+    refused("position", &|| {
+        m.position(old_v);
+    });
+    refused("vertex_halfedge", &|| {
+        m.vertex_halfedge(old_v);
+    });
+    refused("is_boundary_vertex", &|| {
+        m.is_boundary_vertex(old_v);
+    });
+    refused("is_isolated", &|| {
+        m.is_isolated(old_v);
+    });
+    refused("adjacent_vertices", &|| {
+        m.adjacent_vertices(old_v).count();
+    });
+    refused("to_vertex", &|| {
+        m.to_vertex(old_h);
+    });
+    refused("from_vertex", &|| {
+        m.from_vertex(old_h);
+    });
+    refused("next", &|| {
+        m.next(old_h);
+    });
+    refused("prev", &|| {
+        m.prev(old_h);
+    });
+    refused("opposite", &|| {
+        m.opposite(old_h);
+    });
+    refused("face", &|| {
+        m.face(old_h);
+    });
+    refused("face_halfedge", &|| {
+        m.face_halfedge(old_f);
+    });
+    refused("triangle", &|| {
+        m.triangle(old_f);
+    });
+    refused("face_vertices", &|| {
+        m.face_vertices(old_f).count();
+    });
+    refused("set_position", &|| {
+        let mut copy = m.clone();
+        copy.set_position(old_v, DVec3::ZERO);
+    });
+}
