@@ -72,6 +72,10 @@ pub enum Error {
     /// A file extension the IO layer does not know.
     #[error("{0}: unknown mesh format (expected .obj or .ply)")]
     UnknownFormat(PathBuf),
+    /// A value derived from a mesh (per-vertex data, a selection) met a mesh it was not
+    /// made for.
+    #[error(transparent)]
+    Stale(#[from] crate::StaleBinding),
     /// An argument is outside its documented range.
     #[error("invalid argument: {0}")]
     InvalidArgument(String),

@@ -71,8 +71,9 @@ impl Mesh {
         normals
     }
     /// Unit normals of all vertices, indexed by [`vertex_index`](Self::vertex_index), in
-    /// parallel (face normals computed once; zero for removed and isolated vertices).
-    pub fn vertex_normals(&self) -> Vec<DVec3> {
+    /// parallel (face normals computed once; zero for removed and isolated vertices),
+    /// bound to this mesh ([`VertexData`](crate::VertexData)).
+    pub fn vertex_normals(&self) -> crate::VertexData<DVec3> {
         let face_normals = self.face_normals();
         let mut normals = vec![DVec3::ZERO; self.vertex_slots()];
         self.vertex_slots_.par_for_each_live(&mut normals, |i, n| {
@@ -83,7 +84,7 @@ impl Mesh {
                 .sum::<DVec3>()
                 .normalize_or_zero();
         });
-        normals
+        crate::VertexData::with_binding(normals, self.binding())
     }
     /// Axis-aligned bounding box `(min, max)` of the live vertices; `None` when empty.
     pub fn bounding_box(&self) -> Option<(DVec3, DVec3)> {

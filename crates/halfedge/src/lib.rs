@@ -50,6 +50,7 @@ mod prefetch;
 pub mod selection;
 mod split;
 mod topology;
+pub mod vertex_data;
 
 pub use attributes::{Attribute, AttributeValue, Element};
 pub use binding::{MeshBinding, StaleBinding};
@@ -63,5 +64,6 @@ pub use labels::{Frontier, Label, SideCounts, FRONTIER};
 pub use mesh::Mesh;
 pub use selection::{Component, Selection};
 pub use topology::TopologyReport;
+pub use vertex_data::VertexData;
 
 pub use glam::DVec3;

@@ -30,14 +30,16 @@ use std::collections::BinaryHeap;
 
 use glam::DVec3;
 
-use crate::{Error, Mesh, Result, VertexId};
+use crate::{Error, Mesh, Result, VertexData, VertexId};
 
 /// A set of vertices of one mesh: a mask indexed by [`Mesh::vertex_index`] (see the
-/// [module docs](self)). Operations that take the mesh check that it has the slot count
-/// the selection was made for.
-#[derive(Clone, Debug, PartialEq, Eq)]
+/// [module docs](self)), bound to the mesh it was made for like every
+/// [`VertexData`]: operations that take the mesh refuse another one (or the same one
+/// after its connectivity changed, or at another hierarchy level) with
+/// [`Error::Stale`].
+#[derive(Clone, Debug, PartialEq)]
 pub struct Selection {
-    mask: Vec<bool>,
+    mask: VertexData<bool>,
     len: usize,
 }
 
@@ -45,7 +47,7 @@ impl Selection {
     /// The empty selection of `mesh`.
     pub fn empty(mesh: &Mesh) -> Self {
         Self {
-            mask: vec![false; mesh.vertex_slots()],
+            mask: VertexData::filled(mesh, false),
             len: 0,
         }
     }
@@ -68,8 +70,17 @@ impl Selection {
     ///
     /// # Errors
     /// [`Error::InvalidArgument`] when `mask` is not [`Mesh::vertex_slots`] long.
-    pub fn from_mask(mesh: &Mesh, mut mask: Vec<bool>) -> Result<Self> {
-        check_slots(mesh, mask.len())?;
+    pub fn from_mask(mesh: &Mesh, mask: Vec<bool>) -> Result<Self> {
+        Self::from_data(mesh, VertexData::new(mesh, mask)?)
+    }
+
+    /// [`from_mask`](Self::from_mask) for a mask that carries its binding.
+    ///
+    /// # Errors
+    /// [`Error::Stale`] when `mask` was made for another mesh (or this one before a
+    /// change of connectivity).
+    pub fn from_data(mesh: &Mesh, mut mask: VertexData<bool>) -> Result<Self> {
+        mask.check(mesh)?;
         for (i, m) in mask.iter_mut().enumerate() {
             *m = *m && mesh.vertex_at(i).is_some();
         }
@@ -87,23 +98,36 @@ impl Selection {
         self.len == 0
     }
 
-    /// The mask, indexed by [`Mesh::vertex_index`], [`Mesh::vertex_slots`] long.
-    pub fn mask(&self) -> &[bool] {
+    /// The mask, indexed by [`Mesh::vertex_index`], [`Mesh::vertex_slots`] long, with
+    /// the binding of the mesh it was made for.
+    pub fn mask(&self) -> &VertexData<bool> {
         &self.mask
     }
 
-    /// True when `v` is a live vertex of `mesh` and selected.
+    /// `Ok` when the selection was made for `mesh` as it is now (see
+    /// [`crate::MeshBinding`]).
+    ///
+    /// # Errors
+    /// [`Error::Stale`] naming what it was made for and what it met.
+    pub fn check(&self, mesh: &Mesh) -> Result<()> {
+        Ok(self.mask.binding().check(mesh, "the selection")?)
+    }
+
+    /// True when `v` is a live vertex of `mesh` and selected; false on a mesh the
+    /// selection was not made for.
     pub fn contains(&self, mesh: &Mesh, v: VertexId) -> bool {
-        mesh.is_valid_vertex(v) && self.mask.get(mesh.vertex_index(v)) == Some(&true)
+        mesh.is_valid_vertex(v)
+            && self.mask.binding().fits(mesh)
+            && self.mask.values().get(mesh.vertex_index(v)) == Some(&true)
     }
 
     /// Adds `v`; returns whether it was new.
     ///
     /// # Errors
-    /// [`Error::InvalidHandle`] for a vertex not of `mesh`; [`Error::InvalidArgument`]
-    /// when the selection was made for a mesh with another slot count.
+    /// [`Error::InvalidHandle`] for a vertex not of `mesh`; [`Error::Stale`] when the
+    /// selection was made for another mesh (see [`check`](Self::check)).
     pub fn insert(&mut self, mesh: &Mesh, v: VertexId) -> Result<bool> {
-        check_slots(mesh, self.mask.len())?;
+        self.check(mesh)?;
         mesh.ensure_vertex(v)?;
         Ok(self.set(mesh.vertex_index(v)))
     }
@@ -123,10 +147,10 @@ impl Selection {
     /// edge to a selected vertex.
     ///
     /// # Errors
-    /// [`Error::InvalidArgument`] when the selection was made for a mesh with another
-    /// slot count; nothing changes then.
+    /// [`Error::Stale`] when the selection was made for another mesh (see
+    /// [`check`](Self::check)); nothing changes then.
     pub fn grow(&mut self, mesh: &Mesh, rings: usize) -> Result<()> {
-        check_slots(mesh, self.mask.len())?;
+        self.check(mesh)?;
         let mut front: Vec<VertexId> = self.vertices(mesh);
         for _ in 0..rings {
             let mut next = Vec::new();
@@ -152,7 +176,7 @@ impl Selection {
     /// # Errors
     /// As [`grow`](Self::grow).
     pub fn shrink(&mut self, mesh: &Mesh, rings: usize) -> Result<()> {
-        check_slots(mesh, self.mask.len())?;
+        self.check(mesh)?;
         for _ in 0..rings {
             let border: Vec<usize> = self
                 .vertices(mesh)
@@ -190,17 +214,6 @@ impl Selection {
         let new = !std::mem::replace(&mut self.mask[i], true);
         self.len += usize::from(new);
         new
-    }
-}
-
-fn check_slots(mesh: &Mesh, len: usize) -> Result<()> {
-    if len == mesh.vertex_slots() {
-        Ok(())
-    } else {
-        Err(Error::InvalidArgument(format!(
-            "the selection has {len} vertex slots but the mesh has {}: it was made for another mesh",
-            mesh.vertex_slots()
-        )))
     }
 }
 
@@ -312,7 +325,7 @@ impl Mesh {
     /// # Errors
     /// [`Error::InvalidHandle`] for a seed that is not a live vertex;
     /// [`Error::InvalidArgument`] for a negative or NaN `max_distance`.
-    pub fn edge_distances(&self, seeds: &[VertexId], max_distance: f64) -> Result<Vec<f64>> {
+    pub fn edge_distances(&self, seeds: &[VertexId], max_distance: f64) -> Result<VertexData<f64>> {
         if max_distance.is_nan() || max_distance < 0.0 {
             return Err(Error::InvalidArgument(format!(
                 "edge_distances needs a maximum distance ≥ 0, got {max_distance}"
@@ -341,7 +354,7 @@ impl Mesh {
                 }
             }
         }
-        Ok(dist)
+        Ok(VertexData::with_binding(dist, self.binding()))
     }
 
     /// The vertices within edge-path distance `radius` of `seeds` (a graph-geodesic
@@ -351,8 +364,7 @@ impl Mesh {
     /// As [`edge_distances`](Self::edge_distances).
     pub fn select_edge_ball(&self, seeds: &[VertexId], radius: f64) -> Result<Selection> {
         let dist = self.edge_distances(seeds, radius)?;
-        let mask = dist.iter().map(|d| d.is_finite()).collect();
-        Selection::from_mask(self, mask)
+        Selection::from_data(self, dist.map(|d| d.is_finite()))
     }
 
     /// Select linked: the connected components of `seeds` (every vertex joined to a

@@ -232,13 +232,22 @@ fn grow_and_shrink_move_the_selection_border_ring_by_ring() {
     let mut all = mesh.select_linked(&[centre]).unwrap();
     all.shrink(&mesh, 1).unwrap();
     assert_eq!(all.len(), mesh.n_vertices());
-    // A selection of another mesh is refused and left unchanged.
-    let other = generators::icosphere(1);
+    // A selection of another mesh is refused and left unchanged, also when that mesh
+    // has the same number of vertices (the selection is bound to its mesh); a clone of
+    // its mesh is the same mesh.
     let before = s.clone();
-    assert!(matches!(s.grow(&other, 1), Err(Error::InvalidArgument(_))));
-    assert!(s.shrink(&other, 1).is_err());
-    assert!(s.linked(&other).is_err());
-    assert_eq!(s, before);
+    for other in [
+        generators::icosphere(1),
+        generators::grid(20, 20, 20.0, 20.0),
+    ] {
+        assert!(matches!(s.grow(&other, 1), Err(Error::Stale(_))));
+        assert!(matches!(s.shrink(&other, 1), Err(Error::Stale(_))));
+        assert!(s.linked(&other).is_err());
+        assert!(!s.contains(&other, other.vertex_at(0).unwrap()) || s.is_empty());
+        assert_eq!(s, before);
+    }
+    let mut copy = s.clone();
+    copy.grow(&mesh.clone(), 1).unwrap();
     assert!(Selection::from_mask(&mesh, vec![true; 3]).is_err());
     let (collapsed, removed) = with_a_removed_vertex(&mesh);
     assert!(Selection::from_vertices(&collapsed, &[removed]).is_err());
