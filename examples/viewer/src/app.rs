@@ -730,11 +730,17 @@ impl App {
                 // cut short (full text on hover) rather than running under them.
                 ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
                     let mesh = self.doc.mesh();
-                    ui.weak(format!(
-                        "{} V · {} F",
-                        group(mesh.n_vertices()),
-                        group(mesh.n_faces())
-                    ));
+                    match &self.image {
+                        Some(image) => {
+                            let s = image.view.source();
+                            ui.weak(format!("{}×{} px", s.width(), s.height()))
+                        }
+                        None => ui.weak(format!(
+                            "{} V · {} F",
+                            group(mesh.n_vertices()),
+                            group(mesh.n_faces())
+                        )),
+                    };
                     if let Some(ms) = frame_ms {
                         ui.weak(format!("frame {ms:.0} ms ·"));
                     }
@@ -778,7 +784,10 @@ impl App {
     fn side_panel(&mut self, ui: &mut egui::Ui) {
         ui.add_space(6.0);
         ui.heading("multires viewer");
-        ui.weak(self.describe_mesh());
+        match &self.image {
+            Some(image) => ui.weak(image.describe()),
+            None => ui.weak(self.describe_mesh()),
+        };
         ui.add_space(4.0);
 
         // Nothing may change the mesh or the history while a tool works in the background.

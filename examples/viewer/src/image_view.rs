@@ -639,21 +639,11 @@ impl ImageUi {
                 }
                 ui.horizontal(|ui| {
                     if ui.button("Close as handle").clicked() {
-                        let polygon = std::mem::take(&mut self.draft);
-                        let result = self.view.set_handle(polygon.clone());
-                        if result.is_ok() {
-                            self.tool = MouseTool::MoveHandle;
-                        } else {
-                            self.draft = polygon;
-                        }
+                        let result = self.close_as_handle();
                         Self::report(status, result, "Handle set");
                     }
                     if ui.button("Close as fixed").clicked() {
-                        let polygon = std::mem::take(&mut self.draft);
-                        let result = self.view.set_fixed(Some(polygon.clone()));
-                        if result.is_err() {
-                            self.draft = polygon;
-                        }
+                        let result = self.close_as_fixed();
                         Self::report(status, result, "Fixed region set");
                     }
                     if ui.button("Clear points").clicked() {
@@ -874,36 +864,21 @@ impl ImageUi {
         let pointer = response
             .interact_pointer_pos()
             .map(|p| fit.to_pixel(from_pos(p)));
-        match self.tool {
-            MouseTool::DrawHandle | MouseTool::DrawFixed => {
-                if response.clicked() {
-                    if let Some(p) = pointer {
-                        self.draft.push(p);
-                    }
+        if let Some(p) = pointer {
+            if response.clicked() {
+                self.click(p);
+            }
+            if response.drag_started() {
+                self.begin_drag(p);
+            }
+            if response.dragged() {
+                if let Err(e) = self.drag_to(p) {
+                    Self::report(status, Err(e), "");
                 }
             }
-            MouseTool::MoveHandle => {
-                if response.drag_started() {
-                    if let Some(p) = pointer {
-                        self.drag = Some((self.view.state().transform.translate, p));
-                    }
-                }
-                if let (Some((start, at)), Some(p)) = (self.drag, pointer) {
-                    if response.dragged() {
-                        let t = Transform {
-                            translate: start + (p - at),
-                            ..self.view.state().transform
-                        };
-                        if let Err(e) = self.view.set_transform(t) {
-                            Self::report(status, Err(e), "");
-                        }
-                    }
-                }
-                if response.drag_stopped() {
-                    self.drag = None;
-                    self.view.commit();
-                }
-            }
+        }
+        if response.drag_stopped() {
+            self.end_drag();
         }
         if let Some(p) = response.hover_pos() {
             let p = fit.to_pixel(from_pos(p)).round();
@@ -919,21 +894,94 @@ impl ImageUi {
         }
     }
 
-    /// A scripted drag of the handle by `(dx, dy)` pixels in `steps` moves, as the
-    /// mouse makes it: one history entry.
+    /// What the mouse does.
+    #[must_use]
+    pub fn tool(&self) -> MouseTool {
+        self.tool
+    }
+
+    /// Sets what the mouse does.
+    pub fn set_tool(&mut self, tool: MouseTool) {
+        self.tool = tool;
+    }
+
+    /// The polygon being drawn (pixels).
+    #[must_use]
+    pub fn draft(&self) -> &[DVec2] {
+        &self.draft
+    }
+
+    /// A click at pixel coordinates `p`: a new point of the polygon being drawn (with
+    /// the move tool, nothing).
+    pub fn click(&mut self, p: DVec2) {
+        if self.tool != MouseTool::MoveHandle {
+            self.draft.push(p);
+        }
+    }
+
+    /// Makes the drawn polygon the handle and switches to the move tool; on error the
+    /// points stay for another try.
+    ///
+    /// # Errors
+    /// As [`ImageView::set_handle`].
+    pub fn close_as_handle(&mut self) -> Result<(), ImageViewError> {
+        self.view.set_handle(self.draft.clone())?;
+        self.draft.clear();
+        self.tool = MouseTool::MoveHandle;
+        Ok(())
+    }
+
+    /// Makes the drawn polygon the fixed border (everything outside it stays); on
+    /// error the points stay.
+    ///
+    /// # Errors
+    /// As [`ImageView::set_fixed`].
+    pub fn close_as_fixed(&mut self) -> Result<(), ImageViewError> {
+        self.view.set_fixed(Some(self.draft.clone()))?;
+        self.draft.clear();
+        Ok(())
+    }
+
+    /// A press at pixel coordinates `p` starts a drag of the handle (move tool only).
+    pub fn begin_drag(&mut self, p: DVec2) {
+        if self.tool == MouseTool::MoveHandle {
+            self.drag = Some((self.view.state().transform.translate, p));
+        }
+    }
+
+    /// The pointer of the drag is at pixel coordinates `p`: the handle's translation
+    /// is the one at the press plus the pointer's motion since.
+    ///
+    /// # Errors
+    /// As [`ImageView::set_transform`].
+    pub fn drag_to(&mut self, p: DVec2) -> Result<(), ImageViewError> {
+        let Some((start, at)) = self.drag else {
+            return Ok(());
+        };
+        self.view.set_transform(Transform {
+            translate: start + (p - at),
+            ..self.view.state().transform
+        })
+    }
+
+    /// The release: the drag is one history step.
+    pub fn end_drag(&mut self) {
+        self.drag = None;
+        self.view.commit();
+    }
+
+    /// A scripted drag of the handle by `(dx, dy)` pixels in `steps` moves, through
+    /// the mouse's path (with the move tool): one history step.
     ///
     /// # Errors
     /// As [`ImageView::set_transform`].
     pub fn drag_by(&mut self, d: DVec2, steps: usize) -> Result<(), ImageViewError> {
         let steps = steps.max(1);
-        let start = self.view.state().transform;
-        let result = (1..=steps).try_for_each(|k| {
-            self.view.set_transform(Transform {
-                translate: start.translate + d * (k as f64 / steps as f64),
-                ..start
-            })
-        });
-        self.view.commit();
+        let tool = std::mem::replace(&mut self.tool, MouseTool::MoveHandle);
+        self.begin_drag(DVec2::ZERO);
+        let result = (1..=steps).try_for_each(|k| self.drag_to(d * (k as f64 / steps as f64)));
+        self.end_drag();
+        self.tool = tool;
         result
     }
 }

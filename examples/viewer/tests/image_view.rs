@@ -15,7 +15,9 @@ use common::{display, display_command, image_stats, run_script, run_viewer, scra
 use edit::image_edit::{test_pattern, ImageOptions, ImageSession, Mask, Raster};
 use edit::shape::ShapeFunction;
 use glam::{DMat3, DVec2};
-use viewer::image_view::{pivot, Fit, ImageUi, ImageView, ImageViewError, ShapePreset, Transform};
+use viewer::image_view::{
+    pivot, Fit, ImageUi, ImageView, ImageViewError, MouseTool, ShapePreset, Transform,
+};
 
 /// The test picture of `examples/image_edit.rs`.
 fn picture() -> Raster {
@@ -248,6 +250,66 @@ fn a_continuous_change_is_one_history_step() {
         },
     );
     assert_eq!(ui.view.result().data(), expected.data());
+}
+
+#[test]
+fn clicks_draw_the_polygons_and_a_drag_moves_the_handle() {
+    let source = picture();
+    let mut ui = ImageUi::new(ImageView::new(source.clone(), "pattern.png".into()));
+    assert_eq!(ui.tool(), MouseTool::DrawHandle);
+    for p in points(&HANDLE) {
+        ui.click(p);
+    }
+    assert_eq!(ui.draft(), &points(&HANDLE)[..]);
+    ui.close_as_handle().unwrap();
+    assert_eq!(
+        ui.view.state().handle.as_deref(),
+        Some(&points(&HANDLE)[..])
+    );
+    assert!(ui.draft().is_empty());
+    assert_eq!(ui.tool(), MouseTool::MoveHandle);
+    // With the move tool, clicks draw nothing.
+    ui.click(DVec2::new(5.0, 5.0));
+    assert!(ui.draft().is_empty());
+
+    // Two points do not make a fixed polygon: the library says so, the points stay.
+    ui.set_tool(MouseTool::DrawFixed);
+    ui.click(DVec2::new(10.0, 10.0));
+    ui.click(DVec2::new(150.0, 10.0));
+    assert!(ui.close_as_fixed().is_err());
+    assert_eq!(ui.draft().len(), 2);
+    assert!(ui.view.state().fixed.is_none());
+    // A press with a drawing tool drags nothing.
+    ui.begin_drag(DVec2::new(80.0, 60.0));
+    ui.drag_to(DVec2::new(90.0, 60.0)).unwrap();
+    assert_eq!(ui.view.state().transform, Transform::IDENTITY);
+    ui.end_drag();
+
+    // The drag follows the pointer from the press; one history step.
+    ui.set_tool(MouseTool::MoveHandle);
+    let n = ui.view.undo_len();
+    let press = DVec2::new(81.3, 59.2);
+    ui.begin_drag(press);
+    for d in [[1.0, 0.5], [3.0, 2.0], [5.0, 3.0]] {
+        ui.drag_to(press + DVec2::from_array(d)).unwrap();
+    }
+    ui.end_drag();
+    assert_eq!(ui.view.undo_len(), n + 1);
+    let t = Transform {
+        translate: DVec2::new(5.0, 3.0),
+        ..Transform::IDENTITY
+    };
+    assert!((ui.view.state().transform.translate - t.translate).length() < 1e-12);
+    let expected = library(
+        &source,
+        &points(&HANDLE),
+        None,
+        ShapeFunction::Smoothstep,
+        ui.view.state().transform,
+    );
+    assert_eq!(ui.view.result().data(), expected.data());
+    ui.view.undo();
+    assert_eq!(ui.view.result().data(), source.data());
 }
 
 #[test]
