@@ -853,6 +853,11 @@ impl App {
         if let Some(image) = &mut self.image {
             if image.panel(ui, &mut self.status) {
                 self.image = None;
+                // The mesh is written as OBJ.
+                self.save_path = Path::new(self.save_path.trim())
+                    .with_extension("obj")
+                    .display()
+                    .to_string();
                 self.status = Status {
                     message: self.describe_mesh(),
                     is_error: false,

@@ -869,7 +869,9 @@ impl ImageUi {
                 self.click(p);
             }
             if response.drag_started() {
-                self.begin_drag(p);
+                // From the press, not from where the motion passed egui's threshold.
+                let origin = ui.input(|i| i.pointer.press_origin());
+                self.begin_drag(origin.map_or(p, |o| fit.to_pixel(from_pos(o))));
             }
             if response.dragged() {
                 if let Err(e) = self.drag_to(p) {
