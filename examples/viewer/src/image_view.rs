@@ -553,20 +553,30 @@ fn from_pos(p: egui::Pos2) -> DVec2 {
     DVec2::new(f64::from(p.x), f64::from(p.y))
 }
 
-/// RGBA bytes of a raster of 1–4 channels.
-fn rgba(raster: &Raster) -> Vec<u8> {
+/// The picture as RGBA bytes for a texture of at most `max_side` pixels a side: every
+/// `k`-th pixel of every `k`-th row, `k` the smallest step that fits (1 for pictures
+/// that fit, so they show exactly). Returns `[width, height]` and the bytes.
+#[must_use]
+pub fn display_rgba(raster: &Raster, max_side: usize) -> ([usize; 2], Vec<u8>) {
+    let (w, h) = (raster.width() as usize, raster.height() as usize);
+    let k = w.max(h).div_ceil(max_side.max(1)).max(1);
+    let (dw, dh) = (w.div_ceil(k), h.div_ceil(k));
     let c = raster.channels() as usize;
-    raster
-        .data()
-        .chunks_exact(c)
-        .flat_map(|p| match *p {
-            [g] => [g, g, g, 255],
-            [g, a] => [g, g, g, a],
-            [r, g, b] => [r, g, b, 255],
-            [r, g, b, a, ..] => [r, g, b, a],
-            [] => [0, 0, 0, 255],
-        })
-        .collect()
+    let data = raster.data();
+    let mut out = Vec::with_capacity(dw * dh * 4);
+    for y in (0..h).step_by(k) {
+        for x in (0..w).step_by(k) {
+            let i = (y * w + x) * c;
+            out.extend_from_slice(&match data[i..i + c] {
+                [g] => [g, g, g, 255],
+                [g, a] => [g, g, g, a],
+                [r, g, b] => [r, g, b, 255],
+                [r, g, b, a, ..] => [r, g, b, a],
+                [] => [0, 0, 0, 255],
+            });
+        }
+    }
+    ([dw, dh], out)
 }
 
 impl ImageUi {
@@ -785,11 +795,9 @@ impl ImageUi {
             egui::TextureOptions::LINEAR
         };
         if self.texture.as_ref().is_none_or(|(_, r)| *r != revision) {
-            let result = self.view.result();
-            let image = egui::ColorImage::from_rgba_unmultiplied(
-                [result.width() as usize, result.height() as usize],
-                &rgba(result),
-            );
+            let max_side = ui.input(|i| i.max_texture_side);
+            let (size, bytes) = display_rgba(self.view.result(), max_side);
+            let image = egui::ColorImage::from_rgba_unmultiplied(size, &bytes);
             match &mut self.texture {
                 Some((handle, r)) => {
                     handle.set(image, options);

@@ -16,7 +16,7 @@ use edit::image_edit::{test_pattern, ImageOptions, ImageSession, Mask, Raster};
 use edit::shape::ShapeFunction;
 use glam::{DMat3, DVec2};
 use viewer::image_view::{
-    pivot, Fit, ImageUi, ImageView, ImageViewError, MouseTool, ShapePreset, Transform,
+    display_rgba, pivot, Fit, ImageUi, ImageView, ImageViewError, MouseTool, ShapePreset, Transform,
 };
 
 /// The test picture of `examples/image_edit.rs`.
@@ -389,6 +389,28 @@ fn the_fit_maps_pixels_to_the_panel_and_back() {
         "{fit:?}"
     );
     assert!(fit.origin.y >= 0.0 && corner.y <= 500.0);
+}
+
+#[test]
+fn the_texture_is_the_picture_or_every_kth_pixel_of_it() {
+    // Grey + alpha, 5×3: pixel (x, y) = (10 y + x, 200).
+    let data: Vec<u8> = (0..3u8)
+        .flat_map(|y| (0..5u8).flat_map(move |x| [10 * y + x, 200]))
+        .collect();
+    let raster = Raster::new(5, 3, 2, data).unwrap();
+    let (size, bytes) = display_rgba(&raster, 16);
+    assert_eq!(size, [5, 3]);
+    assert_eq!(&bytes[4 * 7..4 * 8], &[12, 12, 12, 200]); // pixel (2, 1)
+                                                          // A texture side of 2: every third pixel of every third row.
+    let (size, bytes) = display_rgba(&raster, 2);
+    assert_eq!(size, [2, 1]);
+    assert_eq!(bytes, vec![0, 0, 0, 200, 3, 3, 3, 200]);
+    let rgb = picture();
+    let (size, bytes) = display_rgba(&rgb, 4096);
+    assert_eq!(size, [160, 120]);
+    let p = rgb.pixel(17, 33).unwrap();
+    let i = 4 * (33 * 160 + 17);
+    assert_eq!(&bytes[i..i + 4], &[p[0], p[1], p[2], 255]);
 }
 
 fn write_input(dir: &Path) -> (std::path::PathBuf, Raster) {
