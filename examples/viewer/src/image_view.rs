@@ -49,6 +49,9 @@ pub enum ImageViewError {
     /// A transform before any handle polygon.
     #[error("set the handle polygon first (draw it and close it, or `image_handle`)")]
     NoHandle,
+    /// Saving the picture under a name that is not a `.png`.
+    #[error("{0}: the image view saves PNG pictures (name the file .png)")]
+    NotPng(PathBuf),
     /// An unknown shape preset name.
     #[error("unknown shape {0:?}: smoothstep, linear or c2")]
     UnknownShape(String),
@@ -407,8 +410,12 @@ impl ImageView {
     /// Writes the edited picture as a PNG.
     ///
     /// # Errors
-    /// The library's [`ImageEditError::Png`].
+    /// [`ImageViewError::NotPng`] for a name without the `.png` extension; the
+    /// library's [`ImageEditError::Png`].
     pub fn save(&self, path: &Path) -> Result<(), ImageViewError> {
+        if !is_png(path) {
+            return Err(ImageViewError::NotPng(path.to_owned()));
+        }
         Ok(self.result.write_png(path)?)
     }
 

@@ -10,7 +10,7 @@
 //! | action | fields | effect |
 //! |---|---|---|
 //! | `load` | `path` | read a mesh (OBJ, PLY), frame it, clear the history; a `.png` opens in the 2-D image view |
-//! | `save` | `path` | write the mesh (`.obj`, `.ply`); in the image view the edited picture (PNG) |
+//! | `save` | `path` | write the mesh (`.obj`, `.ply`); in the image view the edited picture (`.png`) |
 //! | `screenshot` | `path` | write what the window shows (PNG), panels included |
 //! | `orbit` | `yaw`, `pitch` (default 0) | turn the camera around its target |
 //! | `zoom` | `factor` | multiply the camera distance (< 1 zooms in) |

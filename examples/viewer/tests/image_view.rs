@@ -353,6 +353,16 @@ fn the_library_refuses_and_nothing_changes() {
     let err = view.set_grid_step(0).unwrap_err();
     assert!(err.to_string().contains("grid step"), "{err}");
     assert!(ShapePreset::parse("cubic").is_err());
+    let dir = scratch_dir("image-save");
+    let err = view.save(&dir.join("out.obj")).unwrap_err();
+    assert!(matches!(err, ImageViewError::NotPng(_)), "{err}");
+    assert!(!dir.join("out.obj").exists());
+    view.save(&dir.join("out.png")).unwrap();
+    assert_eq!(
+        Raster::read_png(dir.join("out.png")).unwrap().data(),
+        edited.data()
+    );
+    std::fs::remove_dir_all(&dir).ok();
     assert_eq!(view.state(), &state);
     assert_eq!(view.undo_len(), n);
     assert_eq!(view.result().data(), edited.data());
