@@ -15,7 +15,7 @@ use std::collections::VecDeque;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-use glam::DVec3;
+use glam::{DVec2, DVec3};
 use halfedge::{generators, Mesh};
 use three_d::egui;
 use three_d::{ClearState, Event, FrameInput, FrameOutput, Key, MouseButton, GUI};
@@ -23,6 +23,7 @@ use three_d::{ClearState, Event, FrameInput, FrameOutput, Key, MouseButton, GUI}
 use crate::camera::{OrbitCamera, Ray, UpAxis, Viewport};
 use crate::colors::{legend_ui, ColorLayer, Colormap, Display};
 use crate::document::Document;
+use crate::image_view::{ImageUi, ImageView, ShapePreset, Transform};
 use crate::pick::Bvh;
 use crate::render::{RenderSettings, SceneRenderer};
 use crate::script::{Action, DragTarget, Shading, Step};
@@ -126,6 +127,8 @@ pub struct App {
     screenshot: Option<PendingScreenshot>,
     screenshots_taken: u32,
     measurement: Option<Measurement>,
+    /// The 2-D image view, while a PNG is open (it replaces the 3-D view).
+    image: Option<ImageUi>,
 }
 
 impl App {
@@ -163,6 +166,7 @@ impl App {
             screenshot: None,
             screenshots_taken: 0,
             measurement: None,
+            image: None,
             doc,
         };
         app.after_new_mesh();
@@ -219,12 +223,33 @@ impl App {
         };
     }
 
-    /// Reads a mesh file and makes it the document.
+    /// Reads a mesh file and makes it the document; a `.png` opens in the image view
+    /// instead ([`crate::image_view`]).
     pub fn load(&mut self, path: &Path) -> Result<(), String> {
         let start = Instant::now();
+        if crate::image_view::is_png(path) {
+            let view = ImageView::open(path).map_err(|e| e.to_string())?;
+            let image = ImageUi::new(view);
+            self.open_path = path.display().to_string();
+            let stem = path
+                .file_stem()
+                .map_or("image".into(), |s| s.to_string_lossy().into_owned());
+            self.save_path = path
+                .with_file_name(format!("{stem}-edited.png"))
+                .display()
+                .to_string();
+            self.last_op = Some(("load".into(), start.elapsed()));
+            self.status = Status {
+                message: format!("Loaded {}", image.describe()),
+                is_error: false,
+            };
+            self.image = Some(image);
+            return Ok(());
+        }
         let (mesh, report) = halfedge::io::read(path).map_err(|e| e.to_string())?;
         let elapsed = start.elapsed();
         self.doc.replace(mesh, Some(path.to_owned()), Some(report));
+        self.image = None;
         self.after_new_mesh();
         self.last_op = Some(("load".into(), elapsed));
         let mut msg = format!("Loaded {}", self.describe_mesh());
@@ -241,9 +266,18 @@ impl App {
         Ok(())
     }
 
-    /// Writes the mesh.
+    /// Writes the mesh (in the image view: the edited picture, as a PNG).
     pub fn save(&mut self, path: &Path) -> Result<(), String> {
         let start = Instant::now();
+        if let Some(image) = &self.image {
+            image.view.save(path).map_err(|e| e.to_string())?;
+            self.last_op = Some(("save".into(), start.elapsed()));
+            self.status = Status {
+                message: format!("Saved {}", path.display()),
+                is_error: false,
+            };
+            return Ok(());
+        }
         crate::save::save(self.doc.mesh(), path).map_err(|e| e.to_string())?;
         self.last_op = Some(("save".into(), start.elapsed()));
         self.status = Status {
@@ -356,8 +390,14 @@ impl App {
     }
 
     fn undo(&mut self) -> Option<String> {
-        let label = self.doc.undo()?;
-        self.after_history_step();
+        let label = match &mut self.image {
+            Some(image) => image.view.undo()?,
+            None => {
+                let label = self.doc.undo()?;
+                self.after_history_step();
+                label
+            }
+        };
         self.status = Status {
             message: format!("Undid {label}"),
             is_error: false,
@@ -366,8 +406,14 @@ impl App {
     }
 
     fn redo(&mut self) -> Option<String> {
-        let label = self.doc.redo()?;
-        self.after_history_step();
+        let label = match &mut self.image {
+            Some(image) => image.view.redo()?,
+            None => {
+                let label = self.doc.redo()?;
+                self.after_history_step();
+                label
+            }
+        };
         self.status = Status {
             message: format!("Redid {label}"),
             is_error: false,
@@ -527,7 +573,9 @@ impl App {
                     handled,
                 } => {
                     let (px, py) = (position.x as f64, position.y as f64);
-                    if *handled || over_egui || !self.viewport.contains(px, py) {
+                    // The image view takes the mouse through egui.
+                    let image = self.image.is_some();
+                    if *handled || over_egui || image || !self.viewport.contains(px, py) {
                         continue;
                     }
                     *handled = true;
@@ -598,7 +646,9 @@ impl App {
                     ..
                 } => {
                     let (px, py) = (position.x as f64, position.y as f64);
-                    if *handled || over_egui || !self.viewport.contains(px, py) {
+                    // The image view takes the mouse through egui.
+                    let image = self.image.is_some();
+                    if *handled || over_egui || image || !self.viewport.contains(px, py) {
                         continue;
                     }
                     self.camera.zoom((-delta.1 as f64 * 0.004).exp());
@@ -680,11 +730,17 @@ impl App {
                 // cut short (full text on hover) rather than running under them.
                 ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
                     let mesh = self.doc.mesh();
-                    ui.weak(format!(
-                        "{} V · {} F",
-                        group(mesh.n_vertices()),
-                        group(mesh.n_faces())
-                    ));
+                    match &self.image {
+                        Some(image) => {
+                            let s = image.view.source();
+                            ui.weak(format!("{}×{} px", s.width(), s.height()))
+                        }
+                        None => ui.weak(format!(
+                            "{} V · {} F",
+                            group(mesh.n_vertices()),
+                            group(mesh.n_faces())
+                        )),
+                    };
                     if let Some(ms) = frame_ms {
                         ui.weak(format!("frame {ms:.0} ms ·"));
                     }
@@ -708,6 +764,9 @@ impl App {
                 egui::ScrollArea::vertical().show(ui, |ui| self.side_panel(ui));
             });
         let central = ui.available_rect_before_wrap();
+        if let Some(image) = &mut self.image {
+            image.central(ui, central, &mut self.status);
+        }
         if self.display.layer() != &ColorLayer::None {
             egui::Area::new(egui::Id::new("legend"))
                 .anchor(egui::Align2::RIGHT_BOTTOM, egui::vec2(-14.0, -14.0))
@@ -725,7 +784,10 @@ impl App {
     fn side_panel(&mut self, ui: &mut egui::Ui) {
         ui.add_space(6.0);
         ui.heading("multires viewer");
-        ui.weak(self.describe_mesh());
+        match &self.image {
+            Some(image) => ui.weak(image.describe()),
+            None => ui.weak(self.describe_mesh()),
+        };
         ui.add_space(4.0);
 
         // Nothing may change the mesh or the history while a tool works in the background.
@@ -739,7 +801,7 @@ impl App {
                 let open = ui.horizontal(|ui| {
                     let field = ui.add(
                         egui::TextEdit::singleline(&mut self.open_path)
-                            .hint_text("path to .obj / .ply")
+                            .hint_text("path to .obj / .ply / .png")
                             .desired_width(200.0),
                     );
                     let enter = field.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
@@ -757,7 +819,7 @@ impl App {
                 let save = ui.horizontal(|ui| {
                     ui.add(
                         egui::TextEdit::singleline(&mut self.save_path)
-                            .hint_text("path to .obj")
+                            .hint_text("path to .obj / .png")
                             .desired_width(200.0),
                     );
                     ui.button("Save").clicked()
@@ -787,6 +849,22 @@ impl App {
                     }
                 }
             });
+
+        if let Some(image) = &mut self.image {
+            if image.panel(ui, &mut self.status) {
+                self.image = None;
+                // The mesh is written as OBJ.
+                self.save_path = Path::new(self.save_path.trim())
+                    .with_extension("obj")
+                    .display()
+                    .to_string();
+                self.status = Status {
+                    message: self.describe_mesh(),
+                    is_error: false,
+                };
+            }
+            return;
+        }
 
         egui::CollapsingHeader::new("View")
             .default_open(true)
@@ -991,7 +1069,15 @@ impl App {
         }
     }
 
+    /// The image view for an `image_*` action, or the error that no image is open.
+    fn image_for(&mut self, action: &str) -> Result<&mut ImageUi, String> {
+        self.image
+            .as_mut()
+            .ok_or_else(|| format!("{action}: no image is open (load a .png first)"))
+    }
+
     fn run_action(&mut self, action: Action) -> Result<(), String> {
+        let action_name = action.name();
         match action {
             Action::Load { path } => self.load(&path),
             Action::Save { path } => self.save(&path),
@@ -1108,6 +1194,47 @@ impl App {
                 .ok_or_else(|| "redo: nothing to redo".into()),
             Action::ClearColors => {
                 self.display.set(ColorLayer::None);
+                Ok(())
+            }
+            Action::ImageHandle { points } => {
+                let image = self.image_for(action_name)?;
+                let polygon = points.iter().map(|&p| DVec2::from_array(p)).collect();
+                image.view.set_handle(polygon).map_err(|e| e.to_string())
+            }
+            Action::ImageFixed { points } => {
+                let image = self.image_for(action_name)?;
+                let polygon = points.map(|p| p.iter().map(|&p| DVec2::from_array(p)).collect());
+                image.view.set_fixed(polygon).map_err(|e| e.to_string())
+            }
+            Action::ImageTransform {
+                translate,
+                rotate,
+                scale,
+            } => {
+                let image = self.image_for(action_name)?;
+                let result = image.view.set_transform(Transform {
+                    translate: DVec2::from_array(translate),
+                    rotate,
+                    scale,
+                });
+                image.view.commit();
+                result.map_err(|e| e.to_string())
+            }
+            Action::ImageDrag { dx, dy, steps } => {
+                let image = self.image_for(action_name)?;
+                image
+                    .drag_by(DVec2::new(dx, dy), steps)
+                    .map_err(|e| e.to_string())
+            }
+            Action::ImageOptions { shape, grid_step } => {
+                let image = self.image_for(action_name)?;
+                if let Some(name) = shape {
+                    let preset = ShapePreset::parse(&name).map_err(|e| e.to_string())?;
+                    image.view.set_shape(preset).map_err(|e| e.to_string())?;
+                }
+                if let Some(step) = grid_step {
+                    image.view.set_grid_step(step).map_err(|e| e.to_string())?;
+                }
                 Ok(())
             }
             Action::Quit => {
@@ -1252,7 +1379,9 @@ impl App {
             .to_three_d(&self.viewport, self.renderer.origin());
         let screen = input.screen();
         screen.clear(ClearState::color_and_depth(0.09, 0.10, 0.12, 1.0, 1.0));
-        self.renderer.render(&screen, &camera, self.settings);
+        if self.image.is_none() {
+            self.renderer.render(&screen, &camera, self.settings);
+        }
         screen
             .write(|| gui.render())
             .expect("the GUI renders into the window");

@@ -18,12 +18,14 @@
 //! Modules: [`app`] (the frame loop, input, panels), [`camera`] (orbit camera, rays),
 //! [`pick`] (BVH ray casting), [`document`] (mesh + undo/redo), [`colors`] (scalar
 //! fields, labels, colour bar), [`render`] (GPU side), [`tools`] (the tool trait and the
-//! tools), [`script`] (scripted mode), [`save`] (writing meshes).
+//! tools), [`script`] (scripted mode), [`save`] (writing meshes), [`image_view`] (a PNG
+//! edited in 2-D with Bendels & Klein's method).
 
 pub mod app;
 pub mod camera;
 pub mod colors;
 pub mod document;
+pub mod image_view;
 pub mod pick;
 pub mod render;
 pub mod save;
@@ -42,7 +44,8 @@ use clap::Parser;
     after_help = "Without a display, run it under Xvfb:\n  xvfb-run -a -s '-screen 0 1600x1000x24' viewer ...\nScript format: see the `script` module docs (examples/viewer/src/script.rs)."
 )]
 pub struct Args {
-    /// Mesh to open (.obj, .ply); default: the first mesh in data/, else an icosphere.
+    /// Mesh to open (.obj, .ply), or a picture (.png) to edit in the 2-D image view;
+    /// default: the first mesh in data/, else an icosphere.
     pub file: Option<PathBuf>,
     /// Replay the actions of this JSON script, then exit.
     #[arg(long, value_name = "FILE")]
@@ -96,7 +99,9 @@ pub fn run(args: Args) -> ! {
         },
         None => None,
     };
-    let (mesh, source, report) = match &args.file {
+    // A picture opens in the image view, over a mesh of its own.
+    let picture = args.file.as_ref().filter(|p| image_view::is_png(p));
+    let (mesh, source, report) = match args.file.as_ref().filter(|_| picture.is_none()) {
         Some(path) => match halfedge::io::read(path) {
             Ok((mesh, report)) => (mesh, Some(path.clone()), Some(report)),
             Err(e) => {
@@ -104,13 +109,15 @@ pub fn run(args: Args) -> ! {
                 std::process::exit(2);
             }
         },
+        // (A small one: it stays hidden behind the picture.)
+        None if picture.is_some() => (halfedge::generators::icosphere(3), None, None),
         None => {
             let (mesh, source) = app::default_mesh();
             (mesh, source, None)
         }
     };
     let mesh = (0..args.subdivide).fold(mesh, |m, _| halfedge::generators::subdivide(&m));
-    let title = match &source {
+    let title = match picture.or(source.as_ref()) {
         Some(p) => format!(
             "multires viewer — {}",
             p.file_name().unwrap_or_default().to_string_lossy()
@@ -150,6 +157,12 @@ pub fn run(args: Args) -> ! {
             keep_open: args.keep_open,
         },
     );
+    if let Some(path) = picture {
+        if let Err(e) = app.load(path) {
+            eprintln!("viewer: {e}");
+            std::process::exit(2);
+        }
+    }
     window.render_loop(move |frame| app.frame(frame, &mut gui));
     std::process::exit(0)
 }

@@ -9,8 +9,8 @@
 //!
 //! | action | fields | effect |
 //! |---|---|---|
-//! | `load` | `path` | read a mesh (OBJ, PLY), frame it, clear the history |
-//! | `save` | `path` | write the mesh (`.obj`) |
+//! | `load` | `path` | read a mesh (OBJ, PLY), frame it, clear the history; a `.png` opens in the 2-D image view |
+//! | `save` | `path` | write the mesh (`.obj`, `.ply`); in the image view the edited picture (`.png`) |
 //! | `screenshot` | `path` | write what the window shows (PNG), panels included |
 //! | `orbit` | `yaw`, `pitch` (default 0) | turn the camera around its target |
 //! | `zoom` | `factor` | multiply the camera distance (< 1 zooms in) |
@@ -26,7 +26,12 @@
 //! | `drag` | `vector` `[x, y, z]`, `steps` (default 8), `x`, `y` (optional) | drag the picked vertex (or what a press at `x`, `y` grabs) by a world-space vector |
 //! | `drag_screen` | `dx`, `dy` (pixels), `steps` (default 8), `x`, `y` (optional) | drag the picked vertex (or what a press at `x`, `y` grabs) in the view plane, like the mouse |
 //! | `apply` | — | the active tool's main action |
-//! | `undo` / `redo` | — | one step of the history |
+//! | `undo` / `redo` | — | one step of the history (in the image view: of the image edit) |
+//! | `image_handle` | `points` `[[x, y], …]` | image view: set the handle polygon (pixels, origin top-left, `y` down) |
+//! | `image_fixed` | `points` (optional) | image view: everything outside this polygon stays; without `points` (or `null`), the image border |
+//! | `image_transform` | `translate` `[dx, dy]` (default `[0, 0]`), `rotate` (degrees, default 0), `scale` (default 1) | image view: **set** the handle transform `T(c + t) R S T(−c)`, `c` the centroid of the handle polygon's points, and show the result (one history step) |
+//! | `image_drag` | `dx`, `dy` (pixels), `steps` (default 8) | image view: add `(dx, dy)` to the translation in `steps` moves, as a mouse drag of the handle does (one history step) |
+//! | `image_options` | `shape` (`"smoothstep"`, `"linear"`, `"c2"`), `grid_step`, both optional | image view: shape function and grid of the edit |
 //! | `clear_colors` | — | back to the base colour |
 //! | `wait` | `frames` | render frames without doing anything |
 //! | `measure` | `frames` (default 60) | render frames while orbiting slowly, print frame-time statistics |
@@ -36,6 +41,11 @@
 //! active tool, which may grab something off the mesh, such as an FFD control point),
 //! else on the picked point. An action whose tool keeps working in the background (the
 //! hierarchy build) holds the next action back until that work is done.
+//!
+//! The `image_*` actions fail when no image is open. Their values go to the library
+//! (`edit::image_edit`) unchecked: what it refuses (a polygon of fewer than 3 points,
+//! regions that overlap or touch, a scale of 0, a grid step of 0) fails the action with
+//! its message, and the edit stays as it was.
 //!
 //! The viewer exits when the script ends (with status 1 and a message if an action
 //! failed), unless started with `--keep-open`.
@@ -64,6 +74,10 @@ fn default_steps() -> usize {
 
 fn default_frames() -> usize {
     60
+}
+
+fn default_scale() -> f64 {
+    1.0
 }
 
 /// One scripted action (see the module docs for the table).
@@ -203,6 +217,48 @@ pub enum Action {
         #[serde(default = "default_frames")]
         frames: usize,
     },
+    /// Image view: set the handle polygon.
+    ImageHandle {
+        /// Its points `[x, y]` in pixels.
+        points: Vec<[f64; 2]>,
+    },
+    /// Image view: set the fixed region.
+    ImageFixed {
+        /// Everything outside this polygon stays (`None`: the image border).
+        #[serde(default)]
+        points: Option<Vec<[f64; 2]>>,
+    },
+    /// Image view: set the handle transform.
+    ImageTransform {
+        /// Translation `[dx, dy]` in pixels (`dy` down).
+        #[serde(default)]
+        translate: [f64; 2],
+        /// Rotation in degrees about the handle's centroid (clockwise on screen).
+        #[serde(default)]
+        rotate: f64,
+        /// Uniform scale about the handle's centroid.
+        #[serde(default = "default_scale")]
+        scale: f64,
+    },
+    /// Image view: drag the handle as the mouse does.
+    ImageDrag {
+        /// Pixels right.
+        dx: f64,
+        /// Pixels down.
+        dy: f64,
+        /// Moves.
+        #[serde(default = "default_steps")]
+        steps: usize,
+    },
+    /// Image view: shape function and grid.
+    ImageOptions {
+        /// `smoothstep`, `linear` or `c2`.
+        #[serde(default)]
+        shape: Option<String>,
+        /// Pixels between grid vertices.
+        #[serde(default)]
+        grid_step: Option<u32>,
+    },
     /// Stop the script.
     Quit,
 }
@@ -233,6 +289,11 @@ impl Action {
             Action::ClearColors => "clear_colors",
             Action::Wait { .. } => "wait",
             Action::Measure { .. } => "measure",
+            Action::ImageHandle { .. } => "image_handle",
+            Action::ImageFixed { .. } => "image_fixed",
+            Action::ImageTransform { .. } => "image_transform",
+            Action::ImageDrag { .. } => "image_drag",
+            Action::ImageOptions { .. } => "image_options",
             Action::Quit => "quit",
         }
     }
@@ -480,6 +541,60 @@ mod tests {
         assert_eq!(steps.len(), 4);
         let err = parse(r#"[{"action": "drag", "vector": [0, 0, 1], "x": 0.5}]"#).unwrap_err();
         assert!(err.to_string().contains("both x and y"), "{err}");
+    }
+
+    #[test]
+    fn parses_the_image_actions() {
+        let actions = parse(
+            r#"[
+            {"action": "load", "path": "in.png"},
+            {"action": "image_handle", "points": [[10, 10], [20, 10], [15, 20]]},
+            {"action": "image_fixed"},
+            {"action": "image_fixed", "points": [[0, 0], [50, 0], [50, 50]]},
+            {"action": "image_transform", "translate": [3, -2]},
+            {"action": "image_transform", "rotate": 15, "scale": 1.5},
+            {"action": "image_drag", "dx": 4, "dy": 5},
+            {"action": "image_options", "shape": "c2", "grid_step": 2}
+        ]"#,
+        )
+        .unwrap();
+        assert_eq!(actions.len(), 8);
+        assert_eq!(
+            actions[1],
+            Action::ImageHandle {
+                points: vec![[10.0, 10.0], [20.0, 10.0], [15.0, 20.0]]
+            }
+        );
+        assert_eq!(actions[2], Action::ImageFixed { points: None });
+        assert_eq!(
+            actions[4],
+            Action::ImageTransform {
+                translate: [3.0, -2.0],
+                rotate: 0.0,
+                scale: 1.0
+            }
+        );
+        assert_eq!(
+            actions[5],
+            Action::ImageTransform {
+                translate: [0.0, 0.0],
+                rotate: 15.0,
+                scale: 1.5
+            }
+        );
+        assert_eq!(
+            actions[6],
+            Action::ImageDrag {
+                dx: 4.0,
+                dy: 5.0,
+                steps: 8
+            }
+        );
+        assert_eq!(actions[7].name(), "image_options");
+        // One frame each: nothing is expanded.
+        assert_eq!(expand(actions).len(), 8);
+        let err = parse(r#"[{"action": "image_handle", "points": [[1, 2, 3]]}]"#).unwrap_err();
+        assert!(err.to_string().starts_with("action 0:"), "{err}");
     }
 
     #[test]
