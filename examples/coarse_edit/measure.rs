@@ -17,7 +17,7 @@ use edit::regions::Regions;
 use edit::selection::Vertices;
 use edit::submesh::{Axis, Edit, Propagation, SubMesh, Variation};
 use glam::{DAffine3, DMat3, DQuat, DVec3};
-use halfedge::{DetailMode, Hierarchy, HierarchyOptions, Mesh, Method, VertexId};
+use halfedge::{DetailMode, Hierarchy, HierarchyOptions, Mesh, Method, VertexData, VertexId};
 
 /// The edits the example measures.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -798,7 +798,8 @@ fn submesh_edit(
     amount: f64,
 ) -> Result<Applied, Failure> {
     let hint = "pass another --region-fraction or --seed-vertex";
-    let sub = SubMesh::from_mask(coarse, mask).map_err(lib(hint))?;
+    let mask = VertexData::new(coarse, mask.to_vec()).map_err(lib(hint))?;
+    let sub = SubMesh::from_mask(coarse, &mask).map_err(lib(hint))?;
     let positions = coarse.positions();
     let frontier = sub.frontier_indices();
     if frontier.is_empty() {
@@ -833,7 +834,7 @@ fn submesh_edit(
             )
         }
         EditKind::Rotate => {
-            let across = d.cross(perpendicular(d, mean_normal(coarse, mask)));
+            let across = d.cross(perpendicular(d, mean_normal(coarse, &mask)));
             let angle = 30f64.to_radians() * amount;
             let axis = Axis::new(centre, across).map_err(lib(hint))?;
             let map = DAffine3::from_translation(centre)
@@ -934,8 +935,9 @@ fn submesh_edit(
         .map_err(lib(hint))?;
     let mut fine_region = 0;
     if let Some(fine) = fine {
-        let fine_sub =
-            SubMesh::from_mask(fine, &fine_mask(fine, ancestors, mask)).map_err(lib(hint))?;
+        let fine_mask =
+            VertexData::new(fine, fine_mask(fine, ancestors, &mask)).map_err(lib(hint))?;
+        let fine_sub = SubMesh::from_mask(fine, &fine_mask).map_err(lib(hint))?;
         fine_sub
             .apply(fine, &edit, Propagation::NONE)
             .map_err(lib(hint))?;
@@ -1351,7 +1353,8 @@ fn ffd_edit(
     amount: f64,
 ) -> Result<Applied, Failure> {
     let hint = "pass another --region-fraction or --seed-vertex";
-    let sub = SubMesh::from_mask(coarse, mask).map_err(lib(hint))?;
+    let mask = VertexData::new(coarse, mask.to_vec()).map_err(lib(hint))?;
+    let sub = SubMesh::from_mask(coarse, &mask).map_err(lib(hint))?;
     let positions = coarse.positions();
     let frontier = sub.frontier_indices();
     if frontier.is_empty() {
@@ -1372,7 +1375,7 @@ fn ffd_edit(
             hint,
         ));
     }
-    let up = perpendicular(d, mean_normal(coarse, mask));
+    let up = perpendicular(d, mean_normal(coarse, &mask));
     let frame = Frame::new(centre, d, up).map_err(lib(hint))?;
     let (lo, hi) = sub
         .vertex_indices()
@@ -1390,9 +1393,10 @@ fn ffd_edit(
     let height =
         BSplineSurface::planar(&frame, grid.0, grid.1, min, max, 1.0).map_err(lib(hint))?;
     let angle = 45f64.to_radians() * amount;
+    let ball_data = VertexData::new(coarse, ball.to_vec()).map_err(lib(hint))?;
     let mut ffd = Ffd::attach(
         coarse,
-        Vertices::Mask(ball),
+        Vertices::Mask(&ball_data),
         frame,
         shape.clone(),
         height.clone(),
@@ -1407,7 +1411,8 @@ fn ffd_edit(
 
     let mut fine_region = 0;
     if let Some(fine) = fine {
-        let fine_ball = fine_mask(fine, ancestors, ball);
+        let fine_ball =
+            VertexData::new(fine, fine_mask(fine, ancestors, ball)).map_err(lib(hint))?;
         let mut fine_ffd = Ffd::attach(
             fine,
             Vertices::Mask(&fine_ball),

@@ -33,7 +33,7 @@
 //! and is used. The new vertex is then placed by the blend like every other.
 
 use glam::{DMat4, DVec3};
-use halfedge::{Hierarchy, Mesh, VertexId};
+use halfedge::{Hierarchy, Mesh, VertexData, VertexId};
 use rayon::prelude::*;
 
 use crate::distance::{BorderGrid, FastMarching, QueryPoints, Source};
@@ -106,13 +106,13 @@ pub struct BlendSession {
     distance: DistanceKind,
     shape: ShapeFunction,
     n_vertices: usize,
-    original: Vec<DVec3>,
-    d_handle: Vec<f64>,
-    d_fixed: Vec<f64>,
+    original: VertexData<DVec3>,
+    d_handle: VertexData<f64>,
+    d_fixed: VertexData<f64>,
     /// Front radii of the geodesic fields (handle, fixed); `∞` for Euclidean fields.
-    r_handle: Vec<f64>,
-    r_fixed: Vec<f64>,
-    alpha: Vec<f64>,
+    r_handle: VertexData<f64>,
+    r_fixed: VertexData<f64>,
+    alpha: VertexData<f64>,
     /// True while every α is in [0, 1] (see `cannot_overflow`).
     alphas_in_unit: bool,
     /// The largest coordinate magnitude of the original positions of non-fixed vertices
@@ -138,7 +138,7 @@ impl BlendSession {
                 regions.roles().len()
             )));
         }
-        let original = mesh.positions().to_vec();
+        let original = VertexData::new(mesh, mesh.positions().to_vec())?;
         // Distances are wanted on the deformable area and on both borders (refinement
         // interpolates them along edges that end on a border).
         let mut wanted = vec![false; slots];
@@ -181,10 +181,10 @@ impl BlendSession {
                     d_handle[i] = dh[k];
                     d_fixed[i] = df[k];
                 }
-                let infinite = vec![f64::INFINITY; slots];
+                let infinite = VertexData::filled(mesh, f64::INFINITY);
                 (
-                    d_handle,
-                    d_fixed,
+                    VertexData::new(mesh, d_handle)?,
+                    VertexData::new(mesh, d_fixed)?,
                     infinite.clone(),
                     infinite,
                     Some((handle_grid, fixed_grid)),
@@ -205,6 +205,7 @@ impl BlendSession {
                         })
                         .collect::<Vec<_>>()
                 };
+                let wanted = VertexData::new(mesh, wanted.clone())?;
                 let (d_handle, r_handle) = marching.distances_and_radii(
                     &sources(&regions.handle_border().vertices),
                     Some(&wanted),
@@ -225,7 +226,7 @@ impl BlendSession {
         let mut session = Self {
             binding: mesh.binding(),
             n_vertices: mesh.n_vertices(),
-            alpha: vec![0.0; slots],
+            alpha: VertexData::filled(mesh, 0.0),
             alphas_in_unit: true,
             extent,
             regions,
@@ -271,25 +272,26 @@ impl BlendSession {
     pub fn transform(&self) -> DMat4 {
         self.power.transform()
     }
-    /// Blend weights by vertex index: 0 on the fixed area, 1 on the handle.
+    /// Blend weights by vertex index: 0 on the fixed area, 1 on the handle; bound to
+    /// the mesh the session edits.
     #[must_use]
-    pub fn alpha(&self) -> &[f64] {
+    pub fn alpha(&self) -> &VertexData<f64> {
         &self.alpha
     }
     /// Distances to the handle border by vertex index (`∞` off the deformable area and
     /// its borders).
     #[must_use]
-    pub fn handle_distances(&self) -> &[f64] {
+    pub fn handle_distances(&self) -> &VertexData<f64> {
         &self.d_handle
     }
     /// Distances to the fixed border by vertex index.
     #[must_use]
-    pub fn fixed_distances(&self) -> &[f64] {
+    pub fn fixed_distances(&self) -> &VertexData<f64> {
         &self.d_fixed
     }
     /// Original (undeformed) positions by vertex index.
     #[must_use]
-    pub fn original_positions(&self) -> &[DVec3] {
+    pub fn original_positions(&self) -> &VertexData<DVec3> {
         &self.original
     }
 
@@ -485,7 +487,7 @@ impl BlendSession {
             }
         }
         // The session follows its own new vertices.
-        self.binding = mesh.binding();
+        self.rebind(mesh);
         let roles = self.regions.roles();
         report.longest_edge = mesh
             .edges()
@@ -603,6 +605,18 @@ impl BlendSession {
         Ok(report)
     }
 
+    /// Binds the session and its per-vertex data to `mesh` as its own splits left it
+    /// (new slots get neutral values until the split fills them in).
+    fn rebind(&mut self, mesh: &Mesh) {
+        self.original.rebind(mesh, DVec3::ZERO);
+        self.d_handle.rebind(mesh, f64::INFINITY);
+        self.d_fixed.rebind(mesh, f64::INFINITY);
+        self.r_handle.rebind(mesh, f64::INFINITY);
+        self.r_fixed.rebind(mesh, f64::INFINITY);
+        self.alpha.rebind(mesh, 0.0);
+        self.binding = mesh.binding();
+    }
+
     /// Splits the edge `h = (a → b)` at the blended image of the original midpoint;
     /// false (nothing changed) when the kernel refuses the split (the two triangles beside
     /// the edge share their third vertex, or the image is not finite).
@@ -632,14 +646,8 @@ impl BlendSession {
         };
         let i = mesh.vertex_index(m);
         let slots = mesh.vertex_slots();
-        if self.original.len() < slots {
-            self.original.resize(slots, DVec3::ZERO);
-            self.d_handle.resize(slots, f64::INFINITY);
-            self.d_fixed.resize(slots, f64::INFINITY);
-            self.r_handle.resize(slots, f64::INFINITY);
-            self.r_fixed.resize(slots, f64::INFINITY);
-            self.alpha.resize(slots, 0.0);
-        }
+        self.rebind(mesh);
+        debug_assert_eq!(self.alpha.len(), slots);
         self.original[i] = origin;
         self.extent = self.extent.max(magnitude(origin));
         self.alphas_in_unit &= (0.0..=1.0).contains(&alpha);

@@ -7,7 +7,7 @@
 //! positions of a vertex set so that any edit can be undone bit for bit.
 
 use glam::DVec3;
-use halfedge::{Mesh, VertexId};
+use halfedge::{Mesh, VertexData, VertexId};
 use rayon::prelude::*;
 
 use crate::{EditError, Result};
@@ -18,9 +18,10 @@ pub enum Vertices<'a> {
     /// Every live vertex of the mesh.
     #[default]
     All,
-    /// The live vertices whose entry is `true`; indexed by [`Mesh::vertex_index`], of
-    /// length [`Mesh::vertex_slots`].
-    Mask(&'a [bool]),
+    /// The live vertices whose entry is `true`: per-vertex data of the mesh acted on
+    /// (a [`halfedge::Selection::mask`], or [`VertexData::new`] over a `Vec<bool>`);
+    /// data made for another mesh is refused with [`EditError::Stale`].
+    Mask(&'a VertexData<bool>),
     /// The listed vertices (duplicates are ignored).
     List(&'a [VertexId]),
 }
@@ -84,6 +85,7 @@ impl Vertices<'_> {
                 }
             }
             Vertices::Mask(mask) => {
+                mask.check(mesh)?;
                 if mask.len() != slots {
                     return Err(EditError::VertexArrayLength {
                         expected: slots,

@@ -19,7 +19,7 @@
 //! weights and runs the steps in parallel (rayon) between two position buffers.
 
 use glam::DVec3;
-use halfedge::Mesh;
+use halfedge::{Mesh, VertexData};
 use rayon::prelude::*;
 
 use crate::laplace::cotan_weight;
@@ -246,6 +246,8 @@ impl Smoother {
                 mask[i as usize] = true;
             }
         }
+        // `collars` checked that the sub-mesh fits `mesh`.
+        let mask = VertexData::new(mesh, mask)?;
         Self::new(mesh, Vertices::Mask(&mask), weights, fix_boundary)
     }
 

@@ -144,7 +144,8 @@ fn selections_move_only_their_vertices_and_errors_change_nothing() {
     let mut mesh = generators::icosphere(3);
     let before = mesh.positions().to_vec();
     let (_, twist, _) = deformers();
-    let mask: Vec<bool> = before.iter().map(|p| p.x > 0.3).collect();
+    let mask =
+        halfedge::VertexData::new(&mesh, before.iter().map(|p| p.x > 0.3).collect()).unwrap();
     deform(&mut mesh, &twist, Vertices::Mask(&mask)).unwrap();
     for (i, (a, b)) in before.iter().zip(mesh.positions()).enumerate() {
         if mask[i] {
@@ -164,9 +165,15 @@ fn selections_move_only_their_vertices_and_errors_change_nothing() {
     assert!(moved > 0 && moved <= list.len());
 
     let mut mesh = generators::icosphere(3);
+    // A mask made for another mesh, even one of the same size, is stale.
+    let other = generators::icosphere(3);
     assert!(matches!(
-        deform(&mut mesh, &twist, Vertices::Mask(&[true; 5])),
-        Err(EditError::VertexArrayLength { .. })
+        deform(
+            &mut mesh,
+            &twist,
+            Vertices::Mask(&halfedge::VertexData::filled(&other, true))
+        ),
+        Err(EditError::Stale(_))
     ));
     // a global taper reaching zero on the object is refused before anything moves
     let taper = Taper::new(

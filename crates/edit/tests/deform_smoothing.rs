@@ -106,7 +106,11 @@ fn submesh_smoothing_moves_only_the_submesh_and_its_collar_with(
     let mut mesh = load("stanford-bunny.obj");
     let before = mesh.positions().to_vec();
     let ear = deform_common::bunny_ear(&mesh);
-    let sub = SubMesh::from_mask(&mesh, &ear).unwrap();
+    let sub = SubMesh::from_mask(
+        &mesh,
+        &halfedge::VertexData::new(&mesh, (ear).to_vec()).unwrap(),
+    )
+    .unwrap();
     let collar = sub.collars(&mesh, 1).unwrap().remove(0);
     let mut region = ear.clone();
     for &i in &collar {

@@ -20,7 +20,11 @@ fn grid_disk() -> (Mesh, SubMesh) {
         .iter()
         .map(|p| (p.x - 15.0).hypot(p.y - 15.0) <= 4.0)
         .collect();
-    let sub = SubMesh::from_mask(&mesh, &inside).unwrap();
+    let sub = SubMesh::from_mask(
+        &mesh,
+        &halfedge::VertexData::new(&mesh, (inside).to_vec()).unwrap(),
+    )
+    .unwrap();
     (mesh, sub)
 }
 
@@ -69,7 +73,11 @@ fn identity_edits_leave_positions_bit_identical_on_real_meshes() {
 
 fn identity_edits_leave_positions_bit_identical_with(load: &dyn Fn(&str) -> Mesh) {
     let mut mesh = load("stanford-bunny.obj");
-    let sub = SubMesh::from_mask(&mesh, &bunny_ear(&mesh)).unwrap();
+    let sub = SubMesh::from_mask(
+        &mesh,
+        &halfedge::VertexData::new(&mesh, (bunny_ear(&mesh)).to_vec()).unwrap(),
+    )
+    .unwrap();
     let before = mesh.positions().to_vec();
     let axis = sub.axis(&mesh).unwrap();
     let identities = [
@@ -261,7 +269,11 @@ fn bunny_ear_scaled_with_and_without_propagation_on_real_meshes() {
 fn bunny_ear_scaled_with_and_without_propagation_with(load: &dyn Fn(&str) -> Mesh) {
     let mesh0 = load("stanford-bunny.obj");
     let ear = bunny_ear(&mesh0);
-    let sub = SubMesh::from_mask(&mesh0, &ear).unwrap();
+    let sub = SubMesh::from_mask(
+        &mesh0,
+        &halfedge::VertexData::new(&mesh0, (ear).to_vec()).unwrap(),
+    )
+    .unwrap();
     let plane = sub.frontier_plane(&mesh0).unwrap();
     assert!(
         plane.normal.y > 0.9,
@@ -340,7 +352,11 @@ fn bunny_ear_rotated_about_a_vertex_normal_and_bounded_by_the_frontier_plane_wit
 ) {
     let mesh0 = load("stanford-bunny.obj");
     let ear = bunny_ear(&mesh0);
-    let sub = SubMesh::from_mask(&mesh0, &ear).unwrap();
+    let sub = SubMesh::from_mask(
+        &mesh0,
+        &halfedge::VertexData::new(&mesh0, (ear).to_vec()).unwrap(),
+    )
+    .unwrap();
     let plane = sub.frontier_plane(&mesh0).unwrap();
 
     // the paper's default axis: the normal at a picked vertex; the ear turns rigidly
@@ -427,7 +443,11 @@ fn bunny_head_tapered_over_20_levels_on_real_meshes() {
 fn bunny_head_tapered_over_20_levels_with(load: &dyn Fn(&str) -> Mesh) {
     let mesh0 = load("stanford-bunny.obj");
     let head = bunny_head(&mesh0);
-    let sub = SubMesh::from_mask(&mesh0, &head).unwrap();
+    let sub = SubMesh::from_mask(
+        &mesh0,
+        &halfedge::VertexData::new(&mesh0, (head).to_vec()).unwrap(),
+    )
+    .unwrap();
     assert!(sub.max_level() > 40, "max level {}", sub.max_level());
     let axis = sub.axis(&mesh0).unwrap();
     let factor = 0.6;
@@ -492,7 +512,11 @@ fn bunny_ear_twisted_over_10_levels_and_back_on_real_meshes() {
 fn bunny_ear_twisted_over_10_levels_and_back_with(load: &dyn Fn(&str) -> Mesh) {
     let mesh0 = load("stanford-bunny.obj");
     let ear = bunny_ear(&mesh0);
-    let sub = SubMesh::from_mask(&mesh0, &ear).unwrap();
+    let sub = SubMesh::from_mask(
+        &mesh0,
+        &halfedge::VertexData::new(&mesh0, (ear).to_vec()).unwrap(),
+    )
+    .unwrap();
     assert!(sub.max_level() > 10);
     let axis = sub.axis(&mesh0).unwrap();
     let angle = 1.0;

@@ -150,12 +150,8 @@ fn stale_vertex() -> VertexId {
 }
 
 /// Vertices with z above `h` as a mask.
-fn cap_mask(mesh: &Mesh, h: f64) -> Vec<bool> {
-    let mut mask = vec![false; mesh.vertex_slots()];
-    for v in mesh.vertices() {
-        mask[mesh.vertex_index(v)] = mesh.position(v).z > h;
-    }
-    mask
+fn cap_mask(mesh: &Mesh, h: f64) -> halfedge::VertexData<bool> {
+    halfedge::VertexData::from_fn(mesh, false, |v| mesh.position(v).z > h)
 }
 
 fn area(mesh: &Mesh) -> Result<EditingArea> {
@@ -528,7 +524,18 @@ fn cases() -> Vec<Case> {
         "fast marching: wrong mask, sources out of range",
         |m, _cx| {
             let fm = FastMarching::new(m);
-            assert!(fm.distances(&[Source::point(0)], Some(&[true])).is_err());
+            // A mask of another mesh (even of the same size) is stale; a mask of the
+            // wrong length cannot be made.
+            let (positions, triangles) = m.to_arrays();
+            let other = halfedge::Mesh::from_arrays(&positions, &triangles)?.0;
+            assert!(matches!(
+                fm.distances(
+                    &[Source::point(0)],
+                    Some(&halfedge::VertexData::filled(&other, true))
+                ),
+                Err(EditError::Stale(_))
+            ));
+            assert!(halfedge::VertexData::new(m, vec![true]).is_err());
             assert!(fm.distances(&[Source::point(usize::MAX)], None).is_err());
             let nan = Source {
                 vertex: 0,
@@ -539,8 +546,12 @@ fn cases() -> Vec<Case> {
             assert!(fm
                 .distances_from_points(m, &[stale_vertex()], None)
                 .is_err());
-            fm.distances_from_curve(m, &[top(m)], Some(&[false]))
-                .map(drop)
+            fm.distances_from_curve(
+                m,
+                &[top(m)],
+                Some(&halfedge::VertexData::new(m, vec![false])?),
+            )
+            .map(drop)
         },
     ));
     for &x in &numbers {
@@ -617,7 +628,13 @@ fn cases() -> Vec<Case> {
     cases.push(case(
         "submesh: wrong mask, stale vertices, collars usize::MAX",
         |m, _cx| {
-            assert!(SubMesh::from_mask(m, &[true]).is_err());
+            // A mask of the wrong length cannot be made; one of another mesh is stale.
+            assert!(halfedge::VertexData::new(m, vec![true]).is_err());
+            let foreign = halfedge::VertexData::filled(&generators::icosphere(1), true);
+            assert!(matches!(
+                SubMesh::from_mask(m, &foreign),
+                Err(EditError::Stale(_))
+            ));
             assert!(SubMesh::from_vertices(m, &[stale_vertex()]).is_err());
             let s = submesh(m)?;
             s.collars(m, usize::MAX)?;
@@ -663,9 +680,14 @@ fn cases() -> Vec<Case> {
     }
     cases.push(case("deform: wrong mask, stale list", |m, cx| {
         let t = Taper::linear(DVec3::ZERO, DVec3::Z, -1.0, 1.0, 2.0)?;
-        assert!(cx
-            .edit(m, |m| deform(m, &t, Vertices::Mask(&[true])))
-            .is_err());
+        // A mask of another mesh of the same size is stale.
+        let (positions, triangles) = m.to_arrays();
+        let other = Mesh::from_arrays(&positions, &triangles)?.0;
+        let foreign = halfedge::VertexData::filled(&other, true);
+        assert!(matches!(
+            cx.edit(m, |m| deform(m, &t, Vertices::Mask(&foreign))),
+            Err(EditError::Stale(_))
+        ));
         cx.edit(m, |m| deform(m, &t, Vertices::List(&[stale_vertex()])))
     }));
 

@@ -52,7 +52,11 @@ fn a_sub_mesh_made_at_one_level_refuses_another() {
     let inside: Vec<bool> = (0..mesh.vertex_slots())
         .map(|i| mesh.vertex_at(i).is_some_and(|v| mesh.position(v).x > 1.0))
         .collect();
-    let sub = SubMesh::from_mask(mesh, &inside).unwrap();
+    let sub = SubMesh::from_mask(
+        mesh,
+        &halfedge::VertexData::new(mesh, (inside).to_vec()).unwrap(),
+    )
+    .unwrap();
     let pull = Edit::Pull {
         offset: DVec3::new(0.1, 0.0, 0.0),
     };
@@ -111,7 +115,11 @@ fn a_binding_follows_the_mesh_not_its_size() {
     // mesh of the same size, is refused.
     let mesh = generators::icosphere(3);
     let inside = vec![true; mesh.vertex_slots()];
-    let sub = SubMesh::from_mask(&mesh, &inside).unwrap();
+    let sub = SubMesh::from_mask(
+        &mesh,
+        &halfedge::VertexData::new(&mesh, (inside).to_vec()).unwrap(),
+    )
+    .unwrap();
     let mut other = generators::icosphere(3);
     let pull = Edit::Pull {
         offset: DVec3::new(0.1, 0.0, 0.0),
@@ -122,4 +130,47 @@ fn a_binding_follows_the_mesh_not_its_size() {
     ));
     let mut same = mesh.clone();
     sub.apply(&mut same, &pull, Propagation::NONE).unwrap();
+}
+
+/// Per-vertex data is a `VertexData` bound to its mesh: a fast-marching solver, its
+/// distances, a selection and a blend session's weights made at one level are refused
+/// at another (the solver and the selection with `Stale`, the data by its own check),
+/// and fit again back at their level.
+#[test]
+fn per_vertex_data_made_at_one_level_refuses_another() {
+    use edit::distance::FastMarching;
+    let mut h = hierarchy_at_2();
+    let marching = FastMarching::new(h.mesh());
+    let top = h.mesh().extreme_vertex(DVec3::Z).unwrap().unwrap();
+    let distances = marching
+        .distances_from_points(h.mesh(), &[top], None)
+        .unwrap();
+    let normals = h.mesh().vertex_normals();
+    let mut cap = h.mesh().select_ball(h.mesh().position(top), 0.5).unwrap();
+    let active = halfedge::VertexData::filled(h.mesh(), true);
+    stale_elsewhere(&mut h, |mesh| {
+        distances.check(mesh)?;
+        normals.check(mesh)?;
+        cap.clone().grow(mesh, 1)?;
+        marching.distances_from_points(mesh, &[top], Some(&active))?;
+        Ok(())
+    });
+    // Each refuses on its own, not only the first of the chain.
+    h.go_to_level(1).unwrap();
+    let mesh = h.mesh();
+    assert!(normals.check(mesh).is_err());
+    assert!(normals.get(mesh, top).is_err());
+    assert!(matches!(cap.grow(mesh, 1), Err(halfedge::Error::Stale(_))));
+    assert!(matches!(
+        marching.distances_from_points(mesh, &[top], None),
+        Err(EditError::Stale(_))
+    ));
+    // A mask made at level 1 does not fit the solver made at level 2.
+    let other_mask = halfedge::VertexData::filled(mesh, true);
+    assert!(matches!(
+        marching.distances(&[edit::distance::Source::point(0)], Some(&other_mask)),
+        Err(EditError::Stale(_))
+    ));
+    h.go_to_level(2).unwrap();
+    assert_eq!(distances.get(h.mesh(), top).copied().unwrap(), 0.0);
 }

@@ -64,6 +64,28 @@ impl MeshBinding {
     }
 }
 
+impl MeshBinding {
+    /// `Ok` when `other` names the same mesh in the same state as this binding (two
+    /// values derived from one mesh, checked against each other where the mesh itself is
+    /// not at hand), else [`StaleBinding`] naming `what`.
+    ///
+    /// # Errors
+    /// [`StaleBinding`] when the two bindings differ.
+    pub fn check_same(&self, other: &MeshBinding, what: &'static str) -> Result<(), StaleBinding> {
+        if self == other {
+            return Ok(());
+        }
+        Err(StaleBinding {
+            what,
+            made: describe(other.mesh, other.change, other.level),
+            met: format!(
+                "a value made for {}",
+                describe(self.mesh, self.change, self.level)
+            ),
+        })
+    }
+}
+
 fn describe(mesh: u64, change: u64, level: Option<(u64, usize)>) -> String {
     match level {
         Some((hierarchy, applied)) => {

@@ -87,6 +87,18 @@ impl<T> VertexData<T> {
         Self { values, binding }
     }
 
+    /// Binds the data to `mesh` as it is now, grown (with `fill`) or cut to its vertex
+    /// slots: for an owner that keeps its values up to date through a change of
+    /// connectivity it made itself (a session that splits edges and fills in the new
+    /// vertices' values).
+    pub fn rebind(&mut self, mesh: &Mesh, fill: T)
+    where
+        T: Clone,
+    {
+        self.values.resize(mesh.vertex_slots(), fill);
+        self.binding = mesh.binding();
+    }
+
     /// The mesh this data was made for.
     #[must_use]
     pub fn binding(&self) -> MeshBinding {

@@ -20,7 +20,7 @@
 //! }
 //! ```
 
-use halfedge::{Mesh, Selection, VertexId};
+use halfedge::{Mesh, Selection, VertexData, VertexId};
 
 use super::geodesic::{FastMarching, Source};
 use crate::{EditError, Result};
@@ -37,7 +37,7 @@ pub fn geodesic_ball(
     mesh: &Mesh,
     seeds: &[VertexId],
     radius: f64,
-) -> Result<(Selection, Vec<f64>)> {
+) -> Result<(Selection, VertexData<f64>)> {
     if radius.is_nan() || radius < 0.0 {
         return Err(EditError::InvalidParameter {
             name: "radius",
@@ -49,7 +49,7 @@ pub fn geodesic_ball(
             return Err(EditError::InvalidVertex(v));
         }
     }
-    let mut near = vec![false; mesh.vertex_slots()];
+    let mut near = VertexData::filled(mesh, false);
     for &s in seeds {
         let ball = mesh.select_ball(mesh.position(s), radius)?;
         for (n, &b) in near.iter_mut().zip(ball.mask()) {
@@ -67,6 +67,8 @@ pub fn geodesic_ball(
             *d = f64::INFINITY;
         }
     }
-    let mask = distance.iter().map(|d| d.is_finite()).collect();
-    Ok((Selection::from_mask(mesh, mask)?, distance))
+    Ok((
+        Selection::from_data(mesh, distance.map(|d| d.is_finite()))?,
+        distance,
+    ))
 }

@@ -48,7 +48,7 @@ use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
 use glam::{DVec2, DVec3};
-use halfedge::{HalfedgeId, Mesh, VertexId};
+use halfedge::{HalfedgeId, Mesh, MeshBinding, VertexData, VertexId};
 use rayon::prelude::*;
 
 use crate::{EditError, Result};
@@ -125,6 +125,9 @@ pub struct FastMarching {
     dependent_lengths: Vec<f64>,
     obtuse_unfolded: usize,
     obtuse_kept: usize,
+    /// The mesh the stencils were made for: the distances carry it, masks and meshes
+    /// passed in are checked against it.
+    binding: MeshBinding,
 }
 
 /// What one parallel task computes for a run of consecutive vertices: their stencils,
@@ -298,7 +301,14 @@ impl FastMarching {
             dependent_lengths,
             obtuse_unfolded,
             obtuse_kept,
+            binding: mesh.binding(),
         }
+    }
+
+    /// The mesh this solver was made for (see [`halfedge::MeshBinding`]).
+    #[must_use]
+    pub fn binding(&self) -> MeshBinding {
+        self.binding
     }
 
     /// Number of vertex slots covered (the mesh's `vertex_slots()` at construction).
@@ -323,16 +333,20 @@ impl FastMarching {
         (self.obtuse_unfolded, self.obtuse_kept)
     }
 
-    /// Geodesic distances from `sources` to every vertex, by vertex index; `+∞` where
-    /// unreachable. With `active`, only vertices with `active[i]` are marched (sources
-    /// always are), and only triangles of active vertices are used: distances within a
-    /// region.
+    /// Geodesic distances from `sources` to every vertex, by vertex index, bound to the
+    /// mesh the solver was made for; `+∞` where unreachable. With `active`, only
+    /// vertices with `active[i]` are marched (sources always are), and only triangles of
+    /// active vertices are used: distances within a region.
     ///
     /// # Errors
-    /// [`EditError::VertexArrayLength`] when `active` does not have one entry per vertex
-    /// slot; [`EditError::InvalidParameter`] for a source index out of range or a NaN
-    /// start value.
-    pub fn distances(&self, sources: &[Source], active: Option<&[bool]>) -> Result<Vec<f64>> {
+    /// [`EditError::Stale`] when `active` was made for another mesh (or this one in
+    /// another state) than the solver; [`EditError::InvalidParameter`] for a source
+    /// index out of range or a NaN start value.
+    pub fn distances(
+        &self,
+        sources: &[Source],
+        active: Option<&VertexData<bool>>,
+    ) -> Result<VertexData<f64>> {
         Ok(self.distances_and_radii(sources, active)?.0)
     }
 
@@ -345,13 +359,15 @@ impl FastMarching {
     pub fn distances_and_radii(
         &self,
         sources: &[Source],
-        active: Option<&[bool]>,
-    ) -> Result<(Vec<f64>, Vec<f64>)> {
+        active: Option<&VertexData<bool>>,
+    ) -> Result<(VertexData<f64>, VertexData<f64>)> {
         const FAR: u8 = 0;
         const DONE: u8 = 1;
         const OFF: u8 = 2;
         let n = self.len();
         if let Some(mask) = active {
+            self.binding
+                .check_same(&mask.binding(), "the active mask")?;
             if mask.len() != n {
                 return Err(EditError::VertexArrayLength {
                     expected: n,
@@ -454,20 +470,25 @@ impl FastMarching {
                 }
             }
         }
-        Ok((t, radius))
+        Ok((
+            VertexData::with_binding(t, self.binding),
+            VertexData::with_binding(radius, self.binding),
+        ))
     }
 
     /// [`FastMarching::distances`] from isolated point sources at distance 0.
     ///
     /// # Errors
-    /// [`EditError::InvalidVertex`] for a source that is not a live vertex of `mesh`; as
-    /// [`FastMarching::distances`].
+    /// [`EditError::Stale`] when the solver was made for another mesh (or this one
+    /// before a change of connectivity); [`EditError::InvalidVertex`] for a source that
+    /// is not a live vertex of `mesh`; as [`FastMarching::distances`].
     pub fn distances_from_points(
         &self,
         mesh: &Mesh,
         sources: &[VertexId],
-        active: Option<&[bool]>,
-    ) -> Result<Vec<f64>> {
+        active: Option<&VertexData<bool>>,
+    ) -> Result<VertexData<f64>> {
+        self.binding.check(mesh, "the fast-marching solver")?;
         let sources = live_sources(mesh, sources, Source::point)?;
         self.distances(&sources, active)
     }
@@ -481,8 +502,9 @@ impl FastMarching {
         &self,
         mesh: &Mesh,
         sources: &[VertexId],
-        active: Option<&[bool]>,
-    ) -> Result<Vec<f64>> {
+        active: Option<&VertexData<bool>>,
+    ) -> Result<VertexData<f64>> {
+        self.binding.check(mesh, "the fast-marching solver")?;
         let sources = live_sources(mesh, sources, Source::on_curve)?;
         self.distances(&sources, active)
     }
@@ -727,9 +749,7 @@ mod tests {
     fn active_mask_limits_the_march() {
         let mesh = generators::grid(10, 10, 1.0, 1.0);
         let fm = FastMarching::new(&mesh);
-        let active: Vec<bool> = (0..mesh.vertex_slots())
-            .map(|i| mesh.vertex_at(i).is_some_and(|v| mesh.position(v).x <= 0.5))
-            .collect();
+        let active = VertexData::from_fn(&mesh, false, |v| mesh.position(v).x <= 0.5);
         let source = mesh.vertices().next().unwrap();
         let d = fm
             .distances_from_points(&mesh, &[source], Some(&active))

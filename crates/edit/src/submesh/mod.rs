@@ -43,7 +43,7 @@ mod plane;
 use std::collections::VecDeque;
 
 use glam::DVec3;
-use halfedge::{Mesh, VertexId};
+use halfedge::{Mesh, VertexData, VertexId};
 
 use crate::{EditError, Result};
 
@@ -75,10 +75,22 @@ fn neighbours(mesh: &Mesh, i: usize) -> impl Iterator<Item = usize> + '_ {
 }
 
 impl SubMesh {
-    /// The sub-mesh of the live vertices whose `inside` entry is true (`inside` indexed
-    /// by [`Mesh::vertex_index`], of length [`Mesh::vertex_slots`]). This is the one
-    /// place where a sub-mesh is built; the other constructors convert to a mask.
-    pub fn from_mask(mesh: &Mesh, inside: &[bool]) -> Result<Self> {
+    /// The sub-mesh of the live vertices whose `inside` entry is true (per-vertex data
+    /// of `mesh`: a [`halfedge::Selection::mask`], or [`VertexData::new`] over a
+    /// `Vec<bool>`). This is the one place where a sub-mesh is built; the other
+    /// constructors convert to a mask.
+    ///
+    /// # Errors
+    /// [`EditError::Stale`] when `inside` was made for another mesh (or this one before
+    /// a change of connectivity); [`EditError::EmptySubMesh`] when no live vertex is
+    /// inside.
+    pub fn from_mask(mesh: &Mesh, inside: &VertexData<bool>) -> Result<Self> {
+        inside.check(mesh)?;
+        Self::from_slots(mesh, inside)
+    }
+
+    /// [`from_mask`](Self::from_mask) on a mask this module made for `mesh`.
+    fn from_slots(mesh: &Mesh, inside: &[bool]) -> Result<Self> {
         let slots = mesh.vertex_slots();
         if inside.len() != slots {
             return Err(EditError::VertexArrayLength {
@@ -141,7 +153,7 @@ impl SubMesh {
             }
             mask[mesh.vertex_index(v)] = true;
         }
-        Self::from_mask(mesh, &mask)
+        Self::from_slots(mesh, &mask)
     }
 
     /// The sub-mesh of the vertices whose per-vertex label (indexed by
@@ -153,7 +165,7 @@ impl SubMesh {
         is_inside: impl Fn(&L) -> bool,
     ) -> Result<Self> {
         let mask: Vec<bool> = labels.iter().map(is_inside).collect();
-        Self::from_mask(mesh, &mask)
+        Self::from_slots(mesh, &mask)
     }
 
     /// Number of vertices inside.
@@ -313,11 +325,10 @@ mod tests {
     /// A 10×10 grid with the 2×2-cell square around the centre inside.
     fn grid_submesh() -> (Mesh, SubMesh) {
         let mesh = generators::grid(10, 10, 10.0, 10.0);
-        let inside: Vec<bool> = mesh
-            .positions()
-            .iter()
-            .map(|p| (p.x - 5.0).abs() <= 1.0 && (p.y - 5.0).abs() <= 1.0)
-            .collect();
+        let inside = VertexData::from_fn(&mesh, false, |v| {
+            let p = mesh.position(v);
+            (p.x - 5.0).abs() <= 1.0 && (p.y - 5.0).abs() <= 1.0
+        });
         let sub = SubMesh::from_mask(&mesh, &inside).unwrap();
         (mesh, sub)
     }
@@ -348,15 +359,18 @@ mod tests {
     #[test]
     fn rejects_bad_input() {
         let mesh = generators::grid(3, 3, 1.0, 1.0);
+        // A mask of the wrong length cannot be made; one of another mesh is stale.
+        assert!(VertexData::new(&mesh, vec![true; 3]).is_err());
+        let other = generators::grid(3, 3, 1.0, 1.0);
         assert!(matches!(
-            SubMesh::from_mask(&mesh, &[true; 3]),
-            Err(EditError::VertexArrayLength { .. })
+            SubMesh::from_mask(&mesh, &VertexData::filled(&other, true)),
+            Err(EditError::Stale(_))
         ));
         assert!(matches!(
-            SubMesh::from_mask(&mesh, &vec![false; mesh.vertex_slots()]),
+            SubMesh::from_mask(&mesh, &VertexData::filled(&mesh, false)),
             Err(EditError::EmptySubMesh)
         ));
-        let whole = SubMesh::from_mask(&mesh, &vec![true; mesh.vertex_slots()]).unwrap();
+        let whole = SubMesh::from_mask(&mesh, &VertexData::filled(&mesh, true)).unwrap();
         assert!(whole.frontier_indices().is_empty());
         assert!(matches!(
             whole.frontier_plane(&mesh),

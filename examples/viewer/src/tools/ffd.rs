@@ -179,6 +179,9 @@ impl FfdTool {
         } else {
             None
         };
+        let mask = mask
+            .map(|m| halfedge::VertexData::new(mesh, m))
+            .transpose()?;
         let vertices = match &mask {
             Some(m) => Vertices::Mask(m),
             None => Vertices::All,

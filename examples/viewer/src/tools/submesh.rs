@@ -182,6 +182,7 @@ impl SubMeshEdit {
                 mask
             }
         };
+        let mask = halfedge::VertexData::new(mesh, mask)?;
         Ok(SubMesh::from_mask(mesh, &mask)?)
     }
 
