@@ -130,6 +130,34 @@ fn bench(c: &mut Criterion) {
             )
         });
     }
+    // Issue 13: a frontier defined on the full mesh and made to hold at every level
+    // (label the two sides of a plane through the middle, `constrain_to_labels`: one
+    // rebuild that collapses no edge across the frontier), against
+    // `rounds_coarsen_to_2000` (one build) in this group.
+    {
+        let options = rounds_options();
+        let mut at_input = Hierarchy::build(mesh.clone(), &options).unwrap();
+        at_input.refine_to(0).unwrap();
+        let (lo, hi) = mesh.bounding_box().unwrap();
+        let centre = 0.5 * (lo + hi);
+        let axis = (hi - lo).max_position();
+        let normal =
+            glam::DVec3::from_array(std::array::from_fn(|k| f64::from(u8::from(k == axis))));
+        group.bench_function("rounds_frontier_defined_and_held_at_every_level", |b| {
+            b.iter_batched(
+                || at_input.clone(),
+                |mut h| {
+                    let m = h.mesh_mut();
+                    let frontier = m.frontier_from_plane(centre, normal).unwrap();
+                    let (labels, _) = m.label_sides(&frontier, 3, 4).unwrap();
+                    h.attach_labels(labels);
+                    h.constrain_to_labels().unwrap();
+                    h
+                },
+                BatchSize::LargeInput,
+            )
+        });
+    }
     // The same edit carried by the paper's centroid translations, for comparison.
     let mut paper = Hierarchy::build(
         mesh.clone(),

@@ -37,7 +37,7 @@ use crate::{Error, Mesh, Result, VertexData, VertexId};
 /// [`VertexData`]: operations that take the mesh refuse another one (or the same one
 /// after its connectivity changed, or at another hierarchy level) with
 /// [`Error::Stale`].
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Selection {
     mask: VertexData<bool>,
     len: usize,

@@ -27,7 +27,7 @@ use crate::{Error, Mesh, MeshBinding, Result, StaleBinding, VertexId};
 
 /// One value per vertex slot of one mesh, with that mesh's binding (see the
 /// [module docs](self)).
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub struct VertexData<T> {
     values: Vec<T>,
     binding: MeshBinding,

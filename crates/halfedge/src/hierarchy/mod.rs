@@ -1204,14 +1204,23 @@ impl Hierarchy {
         let level = self.level_at_or_finer();
         // The walk to the input is made on a copy: a refused walk, change or build leaves
         // the hierarchy exactly as it was (a walk down and back need not be bit-exact).
-        let mut input = {
+        let mut input = if self.applied == 0 {
+            // Already at the input: no walk, a copy of the mesh alone (not of the
+            // records) is the input to change.
+            self.mesh.clone()
+        } else {
             let mut work = self.clone();
             work.seek(0)?;
             work.into_mesh()
         };
-        let result = change(&mut input)
-            .map_err(|e| Error::InvalidArgument(format!("edit_input: {e}")))
-            .and_then(|r| input.check().map(|()| r))?;
+        let untouched = input.topology_stamp();
+        let result =
+            change(&mut input).map_err(|e| Error::InvalidArgument(format!("edit_input: {e}")))?;
+        if input.topology_stamp() != untouched {
+            // The change made its own topology: check it before building on it (the
+            // build itself refuses non-finite positions).
+            input.check()?;
+        }
         let mut rebuilt = Hierarchy::build(input, &self.options)?;
         if let Some(b) = self.labels {
             rebuilt.labels = Some(LabelBinding {
