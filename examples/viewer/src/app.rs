@@ -23,6 +23,7 @@ use three_d::{ClearState, Event, FrameInput, FrameOutput, Key, MouseButton, GUI}
 use crate::camera::{OrbitCamera, Ray, UpAxis, Viewport};
 use crate::colors::{legend_ui, ColorLayer, Colormap, Display};
 use crate::document::Document;
+use crate::format::{format_duration, group};
 use crate::image_view::{ImageUi, ImageView, ShapePreset, Transform};
 use crate::pick::Bvh;
 use crate::render::{RenderSettings, SceneRenderer};
@@ -1473,30 +1474,6 @@ fn print_measurement(m: &Measurement, triangles: usize, viewport: &Viewport) {
     );
 }
 
-/// `12345678` → `12,345,678`.
-pub fn group(n: usize) -> String {
-    let s = n.to_string();
-    let mut out = String::new();
-    for (i, c) in s.chars().enumerate() {
-        if i > 0 && (s.len() - i) % 3 == 0 {
-            out.push(',');
-        }
-        out.push(c);
-    }
-    out
-}
-
-fn format_duration(d: Duration) -> String {
-    let ms = d.as_secs_f64() * 1000.0;
-    if ms < 10.0 {
-        format!("{ms:.2} ms")
-    } else if ms < 1000.0 {
-        format!("{ms:.0} ms")
-    } else {
-        format!("{:.2} s", ms / 1000.0)
-    }
-}
-
 /// The mesh shown when no file is given: the first `.obj` / `.ply` in the workspace's
 /// `data/` folder (by name), else an icosphere.
 pub fn default_mesh() -> (Mesh, Option<PathBuf>) {
@@ -1529,17 +1506,6 @@ pub fn default_mesh() -> (Mesh, Option<PathBuf>) {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn grouping_and_durations() {
-        assert_eq!(group(0), "0");
-        assert_eq!(group(999), "999");
-        assert_eq!(group(1000), "1,000");
-        assert_eq!(group(69451), "69,451");
-        assert_eq!(group(1234567), "1,234,567");
-        assert_eq!(format_duration(Duration::from_micros(1234)), "1.23 ms");
-        assert_eq!(format_duration(Duration::from_millis(2500)), "2.50 s");
-    }
 
     #[test]
     fn png_keeps_rows_and_is_opaque() {

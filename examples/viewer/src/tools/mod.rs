@@ -14,6 +14,8 @@
 //!   every move, end);
 //! - [`Tool::apply`] is the tool's main action (its *Apply* button, the script's `apply`);
 //! - [`Tool::set_parameter`] / [`Tool::parameters`] expose the parameters to scripts;
+//!   each tool declares its parameters once, in a table of [`params::Param`]s that also
+//!   draws their widgets;
 //! - [`Tool::overlay`] adds markers and segments drawn over the mesh;
 //! - [`Tool::on_mesh_replaced`] drops state that refers to a mesh that is gone (after
 //!   loading a file, undo or redo);
@@ -38,6 +40,7 @@ mod ffd;
 mod inspect;
 mod lee;
 mod multires;
+pub mod params;
 mod submesh;
 
 pub use bendels_klein::{BendelsKlein, BkMode};

@@ -38,13 +38,14 @@ use halfedge::{
 };
 use three_d::egui;
 
+use super::params::{self, Param, Widget};
 use super::{
-    bool_param, choice_name, choice_param, number_param, string_param, Background, Overlay, Pick,
-    Tool, ToolContext, ToolError, ViewInfo,
+    bool_param, choice_name, choice_param, number_param, Background, Overlay, Pick, Tool,
+    ToolContext, ToolError, ViewInfo,
 };
-use crate::app::group;
 use crate::colors::{Rgba, NO_LABEL};
 use crate::document::Revision;
+use crate::format::group;
 
 /// Label of the host (the part outside the sub-mesh).
 pub const HOST: u32 = 0;
@@ -758,17 +759,129 @@ fn read_labels(mesh: &Mesh, attribute: halfedge::Attribute<VertexId, u32>) -> Ve
     labels
 }
 
-const PARAMETERS: [&str; 10] = [
-    "method",
-    "detail",
-    "target_faces",
-    "level",
-    "frontier",
-    "normal",
-    "flip",
-    "define",
-    "clear_picks",
-    "max_normal_deviation",
+/// The method choices.
+const METHODS: [(Method, &str); 2] = [(Method::Rounds, "rounds"), (Method::Qem, "qem")];
+/// The detail-mode choices.
+const DETAILS: [(DetailMode, &str); 2] = [
+    (DetailMode::LocalFrame, "local"),
+    (DetailMode::Translation, "translation"),
+];
+
+/// Redefines the labels after a change of the frontier's settings, when there are
+/// enough picks.
+fn relabel(t: &mut Multires, ctx: &mut ToolContext<'_>) -> Result<(), ToolError> {
+    if t.has_enough_picks() {
+        t.define_labels(ctx)?;
+    }
+    Ok(())
+}
+
+/// The parameters of [`Multires`] (see [`params`]); the hierarchy's build checks the
+/// target and the planarity bound.
+const PARAMS: &[Param<Multires>] = &[
+    Param::new(
+        "method",
+        "Method",
+        Widget::Choice(|| params::names(&METHODS)),
+        |t| choice_name(&METHODS, t.method).into(),
+        |t, v, _| {
+            t.method = choice_param(&METHODS, "method", v)?;
+            Ok(())
+        },
+    ),
+    Param::new(
+        "detail",
+        "Detail",
+        Widget::Choice(|| params::names(&DETAILS)),
+        |t| choice_name(&DETAILS, t.detail).into(),
+        |t, v, _| {
+            t.detail = choice_param(&DETAILS, "detail", v)?;
+            Ok(())
+        },
+    ),
+    Param::new(
+        "target_faces",
+        "Target faces",
+        Widget::Drag {
+            min: 4.0,
+            max: 1e7,
+            integer: true,
+            speed: 10.0,
+        },
+        |t| t.target_faces.into(),
+        |t, v, _| {
+            t.target_faces = params::whole("target_faces", v)?;
+            Ok(())
+        },
+    ),
+    Param::new(
+        "max_normal_deviation",
+        "planarity (°)",
+        params::slider(10.0, 180.0),
+        |t| t.max_normal_deviation.into(),
+        |t, v, _| {
+            t.max_normal_deviation = number_param("max_normal_deviation", v)?;
+            Ok(())
+        },
+    ),
+    // The slider of the levels is drawn by the panel (its range is the hierarchy's).
+    Param::new(
+        "level",
+        "level",
+        Widget::None,
+        |t| t.level.into(),
+        |t, v, ctx| t.go_to_level(params::whole("level", v)?, ctx),
+    ),
+    Param::new(
+        "frontier",
+        "Frontier",
+        Widget::Choice(|| params::names(&FrontierMode::ALL)),
+        |t| t.frontier.name().into(),
+        |t, v, ctx| {
+            let frontier = choice_param(&FrontierMode::ALL, "frontier", v)?;
+            if frontier != t.frontier {
+                t.frontier = frontier;
+                t.picks.clear();
+                t.plane = None;
+            }
+            relabel(t, ctx)
+        },
+    ),
+    Param::new(
+        "normal",
+        "Normal",
+        Widget::Choice(|| params::names(&PlaneNormal::ALL)),
+        |t| t.normal.name().into(),
+        |t, v, ctx| {
+            t.normal = choice_param(&PlaneNormal::ALL, "normal", v)?;
+            if let Some((p, _)) = t.plane {
+                t.plane = Some((p, t.normal.vector(&ctx.view)));
+            }
+            relabel(t, ctx)
+        },
+    ),
+    Param::new(
+        "flip",
+        "flip sides",
+        Widget::Check,
+        |t| t.flip.into(),
+        |t, v, ctx| {
+            t.flip = bool_param("flip", v)?;
+            relabel(t, ctx)
+        },
+    ),
+    Param::action("define", "Label", |t, v, ctx| {
+        if bool_param("define", v)? {
+            t.define_labels(ctx)?;
+        }
+        Ok(())
+    }),
+    Param::action("clear_picks", "Clear", |t, v, ctx| {
+        if bool_param("clear_picks", v)? {
+            t.clear_picks(ctx);
+        }
+        Ok(())
+    }),
 ];
 
 impl Tool for Multires {
@@ -872,83 +985,13 @@ impl Tool for Multires {
         value: &serde_json::Value,
         ctx: &mut ToolContext<'_>,
     ) -> Result<(), ToolError> {
-        match name {
-            "method" => {
-                self.method = match string_param(name, value)?.to_lowercase().as_str() {
-                    "rounds" => Method::Rounds,
-                    "qem" => Method::Qem,
-                    s => return Err(ToolError::new(format!("method {s:?}: rounds or qem"))),
-                }
-            }
-            "detail" => {
-                self.detail = match string_param(name, value)?.to_lowercase().as_str() {
-                    "local" => DetailMode::LocalFrame,
-                    "translation" => DetailMode::Translation,
-                    s => {
-                        return Err(ToolError::new(format!(
-                            "detail {s:?}: local or translation"
-                        )))
-                    }
-                }
-            }
-            "target_faces" => {
-                let n = number_param(name, value)?;
-                if !(n >= 4.0 && n.is_finite()) {
-                    return Err(ToolError::new(format!("target_faces {n}: at least 4")));
-                }
-                self.target_faces = n as usize;
-            }
-            "max_normal_deviation" => {
-                let d = number_param(name, value)?;
-                if !(d > 0.0 && d <= 180.0) {
-                    return Err(ToolError::new(format!(
-                        "max_normal_deviation {d}: degrees in (0, 180]"
-                    )));
-                }
-                self.max_normal_deviation = d;
-            }
-            "level" => {
-                let l = number_param(name, value)?;
-                if !(l >= 0.0 && l.fract() == 0.0) {
-                    return Err(ToolError::bad_value(name, "a level number", value));
-                }
-                self.go_to_level(l as usize, ctx)?;
-            }
-            "frontier" => {
-                self.frontier = choice_param(&FrontierMode::ALL, name, value)?;
-                self.picks.clear();
-                self.plane = None;
-            }
-            "normal" => {
-                self.normal = choice_param(&PlaneNormal::ALL, name, value)?;
-            }
-            "flip" => self.flip = bool_param(name, value)?,
-            "define" => {
-                if bool_param(name, value)? {
-                    self.define_labels(ctx)?;
-                }
-            }
-            "clear_picks" => {
-                if bool_param(name, value)? {
-                    self.clear_picks(ctx);
-                }
-            }
-            _ => return Err(ToolError::unknown_parameter(self.name(), name, &PARAMETERS)),
-        }
-        Ok(())
+        // (The name is copied: the setter borrows the tool mutably.)
+        let tool = self.name().to_owned();
+        params::set(&tool, PARAMS, self, name, value, ctx)
     }
 
     fn parameters(&self) -> Vec<(&'static str, serde_json::Value)> {
-        vec![
-            ("method", method_name(self.method).to_lowercase().into()),
-            ("detail", detail_name(self.detail).into()),
-            ("target_faces", self.target_faces.into()),
-            ("max_normal_deviation", self.max_normal_deviation.into()),
-            ("level", self.level.into()),
-            ("frontier", self.frontier.name().into()),
-            ("normal", self.normal.name().into()),
-            ("flip", self.flip.into()),
-        ]
+        params::list(PARAMS, self)
     }
 
     fn overlay(&self, mesh: &Mesh, overlay: &mut Overlay) {
@@ -984,28 +1027,16 @@ impl Multires {
     /// The panel's controls (disabled while a build runs).
     fn controls_ui(&mut self, ui: &mut egui::Ui, ctx: &mut ToolContext<'_>) {
         ui.strong("Hierarchy");
-        ui.horizontal(|ui| {
-            ui.label("Method");
-            ui.selectable_value(&mut self.method, Method::Rounds, "rounds");
-            ui.selectable_value(&mut self.method, Method::Qem, "QEM");
-        });
-        ui.horizontal(|ui| {
-            ui.label("Detail")
-                .on_hover_text("how refinement carries coarse edits (applies to the next build)");
-            ui.selectable_value(&mut self.detail, DetailMode::LocalFrame, "local frames")
-                .on_hover_text("offsets in local frames: rotations carried, regions exact");
-            ui.selectable_value(&mut self.detail, DetailMode::Translation, "paper")
-                .on_hover_text("the paper's centroid translations");
-        });
-        ui.horizontal(|ui| {
-            ui.label("Target faces");
-            ui.add(egui::DragValue::new(&mut self.target_faces).range(4..=10_000_000));
-        });
-        if self.method == Method::Rounds {
-            ui.add(
-                egui::Slider::new(&mut self.max_normal_deviation, 10.0..=180.0)
-                    .text("planarity (°)"),
+        params::widget(ui, PARAMS, "method", self, ctx);
+        if let Some(r) = params::widget(ui, PARAMS, "detail", self, ctx) {
+            r.on_hover_text(
+                "how refinement carries coarse edits (applies to the next build): local \
+                 frames carry rotations, translation is the paper's centroid translations",
             );
+        }
+        params::widget(ui, PARAMS, "target_faces", self, ctx);
+        if self.method == Method::Rounds {
+            params::widget(ui, PARAMS, "max_normal_deviation", self, ctx);
         }
         if ui.button("Build hierarchy").clicked() {
             if let Err(e) = self.start_build(ctx) {
@@ -1015,19 +1046,22 @@ impl Multires {
         if let Some(h) = &self.hierarchy {
             let coarsest = h.coarsest_level();
             let counts = h.level_face_counts().to_vec();
+            // The slider's range is the hierarchy's levels.
             let mut level = self.level;
             let r = ui.add(egui::Slider::new(&mut level, 0..=coarsest).text("level"));
-            ui.weak(format!(
-                "level {level}: {} faces · {} levels · {} faces at the coarsest",
-                group(counts[level.min(coarsest)]),
-                coarsest + 1,
-                group(counts[coarsest])
-            ));
             if level != self.level {
-                if let Err(e) = self.go_to_level(level, ctx) {
+                let value = serde_json::Value::from(level);
+                if let Err(e) = params::set("Multiresolution", PARAMS, self, "level", &value, ctx) {
                     ctx.error(format!("Level change failed: {e}"));
                 }
             }
+            ui.weak(format!(
+                "level {}: {} faces · {} levels · {} faces at the coarsest",
+                self.level,
+                group(counts[self.level.min(coarsest)]),
+                coarsest + 1,
+                group(counts[coarsest])
+            ));
             if r.drag_stopped() || (r.changed() && !r.dragged()) {
                 ctx.doc.end_edit();
             }
@@ -1036,43 +1070,11 @@ impl Multires {
         }
         ui.separator();
         ui.strong("Sub-mesh");
-        let before = (self.frontier, self.normal, self.flip);
-        ui.horizontal(|ui| {
-            ui.label("Frontier");
-            egui::ComboBox::from_id_salt("multires-frontier")
-                .selected_text(self.frontier.name())
-                .show_ui(ui, |ui| {
-                    for (m, name) in FrontierMode::ALL {
-                        ui.selectable_value(&mut self.frontier, m, name);
-                    }
-                });
-        });
+        params::widget(ui, PARAMS, "frontier", self, ctx);
         if self.frontier == FrontierMode::Plane {
-            ui.horizontal(|ui| {
-                ui.label("Normal");
-                egui::ComboBox::from_id_salt("multires-normal")
-                    .selected_text(self.normal.name())
-                    .show_ui(ui, |ui| {
-                        for (m, name) in PlaneNormal::ALL {
-                            ui.selectable_value(&mut self.normal, m, name);
-                        }
-                    });
-            });
+            params::widget(ui, PARAMS, "normal", self, ctx);
         }
-        ui.checkbox(&mut self.flip, "flip sides");
-        if (self.frontier, self.normal, self.flip) != before {
-            if before.0 != self.frontier {
-                self.picks.clear();
-                self.plane = None;
-            } else if let Some((p, _)) = self.plane {
-                self.plane = Some((p, self.normal.vector(&ctx.view)));
-            }
-            if self.has_enough_picks() {
-                if let Err(e) = self.define_labels(ctx) {
-                    ctx.error(format!("Frontier: {e}"));
-                }
-            }
-        }
+        params::widget(ui, PARAMS, "flip", self, ctx);
         ui.weak(match self.frontier {
             FrontierMode::Loop => "Click vertices around the part to cut (3 or more).",
             FrontierMode::Collar => {
@@ -1084,14 +1086,8 @@ impl Multires {
         });
         ui.horizontal(|ui| {
             ui.label(format!("{} picks", self.picks.len()));
-            if ui.button("Label").clicked() {
-                if let Err(e) = self.define_labels(ctx) {
-                    ctx.error(format!("Frontier: {e}"));
-                }
-            }
-            if ui.button("Clear").clicked() {
-                self.clear_picks(ctx);
-            }
+            params::widget(ui, PARAMS, "define", self, ctx);
+            params::widget(ui, PARAMS, "clear_picks", self, ctx);
         });
         if let Some(l) = self.shared.get(ctx.mesh()) {
             let (host, sub, front) = l.counts();
@@ -1111,14 +1107,6 @@ impl Multires {
             FrontierMode::Loop | FrontierMode::Collar => self.picks.len() >= 3,
             FrontierMode::Plane => self.plane.is_some(),
         }
-    }
-}
-
-/// The script name of a detail mode.
-fn detail_name(mode: DetailMode) -> &'static str {
-    match mode {
-        DetailMode::LocalFrame => "local",
-        DetailMode::Translation => "translation",
     }
 }
 
