@@ -141,3 +141,38 @@ fn tool_parameters_are_declared_once_in_their_table() {
     assert!(tables >= 6, "only {tables} tools have a parameter table");
     assert!(offenders.is_empty(), "{}", offenders.join("\n"));
 }
+
+/// The document owns the one mesh (and its hierarchy): no tool keeps a hierarchy (a second
+/// mesh) of its own, recognises meshes by hashing their connectivity, or keeps labels
+/// outside the mesh's label attribute.
+#[test]
+fn one_mesh_one_hierarchy_one_label_store() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let forbidden = [
+        ("connectivity_fingerprint", "a connectivity hash"),
+        ("SharedLabels", "labels kept outside the mesh"),
+    ];
+    let mut offenders = Vec::new();
+    for path in rust_files(&src) {
+        let source = std::fs::read_to_string(&path).unwrap();
+        let rel = path.strip_prefix(&src).unwrap().display().to_string();
+        for (word, what) in forbidden {
+            if source.contains(word) {
+                offenders.push(format!("{rel}: {what} ({word})"));
+            }
+        }
+        if rel.starts_with("tools") {
+            for held in ["Option<Hierarchy>", ": Hierarchy,", "Vec<Hierarchy>"] {
+                if source.contains(held) {
+                    offenders.push(format!("{rel}: a tool holds a hierarchy ({held})"));
+                }
+            }
+        }
+    }
+    let document = std::fs::read_to_string(src.join("document.rs")).unwrap();
+    assert!(
+        document.contains("Levels(Box<Hierarchy>)"),
+        "the document holds the hierarchy"
+    );
+    assert!(offenders.is_empty(), "{}", offenders.join("\n"));
+}

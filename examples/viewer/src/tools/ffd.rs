@@ -28,7 +28,7 @@ use three_d::egui;
 use super::params::{self, Param, Widget};
 use super::{
     bool_param, choice_name, choice_param, number_param, Drag, DragPhase, Overlay, Pick, Press,
-    SharedLabels, Tool, ToolContext, ToolError,
+    SubMeshLabels, Tool, ToolContext, ToolError,
 };
 use crate::camera::Ray;
 use crate::colors::Rgba;
@@ -117,7 +117,6 @@ struct ControlDrag {
 
 /// The FFD tool (see the module docs).
 pub struct FfdTool {
-    shared: SharedLabels,
     /// Attach to the sub-mesh of the labels (else the whole mesh).
     pub submesh: bool,
     /// Local mode (the surface covers the middle of the object).
@@ -142,11 +141,16 @@ pub struct FfdTool {
     note: Option<String>,
 }
 
+impl Default for FfdTool {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl FfdTool {
-    /// The tool, reading the sub-mesh labels from `shared`.
-    pub fn new(shared: SharedLabels) -> Self {
+    /// The tool (it reads the sub-mesh labels from the mesh's label attribute).
+    pub fn new() -> Self {
         Self {
-            shared,
             submesh: false,
             local: false,
             grid: [7, 5],
@@ -168,8 +172,7 @@ impl FfdTool {
         let mesh = ctx.mesh();
         let mask = if self.submesh {
             Some(
-                self.shared
-                    .get(mesh)
+                SubMeshLabels::of(mesh)
                     .ok_or_else(|| {
                         ToolError::new(
                             "no sub-mesh labels for this mesh: cut one with Multiresolution",
@@ -830,7 +833,7 @@ mod tests {
             },
             pick: None,
         };
-        let mut tool = FfdTool::new(SharedLabels::default());
+        let mut tool = FfdTool::new();
         tool.grid = [6, 6];
         tool.attach(&mut ctx).unwrap();
         let st = tool.state.as_ref().unwrap();

@@ -47,9 +47,7 @@ pub use bendels_klein::{BendelsKlein, BkMode};
 pub use ffd::FfdTool;
 pub use inspect::Inspect;
 pub use lee::{LeeAreaEdit, LeeMode};
-pub use multires::{
-    connectivity_fingerprint, Multires, SharedLabels, SubMeshLabels, HOST, SUBMESH,
-};
+pub use multires::{frontier_overlay, Multires, SubMeshLabels, HOST, SUBMESH};
 pub use submesh::SubMeshEdit;
 
 use glam::DVec3;
@@ -62,14 +60,13 @@ use crate::document::Document;
 
 /// The tools of the viewer, in selector order. Add new methods here.
 pub fn default_tools() -> Vec<Box<dyn Tool>> {
-    let labels = SharedLabels::default();
     vec![
         Box::new(Inspect::default()),
-        Box::new(Multires::new(labels.clone())),
+        Box::new(Multires::new()),
         Box::new(LeeAreaEdit::new()),
         Box::new(BendelsKlein::default()),
-        Box::new(SubMeshEdit::new(labels.clone())),
-        Box::new(FfdTool::new(labels)),
+        Box::new(SubMeshEdit::new()),
+        Box::new(FfdTool::new()),
     ]
 }
 

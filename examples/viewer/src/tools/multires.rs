@@ -7,24 +7,22 @@
 //!   back through a channel) while the panel shows its progress (levels done, faces left);
 //!   the viewer stays responsive and keeps the mesh unchanged until it returns
 //!   ([`Tool::poll`]).
-//! - **Level slider**: coarsens or refines with the hierarchy's detail coefficients. Edits
-//!   made by other tools at a coarse level ride along to the finer levels: before moving,
-//!   the document's positions are copied into the hierarchy's mesh (when the document's
-//!   connectivity is the hierarchy's current level, or a level already visited, e.g. after
-//!   undo), then the hierarchy moves, and its mesh goes back into the document as one undo
-//!   step.
+//! - **Level slider**: coarsens or refines with the hierarchy's detail coefficients. The
+//!   document holds the hierarchy ([`crate::document::Document::go_to_level`]): its mesh is
+//!   the document's mesh, so edits made by other tools at a coarse level are edits of the
+//!   hierarchy's mesh and ride along to the finer levels; a level change is one undo step
+//!   (the level and the positions left, not a copy of the mesh).
 //! - **Sub-mesh frontier** (section 4.1, Fig. 2): (a) picked vertices joined into a closed
 //!   loop by shortest edge paths, (b) a collar of faces (the faces around the loop through
 //!   the picked vertices; the frontier is its border on the side of the smaller part),
 //!   (c) a cutting plane through a picked point, normal along an axis or the view. The
 //!   labels (host, sub-mesh, frontier) colour the mesh, the frontier is drawn over it, and
 //!   the labels ride along through level changes (Fig. 4 rule, [`halfedge::labels`]).
-//!   They are shared with the *Sub-mesh edits* and *FFD* tools through [`SharedLabels`].
+//!   They live in one place, the mesh's label attribute
+//!   ([`halfedge::labels::LABEL_ATTRIBUTE`]), where the *Sub-mesh edits* and *FFD* tools
+//!   read them ([`SubMeshLabels::of`]).
 
-use std::cell::RefCell;
-use std::collections::HashMap;
 use std::ops::ControlFlow;
-use std::rc::Rc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{self, Receiver, TryRecvError};
 use std::sync::{Arc, Mutex};
@@ -32,8 +30,9 @@ use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use glam::DVec3;
+use halfedge::labels::LABEL_ATTRIBUTE;
 use halfedge::{
-    BuildProgress, DetailMode, FaceId, Hierarchy, HierarchyOptions, Mesh, Method, VertexId,
+    BuildProgress, DetailMode, FaceId, Hierarchy, HierarchyOptions, Label, Mesh, Method, VertexId,
     FRONTIER,
 };
 use three_d::egui;
@@ -55,59 +54,46 @@ pub const SUBMESH: u32 = 1;
 /// Colour of the frontier segments.
 const FRONTIER_COLOR: Rgba = [255, 220, 40, 255];
 
-/// A hash of a mesh's connectivity: slot counts and, for every live face, its index, its
-/// corners and its halfedges (rotated to start at the smallest corner). Equal
-/// fingerprints mean the same handles and the same triangles, so that per-slot data (labels,
-/// positions) carry over.
-pub fn connectivity_fingerprint(mesh: &Mesh) -> u64 {
-    const K: u64 = 0x9E37_79B9_7F4A_7C15;
-    let mut h: u64 = 0xCBF2_9CE4_8422_2325;
-    let mut mix = |x: u64| {
-        h = (h ^ x).wrapping_mul(K).rotate_left(29);
-    };
-    for x in [
-        mesh.vertex_slots(),
-        mesh.halfedge_slots(),
-        mesh.face_slots(),
-        mesh.n_vertices(),
-        mesh.n_faces(),
-    ] {
-        mix(x as u64);
-    }
-    for f in mesh.faces() {
-        mix(mesh.face_index(f) as u64);
-        let hs: Vec<_> = mesh.face_halfedges(f).collect();
-        let vs: Vec<usize> = hs
-            .iter()
-            .map(|&e| mesh.vertex_index(mesh.to_vertex(e)))
-            .collect();
-        let start = (0..vs.len()).min_by_key(|&i| vs[i]).unwrap_or(0);
-        for k in 0..vs.len() {
-            let i = (start + k) % vs.len();
-            mix(vs[i] as u64);
-            mix(mesh.halfedge_index(hs[i]) as u64);
-        }
-    }
-    h
-}
-
-/// Sub-mesh labels of the current mesh: one label per vertex slot ([`HOST`], [`SUBMESH`]
-/// or [`FRONTIER`]), valid for the connectivity they were made on.
+/// Sub-mesh labels of a mesh, read from its label attribute
+/// ([`halfedge::labels::LABEL_ATTRIBUTE`], the one place they are stored): one label per
+/// vertex slot ([`HOST`], [`SUBMESH`] or [`FRONTIER`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct SubMeshLabels {
-    /// Label per vertex slot (dead slots: [`NO_LABEL`]).
+    /// Label per vertex slot (dead slots: [`NO_LABEL`], which is also [`FRONTIER`]'s
+    /// value: ask [`is_live`](Self::is_live)).
     pub labels: Vec<u32>,
-    /// [`connectivity_fingerprint`] of the mesh they belong to.
-    pub fingerprint: u64,
-    /// How they were made (for the status line and panels).
-    pub description: String,
+    /// Live slots.
+    live: Vec<bool>,
 }
 
 impl SubMeshLabels {
-    /// True when the labels belong to `mesh`'s connectivity.
-    pub fn matches(&self, mesh: &Mesh) -> bool {
-        self.labels.len() == mesh.vertex_slots()
-            && self.fingerprint == connectivity_fingerprint(mesh)
+    /// The labels of `mesh`, if it has a label attribute.
+    pub fn of(mesh: &Mesh) -> Option<Self> {
+        let attribute = mesh.find_attribute::<VertexId, Label>(LABEL_ATTRIBUTE)?;
+        let mut live = vec![false; mesh.vertex_slots()];
+        for v in mesh.vertices() {
+            live[mesh.vertex_index(v)] = true;
+        }
+        Some(Self {
+            labels: read_labels(mesh, attribute),
+            live,
+        })
+    }
+
+    /// True when vertex slot `i` is live.
+    pub fn is_live(&self, i: usize) -> bool {
+        self.live.get(i).copied().unwrap_or(false)
+    }
+
+    /// A summary: vertices per part.
+    pub fn description(&self) -> String {
+        let (host, sub, front) = self.counts();
+        format!(
+            "sub-mesh {} · host {} · frontier {} vertices",
+            group(sub),
+            group(host),
+            group(front)
+        )
     }
 
     /// The sub-mesh as a mask per vertex slot: the sub-mesh and its frontier (the frontier
@@ -115,14 +101,15 @@ impl SubMeshLabels {
     pub fn inside_mask(&self) -> Vec<bool> {
         self.labels
             .iter()
-            .map(|&l| l == SUBMESH || l == FRONTIER)
+            .zip(&self.live)
+            .map(|(&l, &live)| live && (l == SUBMESH || l == FRONTIER))
             .collect()
     }
 
     /// Number of vertices per label `(host, sub-mesh, frontier)`.
     pub fn counts(&self) -> (usize, usize, usize) {
         let mut c = (0, 0, 0);
-        for &l in &self.labels {
+        for (&l, _) in self.labels.iter().zip(&self.live).filter(|(_, &live)| live) {
             match l {
                 HOST => c.0 += 1,
                 SUBMESH => c.1 += 1,
@@ -137,7 +124,9 @@ impl SubMeshLabels {
     pub fn display_labels(&self) -> Vec<u32> {
         self.labels
             .iter()
-            .map(|&l| match l {
+            .zip(&self.live)
+            .map(|(&l, &live)| match l {
+                _ if !live => NO_LABEL,
                 HOST => 0,
                 SUBMESH => 1,
                 FRONTIER => 2,
@@ -158,44 +147,19 @@ impl SubMeshLabels {
             ],
         );
     }
-
-    /// The frontier edges (both ends on the frontier) as segments over `mesh`.
-    pub fn frontier_overlay(&self, mesh: &Mesh, overlay: &mut Overlay) {
-        if self.labels.len() != mesh.vertex_slots() {
-            return;
-        }
-        for e in mesh.edges() {
-            let (a, b) = (mesh.from_vertex(e), mesh.to_vertex(e));
-            if self.labels[mesh.vertex_index(a)] == FRONTIER
-                && self.labels[mesh.vertex_index(b)] == FRONTIER
-            {
-                overlay.segment(mesh.position(a), mesh.position(b), FRONTIER_COLOR);
-            }
-        }
-    }
 }
 
-/// The sub-mesh labels shared by the tools (set by *Multiresolution*, used by *Sub-mesh
-/// edits* and *FFD*).
-#[derive(Clone, Debug, Default)]
-pub struct SharedLabels(Rc<RefCell<Option<SubMeshLabels>>>);
-
-impl SharedLabels {
-    /// The labels, if any and if they belong to `mesh`.
-    pub fn get(&self, mesh: &Mesh) -> Option<SubMeshLabels> {
-        self.0
-            .borrow()
-            .as_ref()
-            .filter(|l| l.matches(mesh))
-            .cloned()
-    }
-    /// Replaces the labels.
-    pub fn set(&self, labels: Option<SubMeshLabels>) {
-        *self.0.borrow_mut() = labels;
-    }
-    /// True when labels are set (whatever mesh they belong to).
-    pub fn is_set(&self) -> bool {
-        self.0.borrow().is_some()
+/// The frontier edges of `mesh`'s labels (both ends on the frontier) as segments.
+pub fn frontier_overlay(mesh: &Mesh, overlay: &mut Overlay) {
+    let Some(attribute) = mesh.find_attribute::<VertexId, Label>(LABEL_ATTRIBUTE) else {
+        return;
+    };
+    let labels = mesh.attribute_values(attribute);
+    for e in mesh.edges() {
+        let (a, b) = (mesh.from_vertex(e), mesh.to_vertex(e));
+        if labels[mesh.vertex_index(a)] == FRONTIER && labels[mesh.vertex_index(b)] == FRONTIER {
+            overlay.segment(mesh.position(a), mesh.position(b), FRONTIER_COLOR);
+        }
     }
 }
 
@@ -268,12 +232,8 @@ struct PendingBuild {
     method: Method,
     target_faces: usize,
     input_faces: usize,
-    /// Connectivity of the input, to tell whether level 0 comes back with other slots.
-    input_fingerprint: u64,
     /// The document's revision when the build started: it must not change meanwhile.
     revision: Revision,
-    /// Sub-mesh labels of the input, attached to the hierarchy at level 0.
-    labels: Option<SubMeshLabels>,
     /// Set to ask the build to stop at its next progress report.
     cancel: Arc<AtomicBool>,
 }
@@ -308,7 +268,6 @@ fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
 
 /// The multiresolution tool (see the module docs).
 pub struct Multires {
-    shared: SharedLabels,
     /// Rounds (the paper) or QEM.
     pub method: Method,
     /// Stop building at this many faces.
@@ -318,13 +277,10 @@ pub struct Multires {
     /// How refinement carries coarse edits: local frames with exact regions (default) or
     /// the paper's centroid translations.
     pub detail: DetailMode,
-    hierarchy: Option<Hierarchy>,
     /// The build running on another thread, if any.
     pending: Option<PendingBuild>,
-    /// Level shown by the slider.
+    /// The document's level, as of the last callback (for the listing).
     level: usize,
-    /// Connectivity fingerprint → level, for the levels visited.
-    visited: HashMap<u64, usize>,
     /// Frontier construction.
     pub frontier: FrontierMode,
     /// Cutting-plane normal.
@@ -337,19 +293,22 @@ pub struct Multires {
     view: Option<ViewInfo>,
 }
 
+impl Default for Multires {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl Multires {
-    /// The tool, sharing its labels through `shared`.
-    pub fn new(shared: SharedLabels) -> Self {
+    /// The tool.
+    pub fn new() -> Self {
         Self {
-            shared,
             method: Method::Rounds,
             target_faces: 500,
             max_normal_deviation: 90.0,
             detail: DetailMode::LocalFrame,
-            hierarchy: None,
             pending: None,
             level: 0,
-            visited: HashMap::new(),
             frontier: FrontierMode::Loop,
             normal: PlaneNormal::Y,
             flip: false,
@@ -358,11 +317,6 @@ impl Multires {
             collar: Vec::new(),
             view: None,
         }
-    }
-
-    /// The hierarchy, once built.
-    pub fn hierarchy(&self) -> Option<&Hierarchy> {
-        self.hierarchy.as_ref()
     }
 
     fn options(&self) -> HierarchyOptions {
@@ -404,9 +358,7 @@ impl Multires {
     pub fn start_build(&mut self, ctx: &mut ToolContext<'_>) -> Result<(), ToolError> {
         self.check_idle()?;
         let input = ctx.mesh().clone();
-        let input_fingerprint = connectivity_fingerprint(&input);
         let input_faces = input.n_faces();
-        let labels = self.shared.get(&input);
         let options = self.options();
         let progress = Arc::new(Mutex::new(None));
         let (sender, result) = mpsc::channel();
@@ -439,9 +391,7 @@ impl Multires {
             method: self.method,
             target_faces: self.target_faces,
             input_faces,
-            input_fingerprint,
             revision: ctx.doc.revision(),
-            labels,
             cancel,
         });
         ctx.info(format!(
@@ -487,27 +437,15 @@ impl Multires {
                 "the mesh changed while the hierarchy was being built: build it again",
             ));
         }
-        let input_fp = pending.input_fingerprint;
         let input_faces = pending.input_faces;
         let coarse_faces = h.mesh().n_faces();
         // Back to the input (bit for bit), where the document is.
         h.go_to_level(0)?;
-        if let Some(labels) = pending.labels {
-            // Labels made on the input: attach them at level 0.
-            let attribute = h.mesh_mut().label_attribute()?;
-            let n = labels.labels.len();
-            h.mesh_mut().attribute_values_mut(attribute)[..n].copy_from_slice(&labels.labels);
+        // Sub-mesh labels of the input came along in its label attribute: from now on the
+        // hierarchy carries them through its levels.
+        if let Some(attribute) = h.mesh().find_attribute::<VertexId, Label>(LABEL_ATTRIBUTE) {
             h.attach_labels(attribute);
         }
-        let fp = connectivity_fingerprint(h.mesh());
-        if fp != input_fp {
-            ctx.begin_topology_edit("Build hierarchy");
-            *ctx.mesh_mut() = h.mesh().clone();
-            ctx.doc.end_edit();
-        }
-        self.visited.clear();
-        self.visited.insert(fp, 0);
-        self.level = 0;
         // Counted as the panel counts them: the input is level 0.
         let levels = h.coarsest_level() + 1;
         // Say plainly when the target was missed, or reached only by widening the bounds.
@@ -517,7 +455,10 @@ impl Multires {
         } else {
             String::new()
         };
-        self.hierarchy = Some(h);
+        // The document holds the hierarchy from now on (one undo step: undo gives the
+        // plain mesh back).
+        ctx.doc.set_hierarchy(h, "Build hierarchy");
+        self.level = 0;
         // ASCII only: the status line's font has no arrows.
         ctx.info(format!(
             "Built {} hierarchy: {levels} levels, {} down to {} faces in {:.0} ms{how}",
@@ -529,83 +470,31 @@ impl Multires {
         Ok(())
     }
 
-    /// Copies the document's positions into the hierarchy's mesh, first moving the
-    /// hierarchy to the document's level when the document shows another visited level.
-    fn sync_from_document(&mut self, ctx: &ToolContext<'_>) -> Result<(), ToolError> {
-        self.check_idle()?;
-        let h = self
-            .hierarchy
-            .as_mut()
-            .ok_or_else(|| ToolError::new("no hierarchy: build one first"))?;
-        let doc = ctx.mesh();
-        let fp = connectivity_fingerprint(doc);
-        if fp != connectivity_fingerprint(h.mesh()) {
-            let Some(&level) = self.visited.get(&fp) else {
-                return Err(ToolError::new(
-                    "the mesh's connectivity is none of the hierarchy's levels (another \
-                     mesh was loaded or its connectivity changed): build the hierarchy again",
-                ));
-            };
-            h.go_to_level(level)?;
-            if connectivity_fingerprint(h.mesh()) != fp {
-                return Err(ToolError::new(
-                    "the hierarchy could not return to the document's level: build it again",
-                ));
-            }
-            self.level = level;
-        }
-        let target = h.mesh_mut();
-        let src = doc.positions();
-        let live: Vec<usize> = doc.vertices().map(|v| doc.vertex_index(v)).collect();
-        let dst = target.positions_mut();
-        for i in live {
-            dst[i] = src[i];
-        }
-        Ok(())
-    }
-
-    /// Moves to `level` (coarsening or refining with detail coefficients), one undo step.
+    /// Moves the document's hierarchy to `level` (coarsening or refining with detail
+    /// coefficients), one undo step.
     pub fn go_to_level(
         &mut self,
         level: usize,
         ctx: &mut ToolContext<'_>,
     ) -> Result<(), ToolError> {
-        self.sync_from_document(ctx)?;
-        let h = self.hierarchy.as_mut().expect("synced");
-        if level > h.coarsest_level() {
-            return Err(ToolError::new(format!(
-                "level {level} does not exist (levels 0..={})",
-                h.coarsest_level()
-            )));
-        }
-        let from = h.current_level().unwrap_or(self.level);
-        if from == level
-            && connectivity_fingerprint(ctx.mesh()) == connectivity_fingerprint(h.mesh())
-        {
+        self.check_idle()?;
+        let from = ctx
+            .doc
+            .hierarchy()
+            .ok_or_else(|| ToolError::new("no hierarchy: build one first"))?
+            .level_at_or_finer();
+        if ctx.doc.hierarchy().and_then(Hierarchy::current_level) == Some(level) {
             self.level = level;
             return Ok(());
         }
         let start = Instant::now();
-        h.go_to_level(level)?;
+        ctx.doc.go_to_level(level, &format!("Level {level}"))?;
         let took = start.elapsed();
-        let fp = connectivity_fingerprint(h.mesh());
-        self.visited.insert(fp, level);
         self.level = level;
-        ctx.begin_topology_edit(&format!("Level {level}"));
-        *ctx.mesh_mut() = h.mesh().clone();
         self.picks.clear();
         self.collar.clear();
-        // The labels rode along (Fig. 4 rule): publish them for this level.
-        if let Some(attribute) = h.label_attribute() {
-            let labels = read_labels(h.mesh(), attribute);
-            let labels = SubMeshLabels {
-                labels,
-                fingerprint: fp,
-                description: "multiresolution labels".into(),
-            };
-            labels.show(ctx);
-            self.shared.set(Some(labels));
-        }
+        // The labels rode along in the mesh (Fig. 4 rule): show them at this level.
+        self.show_labels(ctx);
         let verb = if level > from { "coarsened" } else { "refined" };
         ctx.info(format!(
             "Level {level}: {} faces, {} vertices ({verb} from level {from} in {:.1} ms)",
@@ -616,18 +505,57 @@ impl Multires {
         Ok(())
     }
 
-    /// Makes the frontier from the picks and labels the two sides (on the hierarchy's
-    /// mesh when there is one, so that the labels ride along through levels).
+    /// Makes the frontier from the picks and labels the two sides, in the label attribute
+    /// of the document's mesh (the hierarchy's mesh when there is one, so that the labels
+    /// ride along through levels).
     pub fn define_labels(&mut self, ctx: &mut ToolContext<'_>) -> Result<(), ToolError> {
         self.check_idle()?;
-        let use_hierarchy = self.hierarchy.is_some() && self.sync_from_document(ctx).is_ok();
-        let mut scratch;
-        let mesh: &mut Mesh = if use_hierarchy {
-            self.hierarchy.as_mut().expect("checked").mesh_mut()
-        } else {
-            scratch = ctx.mesh().clone();
-            &mut scratch
+        let cut = Cut {
+            frontier: self.frontier,
+            picks: &self.picks,
+            plane: self.plane,
+            flip: self.flip,
         };
+        let (collar, description) = ctx.doc.edit_labels(|mesh| cut.label(mesh))?;
+        self.collar = collar;
+        self.show_labels(ctx);
+        ctx.info(format!("Labelled: {description}"));
+        Ok(())
+    }
+
+    fn clear_picks(&mut self, ctx: &mut ToolContext<'_>) {
+        self.picks.clear();
+        self.collar.clear();
+        self.plane = None;
+        ctx.doc.edit_labels(|mesh| {
+            if let Some(a) = mesh.find_attribute::<VertexId, Label>(LABEL_ATTRIBUTE) {
+                mesh.remove_attribute(a);
+            }
+        });
+        ctx.clear_colors();
+        ctx.info("Multiresolution: picks and labels cleared");
+    }
+
+    fn show_labels(&self, ctx: &mut ToolContext<'_>) {
+        if let Some(l) = SubMeshLabels::of(ctx.mesh()) {
+            l.show(ctx);
+        }
+    }
+}
+
+/// What a cut of the mesh into sub-mesh and host is made from.
+struct Cut<'a> {
+    frontier: FrontierMode,
+    picks: &'a [VertexId],
+    plane: Option<(DVec3, DVec3)>,
+    flip: bool,
+}
+
+impl Cut<'_> {
+    /// Makes the frontier and labels the two sides in `mesh`'s label attribute; returns
+    /// the collar (collar mode) and a description.
+    fn label(&self, mesh: &mut Mesh) -> Result<(Vec<FaceId>, String), ToolError> {
+        let mut collar = Vec::new();
         let frontier = match self.frontier {
             FrontierMode::Loop => {
                 if self.picks.len() < 3 {
@@ -636,7 +564,7 @@ impl Multires {
                         self.picks.len()
                     )));
                 }
-                mesh.frontier_through(&self.picks)?
+                mesh.frontier_through(self.picks)?
             }
             FrontierMode::Collar => {
                 if self.picks.len() < 3 {
@@ -645,9 +573,8 @@ impl Multires {
                         self.picks.len()
                     )));
                 }
-                let path = mesh.closed_loop_through(&self.picks)?;
+                let path = mesh.closed_loop_through(self.picks)?;
                 let mut seen = vec![false; mesh.face_slots()];
-                let mut collar = Vec::new();
                 for &e in &path {
                     for f in mesh.adjacent_faces(mesh.from_vertex(e)) {
                         if !std::mem::replace(&mut seen[mesh.face_index(f)], true) {
@@ -655,9 +582,7 @@ impl Multires {
                         }
                     }
                 }
-                let frontier = mesh.frontier_from_collar(&collar)?;
-                self.collar = collar;
-                frontier
+                mesh.frontier_from_collar(&collar)?
             }
             FrontierMode::Plane => {
                 let (point, normal) = self
@@ -666,11 +591,10 @@ impl Multires {
                 mesh.frontier_from_plane(point, normal)?
             }
         };
-        let (mut attribute, mut counts) = mesh.label_sides(&frontier, SUBMESH, HOST)?;
-        let mut swap = match self.frontier {
-            FrontierMode::Plane => {
+        let (attribute, mut counts) = mesh.label_sides(&frontier, SUBMESH, HOST)?;
+        let mut swap = match (self.frontier, self.plane) {
+            (FrontierMode::Plane, Some((point, normal))) => {
                 // The sub-mesh is on the normal's side of the plane.
-                let (point, normal) = self.plane.expect("checked");
                 let values = mesh.attribute_values(attribute);
                 let side: f64 = mesh
                     .vertices()
@@ -683,25 +607,12 @@ impl Multires {
         };
         swap ^= self.flip;
         if swap {
-            (attribute, counts) = mesh.label_sides(&frontier, HOST, SUBMESH)?;
+            (_, counts) = mesh.label_sides(&frontier, HOST, SUBMESH)?;
         }
-        let labels = read_labels(mesh, attribute);
-        let fp = connectivity_fingerprint(mesh);
-        if use_hierarchy {
-            self.hierarchy
-                .as_mut()
-                .expect("checked")
-                .attach_labels(attribute);
-        }
-        let sub = if swap {
-            counts.right_vertices
+        let (sub, host) = if swap {
+            (counts.right_vertices, counts.left_vertices)
         } else {
-            counts.left_vertices
-        };
-        let host = if swap {
-            counts.left_vertices
-        } else {
-            counts.right_vertices
+            (counts.left_vertices, counts.right_vertices)
         };
         let description = format!(
             "{} frontier of {} edges: sub-mesh {} vertices, host {}, frontier {}",
@@ -711,33 +622,7 @@ impl Multires {
             group(host),
             group(counts.frontier_vertices)
         );
-        let labels = SubMeshLabels {
-            labels,
-            fingerprint: fp,
-            description: description.clone(),
-        };
-        labels.show(ctx);
-        self.shared.set(Some(labels));
-        ctx.info(format!("Labelled: {description}"));
-        Ok(())
-    }
-
-    fn clear_picks(&mut self, ctx: &mut ToolContext<'_>) {
-        self.picks.clear();
-        self.collar.clear();
-        self.plane = None;
-        self.shared.set(None);
-        if let Some(h) = &mut self.hierarchy {
-            h.detach_labels();
-        }
-        ctx.clear_colors();
-        ctx.info("Multiresolution: picks and labels cleared");
-    }
-
-    fn show_labels(&self, ctx: &mut ToolContext<'_>) {
-        if let Some(l) = self.shared.get(ctx.mesh()) {
-            l.show(ctx);
-        }
+        Ok((collar, description))
     }
 }
 
@@ -930,6 +815,8 @@ impl Tool for Multires {
     }
 
     fn poll(&mut self, ctx: &mut ToolContext<'_>) -> Background {
+        // The document's level (undo and redo walk it too).
+        self.level = ctx.doc.hierarchy().map_or(0, Hierarchy::level_at_or_finer);
         let Some(pending) = &self.pending else {
             return Background::Idle;
         };
@@ -1003,19 +890,12 @@ impl Tool for Multires {
         if let Some((p, _)) = self.plane {
             overlay.marker(p, Overlay::PICK, 1.5);
         }
-        if let Some(labels) = self.shared.0.borrow().as_ref() {
-            if labels.labels.len() == mesh.vertex_slots() {
-                labels.frontier_overlay(mesh, overlay);
-            }
-        }
+        frontier_overlay(mesh, overlay);
     }
 
     fn on_mesh_replaced(&mut self, mesh: &Mesh) {
         self.picks.retain(|&v| mesh.is_valid_vertex(v));
         self.collar.retain(|&f| mesh.is_valid_face(f));
-        if let Some(&level) = self.visited.get(&connectivity_fingerprint(mesh)) {
-            self.level = level;
-        }
     }
 
     fn activate(&mut self, ctx: &mut ToolContext<'_>) {
@@ -1043,7 +923,8 @@ impl Multires {
                 ctx.error(format!("Build failed: {e}"));
             }
         }
-        if let Some(h) = &self.hierarchy {
+        self.level = ctx.doc.hierarchy().map_or(0, Hierarchy::level_at_or_finer);
+        if let Some(h) = ctx.doc.hierarchy() {
             let coarsest = h.coarsest_level();
             let counts = h.level_face_counts().to_vec();
             // The slider's range is the hierarchy's levels.
@@ -1089,16 +970,8 @@ impl Multires {
             params::widget(ui, PARAMS, "define", self, ctx);
             params::widget(ui, PARAMS, "clear_picks", self, ctx);
         });
-        if let Some(l) = self.shared.get(ctx.mesh()) {
-            let (host, sub, front) = l.counts();
-            ui.weak(format!(
-                "sub-mesh {} · host {} · frontier {} vertices",
-                group(sub),
-                group(host),
-                group(front)
-            ));
-        } else if self.shared.is_set() {
-            ui.weak("The labels belong to another level or mesh.");
+        if let Some(l) = SubMeshLabels::of(ctx.mesh()) {
+            ui.weak(l.description());
         }
     }
 
@@ -1178,7 +1051,7 @@ mod tests {
         let input = generators::icosphere(7);
         let mut fixture = Fixture::new(input.clone());
         let mut ctx = fixture.ctx();
-        let mut tool = Multires::new(SharedLabels::default());
+        let mut tool = Multires::new();
         tool.target_faces = 200;
         tool.apply(&mut ctx).unwrap();
         tool.cancel_build();
@@ -1188,21 +1061,21 @@ mod tests {
             "{}",
             ctx.status.message
         );
-        assert!(tool.hierarchy.is_none());
+        assert!(ctx.doc.hierarchy().is_none());
         assert!(ctx.mesh().positions() == input.positions());
         assert_eq!(ctx.mesh().n_faces(), input.n_faces());
         // The tool builds again afterwards.
         tool.target_faces = 20_000;
         tool.apply(&mut ctx).unwrap();
         assert_eq!(poll_until_idle(&mut tool, &mut ctx), Background::Idle);
-        assert!(tool.hierarchy.is_some());
+        assert!(ctx.doc.hierarchy().is_some());
     }
 
     #[test]
     fn the_detail_switch_reaches_the_hierarchy() {
         let mut fixture = Fixture::new(generators::icosphere(3));
         let mut ctx = fixture.ctx();
-        let mut tool = Multires::new(SharedLabels::default());
+        let mut tool = Multires::new();
         tool.target_faces = 100;
         assert!(tool
             .set_parameter("detail", &"sideways".into(), &mut ctx)
@@ -1216,7 +1089,7 @@ mod tests {
             assert!(tool.parameters().contains(&("detail", name.into())));
             tool.apply(&mut ctx).unwrap();
             assert_eq!(poll_until_idle(&mut tool, &mut ctx), Background::Idle);
-            assert_eq!(tool.hierarchy().unwrap().detail_mode(), mode);
+            assert_eq!(ctx.doc.hierarchy().unwrap().detail_mode(), mode);
         }
     }
 
@@ -1225,7 +1098,7 @@ mod tests {
         let input = generators::icosphere(4);
         let mut fixture = Fixture::new(input.clone());
         let mut ctx = fixture.ctx();
-        let mut tool = Multires::new(SharedLabels::default());
+        let mut tool = Multires::new();
         tool.target_faces = 200;
         tool.apply(&mut ctx).unwrap();
         assert!(tool.is_building());
@@ -1247,13 +1120,13 @@ mod tests {
                 .with_target_faces(200),
         )
         .unwrap();
-        let h = tool.hierarchy().expect("built");
+        let h = ctx.doc.hierarchy().expect("built");
         assert_eq!(h.level_face_counts(), direct.level_face_counts());
         assert!(h.coarsest_level() >= 2);
+        let coarsest = h.coarsest_level();
         // The document stays the input, bit for bit.
         assert_eq!(ctx.mesh().positions(), input.positions());
         // Level changes and undo work on the hierarchy from the thread.
-        let coarsest = h.coarsest_level();
         tool.set_parameter("level", &coarsest.into(), &mut ctx)
             .unwrap();
         ctx.doc.end_edit();
@@ -1270,8 +1143,8 @@ mod tests {
     fn build_errors_reach_the_status_line() {
         let mut fixture = Fixture::new(generators::icosphere(2));
         let mut ctx = fixture.ctx();
-        let mut tool = Multires::new(SharedLabels::default());
-        // Out of range (the panel and scripts refuse it; the field is public).
+        let mut tool = Multires::new();
+        // Out of range: the library refuses it.
         tool.max_normal_deviation = 200.0;
         tool.start_build(&mut ctx).unwrap();
         match poll_until_idle(&mut tool, &mut ctx) {
@@ -1280,7 +1153,7 @@ mod tests {
         }
         assert!(ctx.status.is_error);
         assert!(ctx.status.message.starts_with("Build failed"));
-        assert!(tool.hierarchy().is_none() && !tool.is_building());
+        assert!(ctx.doc.hierarchy().is_none() && !tool.is_building());
         assert_eq!(ctx.doc.undo_len(), 0);
     }
 
@@ -1288,7 +1161,7 @@ mod tests {
     fn a_mesh_changed_during_the_build_refuses_the_result() {
         let mut fixture = Fixture::new(generators::icosphere(2));
         let mut ctx = fixture.ctx();
-        let mut tool = Multires::new(SharedLabels::default());
+        let mut tool = Multires::new();
         tool.target_faces = 40;
         tool.start_build(&mut ctx).unwrap();
         ctx.positions_mut()[0] += DVec3::X;
@@ -1297,7 +1170,7 @@ mod tests {
             poll_until_idle(&mut tool, &mut ctx),
             Background::Failed(_)
         ));
-        assert!(tool.hierarchy().is_none());
+        assert!(ctx.doc.hierarchy().is_none());
     }
 
     #[test]
@@ -1309,24 +1182,120 @@ mod tests {
         assert_eq!(build_fraction(50, 100, 50), 1.0);
     }
 
+    /// Builds a hierarchy of `mesh` in the document through the tool, down to `target`.
+    fn built(fixture: &mut Fixture, target: usize) -> Multires {
+        let mut tool = Multires::new();
+        tool.target_faces = target;
+        let mut ctx = fixture.ctx();
+        tool.apply(&mut ctx).unwrap();
+        assert_eq!(poll_until_idle(&mut tool, &mut ctx), Background::Idle);
+        tool
+    }
+
     #[test]
-    fn fingerprints_tell_connectivity_apart() {
-        let a = generators::icosphere(2);
-        let mut b = a.clone();
-        b.positions_mut()[0] += DVec3::X;
-        assert_eq!(connectivity_fingerprint(&a), connectivity_fingerprint(&b));
-        let c = generators::icosphere(1);
-        assert_ne!(connectivity_fingerprint(&a), connectivity_fingerprint(&c));
-        let mut h =
-            Hierarchy::build(a.clone(), &HierarchyOptions::rounds().with_target_faces(80)).unwrap();
-        assert_ne!(
-            connectivity_fingerprint(h.mesh()),
-            connectivity_fingerprint(&a)
-        );
-        h.go_to_level(0).unwrap();
+    fn the_document_shows_the_hierarchys_own_mesh_at_every_level() {
+        let mut fixture = Fixture::new(generators::icosphere(3));
+        let mut tool = built(&mut fixture, 100);
+        let mut ctx = fixture.ctx();
+        let coarsest = ctx.doc.hierarchy().unwrap().coarsest_level();
+        for level in [coarsest, 1, 0, coarsest] {
+            tool.go_to_level(level, &mut ctx).unwrap();
+            let h = ctx.doc.hierarchy().unwrap();
+            // One mesh: the document's mesh is the hierarchy's, not a copy of it.
+            assert!(std::ptr::eq(ctx.mesh(), h.mesh()));
+            assert_eq!(h.current_level(), Some(level));
+            assert_eq!(ctx.mesh().n_faces(), h.level_face_counts()[level]);
+            assert_eq!(tool.parameters()[4], ("level", level.into()));
+        }
+    }
+
+    #[test]
+    fn an_edit_at_a_coarse_level_is_carried_to_the_fine_level() {
+        let input = generators::icosphere(3);
+        let mut fixture = Fixture::new(input.clone());
+        let mut tool = built(&mut fixture, 100);
+        let mut ctx = fixture.ctx();
+        let coarsest = ctx.doc.hierarchy().unwrap().coarsest_level();
+        tool.go_to_level(coarsest, &mut ctx).unwrap();
+        ctx.doc.end_edit();
+        let t = DVec3::new(0.25, -0.5, 0.125);
+        ctx.begin_edit("move");
+        for p in ctx.positions_mut() {
+            *p += t;
+        }
+        ctx.doc.end_edit();
+        tool.go_to_level(0, &mut ctx).unwrap();
+        ctx.doc.end_edit();
+        assert_eq!(ctx.mesh().n_faces(), input.n_faces());
+        for v in input.vertices() {
+            let d = ctx.mesh().position(v) - input.position(v) - t;
+            assert!(d.length() < 1e-9, "{v}: off by {d}");
+        }
+        // Undo: level 0, the move, the coarsening, the build; each exact.
+        let labels: Vec<String> = ctx.doc.undo_labels().map(str::to_owned).collect();
         assert_eq!(
-            connectivity_fingerprint(h.mesh()),
-            connectivity_fingerprint(&a)
+            labels,
+            [
+                "Build hierarchy",
+                &format!("Level {coarsest}"),
+                "move",
+                "Level 0"
+            ]
         );
+        for _ in 0..3 {
+            ctx.doc.undo().unwrap();
+        }
+        assert_eq!(ctx.mesh().positions(), input.positions());
+        assert_eq!(ctx.mesh().n_faces(), input.n_faces());
+        assert!(ctx.doc.hierarchy().is_some());
+        ctx.doc.undo().unwrap();
+        assert!(
+            ctx.doc.hierarchy().is_none(),
+            "undoing the build gives the plain mesh"
+        );
+        assert_eq!(ctx.mesh().positions(), input.positions());
+        ctx.doc.redo().unwrap();
+        assert!(ctx.doc.hierarchy().is_some());
+    }
+
+    #[test]
+    fn labels_live_in_the_mesh_and_ride_along_through_the_levels() {
+        let mut fixture = Fixture::new(generators::icosphere(3));
+        let mut tool = built(&mut fixture, 100);
+        let mut ctx = fixture.ctx();
+        tool.set_parameter("frontier", &"plane".into(), &mut ctx)
+            .unwrap();
+        tool.set_parameter("normal", &"x".into(), &mut ctx).unwrap();
+        let v = ctx.mesh().vertices().next().unwrap();
+        let pick = Pick {
+            vertex: v,
+            face: None,
+            point: DVec3::ZERO,
+        };
+        tool.on_pick(Some(&pick), &mut ctx);
+        let fine = SubMeshLabels::of(ctx.mesh()).expect("labelled");
+        let (host, sub, front) = fine.counts();
+        assert!(host > 0 && sub > 0 && front > 0, "{:?}", fine.counts());
+        assert_eq!(host + sub + front, ctx.mesh().n_vertices());
+        let coarsest = ctx.doc.hierarchy().unwrap().coarsest_level();
+        tool.go_to_level(coarsest, &mut ctx).unwrap();
+        // The same attribute, at the coarse level: every live vertex labelled.
+        let coarse = SubMeshLabels::of(ctx.mesh()).expect("labels ride along");
+        let (h, s, f) = coarse.counts();
+        assert_eq!(h + s + f, ctx.mesh().n_vertices());
+        assert!(s > 0 && h > 0);
+        // The other tools read them there.
+        let mut sub_tool = super::super::SubMeshEdit::new();
+        sub_tool
+            .set_parameter("source", &"labels".into(), &mut ctx)
+            .unwrap();
+        assert!(sub_tool.submesh(ctx.mesh()).is_ok());
+        // Back at level 0 the labels are the ones made there.
+        tool.go_to_level(0, &mut ctx).unwrap();
+        assert_eq!(SubMeshLabels::of(ctx.mesh()), Some(fine));
+        // Clearing removes them from the mesh.
+        tool.set_parameter("clear_picks", &true.into(), &mut ctx)
+            .unwrap();
+        assert!(SubMeshLabels::of(ctx.mesh()).is_none());
     }
 }

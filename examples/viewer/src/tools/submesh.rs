@@ -23,8 +23,8 @@ use three_d::egui;
 
 use super::params::{self, Param, Widget};
 use super::{
-    bool_param, choice_name, choice_param, number_param, Drag, DragPhase, Overlay, Pick,
-    SharedLabels, Tool, ToolContext, ToolError, ViewInfo,
+    bool_param, choice_name, choice_param, frontier_overlay, number_param, Drag, DragPhase,
+    Overlay, Pick, SubMeshLabels, Tool, ToolContext, ToolError, ViewInfo,
 };
 use crate::colors::NO_LABEL;
 use crate::format::group;
@@ -82,7 +82,6 @@ struct PullDrag {
 
 /// The sub-mesh edit tool (see the module docs).
 pub struct SubMeshEdit {
-    shared: SharedLabels,
     /// Where the sub-mesh comes from.
     pub source: Source,
     /// Rings around the picked vertex (source `ring`).
@@ -118,11 +117,16 @@ pub struct SubMeshEdit {
     view: Option<ViewInfo>,
 }
 
+impl Default for SubMeshEdit {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl SubMeshEdit {
-    /// The tool, reading the multiresolution labels from `shared`.
-    pub fn new(shared: SharedLabels) -> Self {
+    /// The tool (it reads the sub-mesh labels from the mesh's label attribute).
+    pub fn new() -> Self {
         Self {
-            shared,
             source: Source::Labels,
             rings: 4,
             operation: Operation::Pull,
@@ -158,9 +162,7 @@ impl SubMeshEdit {
     /// The sub-mesh the tool acts on.
     pub fn submesh(&self, mesh: &Mesh) -> Result<SubMesh, ToolError> {
         let mask = match self.source {
-            Source::Labels => self
-                .shared
-                .get(mesh)
+            Source::Labels => SubMeshLabels::of(mesh)
                 .ok_or_else(|| {
                     ToolError::new(
                         "no sub-mesh labels for this mesh: make a frontier with the \
@@ -552,7 +554,7 @@ impl Tool for SubMeshEdit {
         params::widget(ui, PARAMS, "source", self, ctx);
         match self.source {
             Source::Labels => {
-                if self.shared.get(ctx.mesh()).is_none() {
+                if SubMeshLabels::of(ctx.mesh()).is_none() {
                     ui.weak("No labels for this mesh: cut one with Multiresolution.");
                 }
             }
@@ -691,9 +693,7 @@ impl Tool for SubMeshEdit {
             }
         }
         if self.source == Source::Labels {
-            if let Some(labels) = self.shared.get(mesh) {
-                labels.frontier_overlay(mesh, overlay);
-            }
+            frontier_overlay(mesh, overlay);
         }
     }
 
@@ -729,8 +729,7 @@ mod tests {
     #[test]
     fn a_scale_without_propagation_leaves_the_host_alone() {
         let mesh = generators::icosphere(3);
-        let shared = SharedLabels::default();
-        let mut tool = SubMeshEdit::new(shared);
+        let mut tool = SubMeshEdit::new();
         tool.source = Source::Ring;
         tool.centre = mesh.vertices().next();
         tool.levels = 0;
