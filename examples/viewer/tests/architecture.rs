@@ -176,3 +176,68 @@ fn one_mesh_one_hierarchy_one_label_store() {
     );
     assert!(offenders.is_empty(), "{}", offenders.join("\n"));
 }
+
+/// The fields of `pub struct App { … }` in `source`.
+fn app_fields(source: &str) -> Vec<String> {
+    let start = source.find("pub struct App {").expect("pub struct App");
+    let body = &source[start + "pub struct App {".len()..];
+    let body = &body[..body.find("\n}").unwrap()];
+    body.lines()
+        .map(str::trim)
+        .filter(|l| !l.starts_with("//") && l.contains(':'))
+        .map(|l| l.split(':').next().unwrap().trim().to_owned())
+        .collect()
+}
+
+/// `App` is split into parts, each a struct in a module of its own: the script runner,
+/// the input handling and the scene / render state; `App` holds them and a few fields.
+#[test]
+fn the_app_is_split_into_a_script_runner_input_and_scene() {
+    let app = Path::new(env!("CARGO_MANIFEST_DIR")).join("src/app");
+    let read = |name: &str| {
+        std::fs::read_to_string(app.join(name)).unwrap_or_else(|e| panic!("src/app/{name}: {e}"))
+    };
+    let parts = [
+        ("script_runner.rs", "struct ScriptRunner {"),
+        ("input.rs", "struct Input {"),
+        ("scene.rs", "struct Scene {"),
+    ];
+    for (file, item) in parts {
+        assert!(read(file).contains(item), "src/app/{file} defines {item}");
+    }
+    let fields = app_fields(&read("mod.rs"));
+    for part in ["script", "input", "scene"] {
+        assert!(
+            fields.iter().any(|f| f == part),
+            "App holds its {part}: {fields:?}"
+        );
+    }
+    // What moved into the parts stays there.
+    for moved in [
+        "camera",
+        "renderer",
+        "bvh",
+        "gesture",
+        "viewport",
+        "pick",
+        "screenshot",
+        "measurement",
+        "keep_open",
+    ] {
+        assert!(
+            !fields.iter().any(|f| f == moved),
+            "App holds {moved} itself"
+        );
+    }
+    assert!(
+        fields.len() <= 14,
+        "App has {} fields: {fields:?}",
+        fields.len()
+    );
+}
+
+#[test]
+fn the_field_reader_reads_fields() {
+    let source = "pub struct App {\n    /// Doc.\n    a: u32,\n    b: Option<Vec<u8>>,\n}\n";
+    assert_eq!(app_fields(source), ["a", "b"]);
+}
