@@ -709,11 +709,14 @@ const PARAMS: &[Param<Multires>] = &[
             Ok(())
         },
     ),
-    // The slider of the levels is drawn by the panel (its range is the hierarchy's).
     Param::new(
         "level",
         "level",
-        Widget::None,
+        Widget::Levels(|ctx| {
+            ctx.doc
+                .hierarchy()
+                .map(|h| (0.0, h.coarsest_level() as f64))
+        }),
         |t| t.level.into(),
         |t, v, ctx| t.go_to_level(params::whole("level", v)?, ctx),
     ),
@@ -924,30 +927,27 @@ impl Multires {
             }
         }
         self.level = ctx.doc.hierarchy().map_or(0, Hierarchy::level_at_or_finer);
-        if let Some(h) = ctx.doc.hierarchy() {
-            let coarsest = h.coarsest_level();
-            let counts = h.level_face_counts().to_vec();
-            // The slider's range is the hierarchy's levels.
-            let mut level = self.level;
-            let r = ui.add(egui::Slider::new(&mut level, 0..=coarsest).text("level"));
-            if level != self.level {
-                let value = serde_json::Value::from(level);
-                if let Err(e) = params::set("Multiresolution", PARAMS, self, "level", &value, ctx) {
-                    ctx.error(format!("Level change failed: {e}"));
-                }
-            }
-            ui.weak(format!(
-                "level {}: {} faces · {} levels · {} faces at the coarsest",
-                self.level,
-                group(counts[self.level.min(coarsest)]),
-                coarsest + 1,
-                group(counts[coarsest])
-            ));
+        // The level slider's range is the hierarchy's levels (no hierarchy: no slider).
+        if let Some(r) = params::widget(ui, PARAMS, "level", self, ctx) {
             if r.drag_stopped() || (r.changed() && !r.dragged()) {
                 ctx.doc.end_edit();
             }
-        } else {
-            ui.weak("No hierarchy yet.");
+        }
+        match ctx.doc.hierarchy() {
+            Some(h) => {
+                let coarsest = h.coarsest_level();
+                let counts = h.level_face_counts();
+                ui.weak(format!(
+                    "level {}: {} faces · {} levels · {} faces at the coarsest",
+                    self.level,
+                    group(counts[self.level.min(coarsest)]),
+                    coarsest + 1,
+                    group(counts[coarsest])
+                ));
+            }
+            None => {
+                ui.weak("No hierarchy yet.");
+            }
         }
         ui.separator();
         ui.strong("Sub-mesh");

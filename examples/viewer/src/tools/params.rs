@@ -49,6 +49,9 @@ pub enum Widget {
         /// Scale the speed by the scene's radius (a translation).
         relative: bool,
     },
+    /// A slider over whole numbers whose range the context gives (the levels of the
+    /// document's hierarchy); no widget while it gives none.
+    Levels(fn(&ToolContext<'_>) -> Option<(f64, f64)>),
     /// A check box (true or false).
     Check,
     /// One of named choices (the getter returns the name).
@@ -291,6 +294,19 @@ pub fn widget<T>(
             }
             r
         }
+        Widget::Levels(range) => {
+            let (min, max) = range(ctx)?;
+            let mut x = current.as_ref().and_then(|v| v.as_f64()).unwrap_or(min);
+            let r = ui.add(
+                egui::Slider::new(&mut x, min..=max)
+                    .integer()
+                    .text(param.label),
+            );
+            if r.changed() {
+                new_value = Some((x.round() as i64).into());
+            }
+            r
+        }
         Widget::Check => {
             let mut b = current.as_ref().and_then(|v| v.as_bool()).unwrap_or(false);
             let r = ui.checkbox(&mut b, param.label);
@@ -368,5 +384,113 @@ pub fn whole(name: &str, value: &serde_json::Value) -> Result<usize, ToolError> 
     match value.as_f64() {
         Some(x) if x >= 0.0 && x.fract() == 0.0 && x <= usize::MAX as f64 => Ok(x as usize),
         _ => Err(ToolError::bad_value(name, "a whole number ≥ 0", value)),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::colors::Display;
+    use crate::document::Document;
+    use crate::tools::{Status, ViewInfo};
+    use glam::DVec3;
+
+    /// A tool of two parameters: a flag and an action counting its presses.
+    #[derive(Default)]
+    struct Toy {
+        flag: bool,
+        presses: u32,
+    }
+
+    const TOY: &[Param<Toy>] = &[
+        Param::new(
+            "flag",
+            "flag",
+            Widget::Check,
+            |t| t.flag.into(),
+            |t, v, _| {
+                t.flag = v
+                    .as_bool()
+                    .ok_or_else(|| ToolError::new("flag: true or false"))?;
+                Ok(())
+            },
+        ),
+        Param::action("press", "Press", |t, _, ctx| {
+            t.presses += 1;
+            ctx.info(format!("pressed {}", t.presses));
+            Ok(())
+        }),
+    ];
+
+    /// Runs one egui frame drawing `name`'s widget with `events`; returns its rectangle.
+    fn frame(
+        egui: &egui::Context,
+        events: Vec<egui::Event>,
+        toy: &mut Toy,
+        name: &str,
+        ctx: &mut ToolContext<'_>,
+    ) -> egui::Rect {
+        let mut rect = egui::Rect::NOTHING;
+        let input = egui::RawInput {
+            events,
+            screen_rect: Some(egui::Rect::from_min_size(
+                egui::Pos2::ZERO,
+                egui::vec2(400.0, 300.0),
+            )),
+            ..Default::default()
+        };
+        let _ = egui.run_ui(input, |ui| {
+            if let Some(r) = widget(ui, TOY, name, toy, ctx) {
+                rect = r.rect;
+            }
+        });
+        rect
+    }
+
+    fn click_at(p: egui::Pos2) -> Vec<egui::Event> {
+        let button = |pressed| egui::Event::PointerButton {
+            pos: p,
+            button: egui::PointerButton::Primary,
+            pressed,
+            modifiers: egui::Modifiers::NONE,
+        };
+        vec![egui::Event::PointerMoved(p), button(true), button(false)]
+    }
+
+    #[test]
+    fn the_widget_goes_through_the_setter_scripts_use() {
+        let mut doc = Document::new(halfedge::generators::icosphere(0), None, None);
+        let mut display = Display::default();
+        let mut status = Status::default();
+        let mut ctx = ToolContext {
+            doc: &mut doc,
+            display: &mut display,
+            status: &mut status,
+            view: ViewInfo {
+                eye: DVec3::Z,
+                forward: DVec3::NEG_Z,
+                right: DVec3::X,
+                up: DVec3::Y,
+                scene_radius: 1.0,
+            },
+            pick: None,
+        };
+        let egui = egui::Context::default();
+        let mut toy = Toy::default();
+        for name in ["press", "flag"] {
+            let rect = frame(&egui, Vec::new(), &mut toy, name, &mut ctx);
+            assert!(rect.is_positive(), "{name} has a widget");
+            frame(&egui, click_at(rect.center()), &mut toy, name, &mut ctx);
+            frame(&egui, Vec::new(), &mut toy, name, &mut ctx);
+        }
+        assert_eq!(toy.presses, 1, "the button ran the action's setter");
+        assert_eq!(ctx.status.message, "pressed 1");
+        assert!(toy.flag, "the check box set the flag through its setter");
+        assert_eq!(list(TOY, &toy), [("flag", true.into())]);
+        // Scripts reach the same entries.
+        set("toy", TOY, &mut toy, "press", &true.into(), &mut ctx).unwrap();
+        assert_eq!(toy.presses, 2);
+        let e = set("toy", TOY, &mut toy, "nope", &1.into(), &mut ctx).unwrap_err();
+        assert!(e.0.contains("flag, press"), "{e}");
     }
 }
