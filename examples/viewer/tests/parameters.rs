@@ -185,3 +185,28 @@ fn out_of_range_values_reach_the_library_which_refuses_them() {
         .set_parameter("target_faces", &"many".into(), &mut fixture.ctx())
         .is_err());
 }
+
+/// The same for a sub-mesh edit: a negative scale factor passes through the table and the
+/// edit refuses it (nothing moves).
+#[test]
+fn a_negative_scale_is_refused_by_the_sub_mesh_edit() {
+    let mut fixture = Fixture::new();
+    let before = fixture.doc.mesh().positions().to_vec();
+    let mut tools = default_tools();
+    let tool = tools
+        .iter_mut()
+        .find(|t| t.name() == "Sub-mesh edits")
+        .unwrap();
+    for (name, value) in [
+        ("source", serde_json::Value::from("all")),
+        ("operation", "scale".into()),
+        ("scale", (-1.0).into()),
+    ] {
+        tool.set_parameter(name, &value, &mut fixture.ctx())
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+    }
+    assert_eq!(listed(tool.as_ref(), "scale"), Some((-1.0).into()));
+    let e = tool.apply(&mut fixture.ctx()).unwrap_err();
+    assert!(e.0.contains("not positive"), "{e}");
+    assert_eq!(fixture.doc.mesh().positions(), &before[..]);
+}
