@@ -39,7 +39,9 @@ use scene::Scene;
 pub use script_runner::save_png;
 use script_runner::ScriptRunner;
 
-use crate::tools::{default_tools, Background, Overlay, Status, Tool, ToolContext};
+use crate::tools::{
+    default_tools, refreshed_label_layer, Background, Overlay, Status, Tool, ToolContext,
+};
 
 /// Frames rendered before a script starts (egui lays out its panels on the first ones).
 const WARMUP_FRAMES: u64 = 3;
@@ -372,6 +374,19 @@ impl App {
         }
     }
 
+    /// Keeps a colour layer of sub-mesh labels in step with the mesh's label attribute,
+    /// which level changes, undo and redo change.
+    fn refresh_label_layer(&mut self) {
+        let labels = self.doc.revision().labels;
+        if self.scene.labels_shown == Some(labels) {
+            return;
+        }
+        self.scene.labels_shown = Some(labels);
+        if let Some(layer) = refreshed_label_layer(self.display.layer(), self.doc.mesh()) {
+            self.display.set(layer);
+        }
+    }
+
     /// True while something needs frames without user input.
     fn busy(&self) -> bool {
         self.clock.index <= WARMUP_FRAMES
@@ -424,6 +439,7 @@ impl App {
             self.doc.end_edit();
         }
 
+        self.refresh_label_layer();
         let mut overlay = Overlay::default();
         self.tools[self.active].overlay(self.doc.mesh(), &mut overlay);
         self.scene.renderer.sync(

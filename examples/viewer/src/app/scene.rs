@@ -19,6 +19,8 @@ pub(super) struct Scene {
     pub(super) settings: RenderSettings,
     /// Ray casting on the document's mesh (built on the first pick).
     bvh: Option<Bvh>,
+    /// The document's label revision the colour layer was last refreshed for.
+    pub(super) labels_shown: Option<u64>,
 }
 
 impl Scene {
@@ -29,6 +31,7 @@ impl Scene {
             renderer: SceneRenderer::new(context),
             settings: RenderSettings::default(),
             bvh: None,
+            labels_shown: None,
         }
     }
 

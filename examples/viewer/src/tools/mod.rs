@@ -47,7 +47,9 @@ pub use bendels_klein::{BendelsKlein, BkMode};
 pub use ffd::FfdTool;
 pub use inspect::Inspect;
 pub use lee::{LeeAreaEdit, LeeMode};
-pub use multires::{frontier_overlay, Multires, SubMeshLabels, HOST, SUBMESH};
+pub use multires::{
+    frontier_overlay, refreshed_label_layer, Multires, SubMeshLabels, HOST, LABEL_LAYER, SUBMESH,
+};
 pub use submesh::SubMeshEdit;
 
 use glam::DVec3;

@@ -42,7 +42,7 @@ use super::{
     bool_param, choice_name, choice_param, number_param, Background, Overlay, Pick, Tool,
     ToolContext, ToolError, ViewInfo,
 };
-use crate::colors::{Rgba, NO_LABEL};
+use crate::colors::{ColorLayer, LabelField, LabelTarget, Rgba, NO_LABEL};
 use crate::document::Revision;
 use crate::format::group;
 
@@ -135,18 +135,37 @@ impl SubMeshLabels {
             .collect()
     }
 
-    /// Colours the mesh by these labels.
-    pub fn show(&self, ctx: &mut ToolContext<'_>) {
-        ctx.show_vertex_labels(
-            "sub-mesh labels",
-            self.display_labels(),
-            vec![
+    /// The colour layer of these labels (named [`LABEL_LAYER`]).
+    pub fn layer(&self) -> ColorLayer {
+        ColorLayer::Labels(LabelField {
+            name: LABEL_LAYER.into(),
+            target: LabelTarget::Vertices,
+            labels: self.display_labels(),
+            legend: vec![
                 (0, "host".into()),
                 (1, "sub-mesh".into()),
                 (2, "frontier".into()),
             ],
-        );
+        })
     }
+
+    /// Colours the mesh by these labels.
+    pub fn show(&self, ctx: &mut ToolContext<'_>) {
+        ctx.display.set(self.layer());
+    }
+}
+
+/// Name of the colour layer of the sub-mesh labels.
+pub const LABEL_LAYER: &str = "sub-mesh labels";
+
+/// The colour layer `layer` should become after the mesh's labels changed (a level
+/// change, undo, redo): the labels read again from `mesh` when `layer` shows the sub-mesh
+/// labels (none left: the base colour); `None` for any other layer, which stays.
+pub fn refreshed_label_layer(layer: &ColorLayer, mesh: &Mesh) -> Option<ColorLayer> {
+    if layer.name() != Some(LABEL_LAYER) {
+        return None;
+    }
+    Some(SubMeshLabels::of(mesh).map_or(ColorLayer::None, |l| l.layer()))
 }
 
 /// The frontier edges of `mesh`'s labels (both ends on the frontier) as segments.
@@ -1297,5 +1316,33 @@ mod tests {
         tool.set_parameter("clear_picks", &true.into(), &mut ctx)
             .unwrap();
         assert!(SubMeshLabels::of(ctx.mesh()).is_none());
+    }
+
+    #[test]
+    fn the_label_layer_follows_the_mesh_through_undo() {
+        let mut fixture = Fixture::new(generators::icosphere(3));
+        let mut tool = built(&mut fixture, 100);
+        let mut ctx = fixture.ctx();
+        tool.set_parameter("frontier", &"plane".into(), &mut ctx)
+            .unwrap();
+        let v = ctx.mesh().vertices().next().unwrap();
+        let pick = Pick {
+            vertex: v,
+            face: None,
+            point: DVec3::ZERO,
+        };
+        tool.on_pick(Some(&pick), &mut ctx);
+        let fine_layer = ctx.display.layer().clone();
+        assert_eq!(fine_layer.name(), Some(LABEL_LAYER));
+        tool.go_to_level(2, &mut ctx).unwrap();
+        ctx.doc.end_edit();
+        let coarse_layer = ctx.display.layer().clone();
+        assert_ne!(coarse_layer, fine_layer);
+        // Undo walks back to level 0: the layer shown is stale until refreshed.
+        ctx.doc.undo().unwrap();
+        let refreshed = refreshed_label_layer(ctx.display.layer(), ctx.mesh()).unwrap();
+        assert_eq!(refreshed, fine_layer);
+        // Other layers stay as they are.
+        assert!(refreshed_label_layer(&ColorLayer::None, ctx.mesh()).is_none());
     }
 }
