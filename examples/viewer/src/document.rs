@@ -1,47 +1,105 @@
-//! The edited mesh and its undo / redo history.
+//! The edited mesh, its multiresolution hierarchy when it has one, and the undo / redo
+//! history.
+//!
+//! The document holds *one* mesh: a plain [`Mesh`], or the mesh of a
+//! [`Hierarchy`] (after the *Multiresolution* tool built one,
+//! [`Document::set_hierarchy`]); [`Document::mesh`] is that mesh either way, so every tool
+//! edits the level shown, and [`Document::go_to_level`] moves the hierarchy (its mesh
+//! *is* the document's mesh: nothing is copied between two meshes). Per-vertex data of
+//! the mesh, such as the sub-mesh labels (the [`halfedge::labels::LABEL_ATTRIBUTE`]
+//! attribute), live in the mesh and ride along through the levels.
 //!
 //! Every change goes through an *edit*: [`Document::begin_edit`] stores what is needed to
 //! go back (the positions for a geometric edit, the whole mesh once the connectivity
-//! changes) and [`Document::end_edit`] closes it, so that one gesture (a drag, a slider
-//! drag, a button press) is one undo step however many frames it spans. Asking for
-//! [`Document::positions_mut`] or [`Document::mesh_mut`] outside an edit opens one, so no
-//! change can escape the history. A positions-only edit that turns out to change the
-//! connectivity is upgraded on the fly (the snapshot becomes the old mesh: exact, since
-//! the connectivity had not changed yet).
+//! changes, the level and positions for a level change) and [`Document::end_edit`] closes
+//! it, so that one gesture (a drag, a slider drag, a button press) is one undo step
+//! however many frames it spans. Asking for [`Document::positions_mut`] or
+//! [`Document::mesh_mut`] outside an edit opens one, so no change can escape the history.
+//! A positions-only edit that turns out to change the connectivity is upgraded on the fly
+//! (the snapshot becomes the old mesh: exact, since the connectivity had not changed yet).
+//! A connectivity change made by a tool on a hierarchy's mesh leaves a plain mesh (the
+//! hierarchy could not walk it); undo brings the hierarchy back.
 //!
-//! Revisions (`geometry`, `topology`) tell the renderer what to refresh; the picking
-//! structure (the library's `halfedge::bvh::Bvh`) keeps itself current from the mesh.
+//! Revisions (`geometry`, `topology`, `labels`) tell the renderer and the panels what to
+//! refresh; the picking structure (the library's `halfedge::bvh::Bvh`) keeps itself
+//! current from the mesh.
 
 use std::path::PathBuf;
 
 use glam::DVec3;
-use halfedge::{BuildReport, Mesh};
+use halfedge::labels::LABEL_ATTRIBUTE;
+use halfedge::{BuildReport, Hierarchy, Label, Mesh, VertexId};
+
+/// What the document holds: a plain mesh, or a hierarchy and its mesh.
+enum Content {
+    Plain(Box<Mesh>),
+    Levels(Box<Hierarchy>),
+}
+
+impl Content {
+    fn mesh(&self) -> &Mesh {
+        match self {
+            Content::Plain(m) => m,
+            Content::Levels(h) => h.mesh(),
+        }
+    }
+
+    /// The mesh for changes of positions or attributes.
+    fn mesh_for_values(&mut self) -> &mut Mesh {
+        match self {
+            Content::Plain(m) => m,
+            Content::Levels(h) => h.mesh_mut(),
+        }
+    }
+
+    /// Approximate memory held, bytes.
+    fn bytes(&self) -> usize {
+        // Positions + three slot maps + key arrays: about 200 bytes per vertex.
+        let mesh = 200 * self.mesh().vertex_slots().max(1);
+        match self {
+            Content::Plain(_) => mesh,
+            Content::Levels(h) => mesh + h.record_bytes(),
+        }
+    }
+}
 
 /// What an undo step restores.
-#[derive(Clone)]
-pub enum Snapshot {
+enum Snapshot {
     /// Vertex positions (indexed by `vertex_index`) over unchanged connectivity.
     Positions(Vec<DVec3>),
-    /// The whole mesh.
-    Mesh(Box<Mesh>),
+    /// The whole content: a mesh, or a hierarchy (before a build, a connectivity change).
+    Content(Box<Content>),
+    /// A position of the hierarchy (records collapsed) and the positions there.
+    Level {
+        applied: usize,
+        positions: Vec<DVec3>,
+    },
 }
 
 impl Snapshot {
     /// Approximate memory held, bytes.
-    pub fn bytes(&self) -> usize {
+    fn bytes(&self) -> usize {
         match self {
-            Snapshot::Positions(p) => p.len() * std::mem::size_of::<DVec3>(),
-            // Positions + three slot maps + key arrays: about 200 bytes per vertex.
-            Snapshot::Mesh(m) => 200 * m.vertex_slots().max(1),
+            Snapshot::Positions(p) | Snapshot::Level { positions: p, .. } => {
+                p.len() * std::mem::size_of::<DVec3>()
+            }
+            Snapshot::Content(c) => c.bytes(),
         }
     }
 }
 
 /// One step of the history: its label and the state before (undo) or after (redo) it.
-#[derive(Clone)]
 struct Entry {
     label: String,
     snapshot: Snapshot,
+}
+
+/// What the open edit stores.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum EditKind {
+    Positions,
+    Topology,
+    Level,
 }
 
 /// Counters bumped by every change, for caches to compare against.
@@ -51,6 +109,19 @@ pub struct Revision {
     pub geometry: u64,
     /// Bumped when the connectivity (or the whole mesh) changes.
     pub topology: u64,
+    /// Bumped when the sub-mesh labels are changed ([`Document::edit_labels`]).
+    pub labels: u64,
+}
+
+/// Why the document refused a level change.
+#[derive(Debug, thiserror::Error)]
+pub enum DocumentError {
+    /// The document holds no hierarchy.
+    #[error("no hierarchy: build one first")]
+    NoHierarchy,
+    /// The hierarchy refused the walk.
+    #[error(transparent)]
+    Hierarchy(#[from] halfedge::Error),
 }
 
 /// Largest memory the undo stack may hold before the oldest steps are dropped.
@@ -58,14 +129,14 @@ const HISTORY_BYTES: usize = 1 << 30;
 /// Most undo steps kept.
 const HISTORY_STEPS: usize = 200;
 
-/// The mesh being edited, where it came from, and its history.
+/// The mesh being edited (plain or in a hierarchy), where it came from, and its history.
 pub struct Document {
-    mesh: Mesh,
+    content: Content,
     source: Option<PathBuf>,
     build_report: Option<BuildReport>,
     undo: Vec<Entry>,
     redo: Vec<Entry>,
-    open_edit: Option<(String, bool)>,
+    open_edit: Option<(String, EditKind)>,
     revision: Revision,
 }
 
@@ -73,7 +144,7 @@ impl Document {
     /// A document on `mesh`, with an empty history.
     pub fn new(mesh: Mesh, source: Option<PathBuf>, build_report: Option<BuildReport>) -> Self {
         Self {
-            mesh,
+            content: Content::Plain(Box::new(mesh)),
             source,
             build_report,
             undo: Vec::new(),
@@ -90,12 +161,21 @@ impl Document {
         self.revision = Revision {
             geometry: revision.geometry + 1,
             topology: revision.topology + 1,
+            labels: revision.labels + 1,
         };
     }
 
-    /// The mesh.
+    /// The mesh (the hierarchy's, at its current level, when there is a hierarchy).
     pub fn mesh(&self) -> &Mesh {
-        &self.mesh
+        self.content.mesh()
+    }
+
+    /// The hierarchy whose mesh the document shows, if any.
+    pub fn hierarchy(&self) -> Option<&Hierarchy> {
+        match &self.content {
+            Content::Plain(_) => None,
+            Content::Levels(h) => Some(h),
+        }
     }
 
     /// The file the mesh was read from, if any.
@@ -121,23 +201,44 @@ impl Document {
         }
         self.push_undo(Entry {
             label: label.to_owned(),
-            snapshot: Snapshot::Positions(self.mesh.positions().to_vec()),
+            snapshot: Snapshot::Positions(self.mesh().positions().to_vec()),
         });
         self.redo.clear();
-        self.open_edit = Some((label.to_owned(), false));
+        self.open_edit = Some((label.to_owned(), EditKind::Positions));
     }
 
-    /// Opens an edit that may change the connectivity: stores the whole mesh.
+    /// Opens an edit that may change the connectivity: stores the whole mesh (a
+    /// hierarchy moves into the history, the document keeps a plain copy of its mesh).
     pub fn begin_topology_edit(&mut self, label: &str) {
-        if self.open_edit.is_none() {
-            self.push_undo(Entry {
-                label: label.to_owned(),
-                snapshot: Snapshot::Mesh(Box::new(self.mesh.clone())),
-            });
-            self.redo.clear();
-            self.open_edit = Some((label.to_owned(), true));
-        } else {
-            self.upgrade_open_edit();
+        match self.open_edit.as_ref().map(|(_, k)| *k) {
+            None => {
+                let before = self.take_content_for_topology();
+                self.push_undo(Entry {
+                    label: label.to_owned(),
+                    snapshot: Snapshot::Content(Box::new(before)),
+                });
+                self.redo.clear();
+                self.open_edit = Some((label.to_owned(), EditKind::Topology));
+            }
+            Some(EditKind::Level) => {
+                // The level step stays a step of its own.
+                self.open_edit = None;
+                self.begin_topology_edit(label);
+            }
+            Some(EditKind::Positions) => self.upgrade_open_edit(),
+            Some(EditKind::Topology) => {}
+        }
+    }
+
+    /// The content as it is now, for the history, leaving a plain mesh in its place:
+    /// a copy of a plain mesh, or the hierarchy itself (its mesh copied).
+    fn take_content_for_topology(&mut self) -> Content {
+        match &self.content {
+            Content::Plain(m) => Content::Plain(m.clone()),
+            Content::Levels(h) => {
+                let plain = Content::Plain(Box::new(h.mesh().clone()));
+                std::mem::replace(&mut self.content, plain)
+            }
         }
     }
 
@@ -158,35 +259,108 @@ impl Document {
             self.begin_edit("edit");
         }
         self.revision.geometry += 1;
-        self.mesh.positions_mut()
+        self.content.mesh_for_values().positions_mut()
     }
 
     /// The mesh, mutably, for edits that may change the connectivity; opens (or upgrades)
-    /// an edit. Bumps both revisions.
+    /// an edit. Bumps both revisions. A hierarchy goes into the history (see the module
+    /// docs).
     pub fn mesh_mut(&mut self) -> &mut Mesh {
         self.begin_topology_edit("edit");
         self.revision.geometry += 1;
         self.revision.topology += 1;
-        &mut self.mesh
+        self.content.mesh_for_values()
+    }
+
+    /// Changes the sub-mesh labels (or other attributes) of the mesh with `change`, which
+    /// must change neither positions nor connectivity. Not an undo step. When the document
+    /// holds a hierarchy and the mesh has a label attribute afterwards, the hierarchy
+    /// carries the labels through its levels from here (the paper's Fig. 4 rule); when the
+    /// attribute is gone, it stops.
+    pub fn edit_labels<R>(&mut self, change: impl FnOnce(&mut Mesh) -> R) -> R {
+        let result = change(self.content.mesh_for_values());
+        if let Content::Levels(h) = &mut self.content {
+            match h.mesh().find_attribute::<VertexId, Label>(LABEL_ATTRIBUTE) {
+                Some(attribute) => h.attach_labels(attribute),
+                None => h.detach_labels(),
+            }
+        }
+        self.revision.labels += 1;
+        result
+    }
+
+    /// Makes `hierarchy` (built from the document's mesh, at any level) the document's
+    /// content, as one undo step named `label`: undo gives the plain mesh back.
+    pub fn set_hierarchy(&mut self, hierarchy: Hierarchy, label: &str) {
+        self.end_edit();
+        let before = std::mem::replace(&mut self.content, Content::Levels(Box::new(hierarchy)));
+        self.push_undo(Entry {
+            label: label.to_owned(),
+            snapshot: Snapshot::Content(Box::new(before)),
+        });
+        self.redo.clear();
+        self.bump_all();
+    }
+
+    /// Moves the hierarchy to `level` (coarser or finer, with its detail coefficients),
+    /// as an undo step named `label`; level changes in one open edit (a slider drag) are
+    /// one step. The step stores the level and the positions left, not the mesh.
+    ///
+    /// # Errors
+    /// [`DocumentError::NoHierarchy`]; the hierarchy's refusal (a level that does not
+    /// exist), the document then unchanged.
+    pub fn go_to_level(&mut self, level: usize, label: &str) -> Result<(), DocumentError> {
+        let Content::Levels(h) = &mut self.content else {
+            return Err(DocumentError::NoHierarchy);
+        };
+        if h.current_level() == Some(level) {
+            return Ok(());
+        }
+        let open_level = matches!(self.open_edit, Some((_, EditKind::Level)));
+        let before = (!open_level).then(|| Snapshot::Level {
+            applied: h.applied(),
+            positions: h.mesh().positions().to_vec(),
+        });
+        h.go_to_level(level)?;
+        if let Some(snapshot) = before {
+            self.push_undo(Entry {
+                label: label.to_owned(),
+                snapshot,
+            });
+            self.redo.clear();
+            self.open_edit = Some((label.to_owned(), EditKind::Level));
+        }
+        self.bump_all();
+        Ok(())
+    }
+
+    fn bump_all(&mut self) {
+        self.revision.geometry += 1;
+        self.revision.topology += 1;
+        self.revision.labels += 1;
     }
 
     /// Turns the open positions-only edit into a whole-mesh one.
     fn upgrade_open_edit(&mut self) {
-        let Some((_, topology)) = &mut self.open_edit else {
+        let Some((_, kind)) = &mut self.open_edit else {
             return;
         };
-        if *topology {
+        if *kind != EditKind::Positions {
             return;
         }
-        *topology = true;
-        let entry = self
-            .undo
-            .last_mut()
-            .expect("an open edit has an undo entry");
-        if let Snapshot::Positions(p) = &entry.snapshot {
-            let mut before = self.mesh.clone();
-            before.positions_mut().copy_from_slice(p);
-            entry.snapshot = Snapshot::Mesh(Box::new(before));
+        *kind = EditKind::Topology;
+        let Some(Entry {
+            snapshot: Snapshot::Positions(p),
+            ..
+        }) = self.undo.last_mut()
+        else {
+            return;
+        };
+        let p = std::mem::take(p);
+        let mut before = self.take_content_for_topology();
+        before.mesh_for_values().positions_mut().copy_from_slice(&p);
+        if let Some(entry) = self.undo.last_mut() {
+            entry.snapshot = Snapshot::Content(Box::new(before));
         }
     }
 
@@ -202,22 +376,44 @@ impl Document {
     fn swap_in(&mut self, entry: Entry) -> Entry {
         let snapshot = match entry.snapshot {
             Snapshot::Positions(mut p) => {
-                if p.len() == self.mesh.positions().len() {
-                    self.mesh.positions_mut().swap_with_slice(&mut p);
+                let positions = self.content.mesh_for_values().positions_mut();
+                if p.len() == positions.len() {
+                    positions.swap_with_slice(&mut p);
                     self.revision.geometry += 1;
-                    Snapshot::Positions(p)
-                } else {
-                    // Cannot happen with LIFO steps (connectivity changes store the mesh);
-                    // keep the state rather than corrupt it.
-                    Snapshot::Positions(p)
                 }
+                // Otherwise (cannot happen with LIFO steps: connectivity changes store
+                // the mesh) keep the state rather than corrupt it.
+                Snapshot::Positions(p)
             }
-            Snapshot::Mesh(mut m) => {
-                std::mem::swap(&mut *m, &mut self.mesh);
-                self.revision.geometry += 1;
-                self.revision.topology += 1;
-                Snapshot::Mesh(m)
+            Snapshot::Content(mut c) => {
+                std::mem::swap(&mut *c, &mut self.content);
+                self.bump_all();
+                Snapshot::Content(c)
             }
+            Snapshot::Level {
+                applied,
+                mut positions,
+            } => match &mut self.content {
+                Content::Levels(h) => {
+                    let now = Snapshot::Level {
+                        applied: h.applied(),
+                        positions: h.mesh().positions().to_vec(),
+                    };
+                    // A walk back to a position the hierarchy has been at: its own steps.
+                    if h.seek(applied).is_ok() {
+                        let target = h.mesh_mut().positions_mut();
+                        if target.len() == positions.len() {
+                            target.swap_with_slice(&mut positions);
+                        }
+                        self.bump_all();
+                        now
+                    } else {
+                        Snapshot::Level { applied, positions }
+                    }
+                }
+                // Cannot happen with LIFO steps (the hierarchy is restored first).
+                Content::Plain(_) => Snapshot::Level { applied, positions },
+            },
         };
         Entry {
             label: entry.label,
@@ -258,6 +454,11 @@ impl Document {
     /// Number of undo steps available.
     pub fn undo_len(&self) -> usize {
         self.undo.len()
+    }
+
+    /// Approximate memory held by the undo steps, bytes.
+    pub fn undo_bytes(&self) -> usize {
+        self.undo.iter().map(|e| e.snapshot.bytes()).sum()
     }
 
     /// Number of redo steps available.
@@ -342,5 +543,127 @@ mod tests {
         let r2 = d.revision();
         assert!(r2.geometry > r1.geometry && r2.topology > r1.topology);
         assert_eq!(d.undo_len(), 0);
+    }
+
+    fn hierarchy_doc() -> (Document, Mesh) {
+        let input = generators::icosphere(3);
+        let h = Hierarchy::build(
+            input.clone(),
+            &halfedge::HierarchyOptions::rounds().with_target_faces(100),
+        )
+        .unwrap();
+        let mut d = Document::new(input.clone(), None, None);
+        let mut h = h;
+        h.go_to_level(0).unwrap();
+        d.set_hierarchy(h, "build");
+        (d, input)
+    }
+
+    #[test]
+    fn a_slider_drag_over_levels_is_one_step_that_stores_positions_not_meshes() {
+        let (mut d, input) = hierarchy_doc();
+        assert!(std::ptr::eq(d.mesh(), d.hierarchy().unwrap().mesh()));
+        let coarsest = d.hierarchy().unwrap().coarsest_level();
+        assert!(coarsest >= 2);
+        let before = d.undo_bytes();
+        for level in 1..=coarsest {
+            d.go_to_level(level, "levels").unwrap();
+        }
+        d.end_edit();
+        assert_eq!(d.undo_labels().collect::<Vec<_>>(), ["build", "levels"]);
+        // The step holds the positions of the level left, no copy of the mesh.
+        let step = d.undo_bytes() - before;
+        assert_eq!(step, input.vertex_slots() * std::mem::size_of::<DVec3>());
+        assert_eq!(
+            d.mesh().n_faces(),
+            d.hierarchy().unwrap().level_face_counts()[coarsest]
+        );
+        assert_eq!(d.undo().as_deref(), Some("levels"));
+        assert_eq!(d.hierarchy().unwrap().current_level(), Some(0));
+        assert_eq!(d.mesh().positions(), input.positions());
+        assert_eq!(d.redo().as_deref(), Some("levels"));
+        assert_eq!(d.hierarchy().unwrap().current_level(), Some(coarsest));
+        assert!(matches!(
+            d.go_to_level(coarsest + 1, "x"),
+            Err(DocumentError::Hierarchy(_))
+        ));
+        assert_eq!(d.hierarchy().unwrap().current_level(), Some(coarsest));
+        let mut plain = doc();
+        assert!(matches!(
+            plain.go_to_level(1, "x"),
+            Err(DocumentError::NoHierarchy)
+        ));
+    }
+
+    #[test]
+    fn an_edit_at_a_coarse_level_undoes_exactly_through_the_levels() {
+        let (mut d, input) = hierarchy_doc();
+        d.go_to_level(2, "coarsen").unwrap();
+        d.end_edit();
+        let coarse = d.mesh().positions().to_vec();
+        for p in d.positions_mut() {
+            *p += DVec3::X;
+        }
+        d.end_edit();
+        d.go_to_level(0, "refine").unwrap();
+        d.end_edit();
+        let moved = d.mesh().positions().to_vec();
+        assert_ne!(moved, input.positions());
+        d.undo();
+        assert_eq!(d.hierarchy().unwrap().current_level(), Some(2));
+        assert_eq!(d.mesh().positions()[0], coarse[0] + DVec3::X);
+        d.undo();
+        assert_eq!(d.mesh().positions(), &coarse[..]);
+        d.undo();
+        assert_eq!(d.mesh().positions(), input.positions());
+        // And forward again.
+        d.redo();
+        d.redo();
+        d.redo();
+        assert_eq!(d.mesh().positions(), &moved[..]);
+    }
+
+    #[test]
+    fn a_connectivity_change_leaves_a_plain_mesh_and_undo_brings_the_hierarchy_back() {
+        let (mut d, _) = hierarchy_doc();
+        d.go_to_level(1, "coarsen").unwrap();
+        d.end_edit();
+        let faces = d.mesh().n_faces();
+        let refined = generators::subdivide(d.mesh());
+        *d.mesh_mut() = refined;
+        d.end_edit();
+        assert!(d.hierarchy().is_none());
+        assert_eq!(d.mesh().n_faces(), 4 * faces);
+        d.undo();
+        assert_eq!(d.hierarchy().unwrap().current_level(), Some(1));
+        assert!(std::ptr::eq(d.mesh(), d.hierarchy().unwrap().mesh()));
+        assert_eq!(d.mesh().n_faces(), faces);
+        d.go_to_level(0, "refine").unwrap();
+        d.mesh().check().unwrap();
+    }
+
+    #[test]
+    fn labels_are_the_meshs_attribute_and_the_hierarchy_carries_them() {
+        let (mut d, _) = hierarchy_doc();
+        let r = d.revision().labels;
+        let frontier = d.mesh().frontier_from_plane(DVec3::ZERO, DVec3::X).unwrap();
+        d.edit_labels(|m| m.label_sides(&frontier, 1, 0).map(|_| ()))
+            .unwrap();
+        assert!(d.revision().labels > r);
+        assert_eq!(d.undo_len(), 1, "labels are not an undo step");
+        assert!(d.hierarchy().unwrap().label_attribute().is_some());
+        d.go_to_level(2, "coarsen").unwrap();
+        let a = d
+            .mesh()
+            .find_attribute::<VertexId, Label>(LABEL_ATTRIBUTE)
+            .unwrap();
+        let values = d.mesh().attribute_values(a);
+        assert!(d
+            .mesh()
+            .vertices()
+            .all(|v| values[d.mesh().vertex_index(v)] <= 1
+                || values[d.mesh().vertex_index(v)] == halfedge::FRONTIER));
+        d.edit_labels(|m| m.remove_attribute(a));
+        assert!(d.hierarchy().unwrap().label_attribute().is_none());
     }
 }

@@ -747,7 +747,7 @@ impl ImageUi {
                 if let Some(info) = self.view.info() {
                     ui.weak(format!(
                         "{} pixels resampled, {} folded triangles, {:.1} ms",
-                        crate::app::group(info.pixels),
+                        crate::format::group(info.pixels),
                         info.folded,
                         info.ms
                     ));

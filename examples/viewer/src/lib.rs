@@ -15,16 +15,19 @@
 //! in the kernel; the viewer converts to `f32` (and cgmath) only to draw
 //! ([`render`], [`camera::to_cg`]).
 //!
-//! Modules: [`app`] (the frame loop, input, panels), [`camera`] (orbit camera, rays),
-//! [`pick`] (BVH ray casting), [`document`] (mesh + undo/redo), [`colors`] (scalar
-//! fields, labels, colour bar), [`render`] (GPU side), [`tools`] (the tool trait and the
-//! tools), [`script`] (scripted mode), [`save`] (writing meshes), [`image_view`] (a PNG
-//! edited in 2-D with Bendels & Klein's method).
+//! Modules: [`app`] (the frame loop: scene, input, script runner, panels), [`camera`]
+//! (orbit camera, rays), [`pick`] (BVH ray casting), [`document`] (the mesh or its
+//! hierarchy + undo/redo), [`colors`] (scalar fields, labels, colour bar), [`render`] (GPU
+//! side), [`tools`] (the tool trait, the parameter tables and the tools), [`script`]
+//! (scripted mode), [`save`] (writing meshes), [`format`](mod@format) (numbers and
+//! durations for the panels), [`image_view`] (a PNG edited in 2-D with Bendels & Klein's
+//! method).
 
 pub mod app;
 pub mod camera;
 pub mod colors;
 pub mod document;
+pub mod format;
 pub mod image_view;
 pub mod pick;
 pub mod render;

@@ -28,9 +28,10 @@ use super::edit_support::{
     ball_vertices, copy_positions, diagonal, ms, vec3_param, vertex_list_param, vertex_param,
     Scratch,
 };
+use super::params::{self, Param, Widget};
 use super::{
-    bool_param, number_param, string_param, Drag, DragPhase, Overlay, Pick, Tool, ToolContext,
-    ToolError,
+    bool_param, choice_name, choice_param, number_param, string_param, Drag, DragPhase, Overlay,
+    Pick, Tool, ToolContext, ToolError,
 };
 use crate::colors::{Colormap, Rgba, NO_LABEL};
 
@@ -444,56 +445,230 @@ impl BendelsKlein {
             .as_ref()
             .is_some_and(|s| s.regions().roles().get(mesh.vertex_index(v)) == Some(&Role::Handle))
     }
-
-    fn transform_ui(&mut self, ui: &mut egui::Ui, speed: f64) -> bool {
-        let mut changed = false;
-        ui.horizontal(|ui| {
-            ui.label("translate");
-            for c in 0..3 {
-                changed |= ui
-                    .add(
-                        egui::DragValue::new(&mut self.translate[c])
-                            .speed(speed)
-                            .max_decimals(4),
-                    )
-                    .changed();
-            }
-        });
-        ui.horizontal(|ui| {
-            ui.label("axis");
-            for c in 0..3 {
-                changed |= ui
-                    .add(
-                        egui::DragValue::new(&mut self.axis[c])
-                            .speed(0.01)
-                            .range(-1.0..=1.0),
-                    )
-                    .changed();
-            }
-        });
-        ui.horizontal(|ui| {
-            changed |= ui
-                .add(
-                    egui::DragValue::new(&mut self.angle)
-                        .speed(0.5)
-                        .range(-179.0..=179.0)
-                        .suffix("°"),
-                )
-                .changed();
-            ui.label("angle");
-            changed |= ui
-                .add(
-                    egui::DragValue::new(&mut self.scale)
-                        .speed(0.005)
-                        .range(0.05..=20.0)
-                        .prefix("×"),
-                )
-                .changed();
-            ui.label("scale");
-        });
-        changed
-    }
 }
+
+/// The distance choices: `(geodesic, script name)`.
+const DISTANCES: [(bool, &str); 2] = [(true, "geodesic"), (false, "euclidean")];
+
+/// Sets a handle-transform parameter and applies the transform.
+fn transform_param(
+    t: &mut BendelsKlein,
+    ctx: &mut ToolContext<'_>,
+    set: impl FnOnce(&mut BendelsKlein) -> Result<(), ToolError>,
+) -> Result<(), ToolError> {
+    set(t)?;
+    t.apply_transform(ctx, "Bendels–Klein transform")
+}
+
+/// Sets the loop of the handle or of the fixed region from a script.
+fn loop_param(
+    t: &mut BendelsKlein,
+    name: &str,
+    value: &serde_json::Value,
+    ctx: &mut ToolContext<'_>,
+) -> Result<(), ToolError> {
+    let picks = vertex_list_param(ctx.mesh(), name, value)?;
+    if name == "handle_loop" {
+        t.handle_picks = picks;
+    } else {
+        t.fixed_picks = picks;
+    }
+    t.source = Some(RegionSource::Loops);
+    t.build(ctx)
+}
+
+/// Paints (or erases) at a vertex from a script.
+fn paint_param(
+    t: &mut BendelsKlein,
+    name: &str,
+    value: &serde_json::Value,
+    ctx: &mut ToolContext<'_>,
+) -> Result<(), ToolError> {
+    let v = vertex_param(ctx.mesh(), name, value)?;
+    let p = match name {
+        "paint_handle" => PAINT_HANDLE,
+        "paint_fixed" => PAINT_FIXED,
+        _ => PAINT_NONE,
+    };
+    t.paint_at(ctx, v, p)
+}
+
+/// The parameters of [`BendelsKlein`] (see [`params`]). The curve editor draws the
+/// shape's widgets; the editing method checks the values.
+const PARAMS: &[Param<BendelsKlein>] = &[
+    Param::new(
+        "mode",
+        "Click:",
+        Widget::Choice(|| BkMode::ALL.iter().map(|m| m.1).collect()),
+        |t| t.mode.key().into(),
+        |t, v, _| {
+            let s = string_param("mode", v)?;
+            t.mode = BkMode::parse(s).ok_or_else(|| {
+                ToolError::bad_value(
+                    "mode",
+                    "handle_loop, fixed_loop, paint_handle, paint_fixed, erase or drag",
+                    v,
+                )
+            })?;
+            Ok(())
+        },
+    ),
+    Param::new(
+        "brush",
+        "brush radius (of the diagonal)",
+        params::log_slider(0.005, 0.3),
+        |t| t.brush.into(),
+        |t, v, _| {
+            t.brush = number_param("brush", v)?;
+            Ok(())
+        },
+    ),
+    Param::new(
+        "distance",
+        "Distance:",
+        Widget::Choice(|| params::names(&DISTANCES)),
+        |t| choice_name(&DISTANCES, t.geodesic).into(),
+        |t, v, ctx| {
+            t.geodesic = choice_param(&DISTANCES, "distance", v)?;
+            t.rebuild_keep_transform(ctx)
+        },
+    ),
+    Param::new(
+        "shape",
+        "shape",
+        Widget::None,
+        |t| t.curve.model.preset().key().into(),
+        |t, v, ctx| {
+            let s = string_param("shape", v)?;
+            let preset = Preset::parse(s)
+                .ok_or_else(|| ToolError::bad_value("shape", "linear, c1, c2 or curve", v))?;
+            t.curve.model.set_preset(preset);
+            t.shape_changed(ctx)
+        },
+    ),
+    Param::new(
+        "curve_points",
+        "curve points",
+        Widget::None,
+        |t| {
+            let points: Vec<serde_json::Value> = t
+                .curve
+                .model
+                .points()
+                .iter()
+                .map(|&(x, y)| serde_json::json!([x, y]))
+                .collect();
+            points.into()
+        },
+        |t, v, ctx| {
+            let bad = || ToolError::bad_value("curve_points", "[[x, y], ...]", v);
+            let list = v.as_array().ok_or_else(bad)?;
+            let mut points = Vec::with_capacity(list.len());
+            for p in list {
+                let xy = p.as_array().filter(|a| a.len() == 2).ok_or_else(bad)?;
+                let x = xy[0].as_f64().ok_or_else(bad)?;
+                let y = xy[1].as_f64().ok_or_else(bad)?;
+                points.push((x, y));
+            }
+            t.curve.model.set_points(points).map_err(ToolError::new)?;
+            t.shape_changed(ctx)
+        },
+    ),
+    Param::new(
+        "monotone",
+        "monotone",
+        Widget::None,
+        |t| t.curve.model.monotone().into(),
+        |t, v, ctx| {
+            t.curve.model.set_monotone(bool_param("monotone", v)?);
+            t.shape_changed(ctx)
+        },
+    ),
+    Param::new(
+        "translate",
+        "translate",
+        Widget::Vector {
+            speed: 0.004,
+            relative: true,
+        },
+        |t| t.translate.to_array().to_vec().into(),
+        |t, v, ctx| {
+            transform_param(t, ctx, |t| {
+                t.translate = vec3_param("translate", v)?;
+                Ok(())
+            })
+        },
+    ),
+    Param::new(
+        "axis",
+        "axis",
+        Widget::Vector {
+            speed: 0.01,
+            relative: false,
+        },
+        |t| t.axis.to_array().to_vec().into(),
+        |t, v, ctx| {
+            transform_param(t, ctx, |t| {
+                t.axis = vec3_param("axis", v)?;
+                Ok(())
+            })
+        },
+    ),
+    Param::new(
+        "angle",
+        "angle (°)",
+        params::drag(-179.0, 179.0, 0.5),
+        |t| t.angle.into(),
+        |t, v, ctx| {
+            transform_param(t, ctx, |t| {
+                t.angle = number_param("angle", v)?;
+                Ok(())
+            })
+        },
+    ),
+    Param::new(
+        "scale",
+        "scale ×",
+        params::drag(0.05, 20.0, 0.005),
+        |t| t.scale.into(),
+        |t, v, ctx| {
+            transform_param(t, ctx, |t| {
+                t.scale = number_param("scale", v)?;
+                Ok(())
+            })
+        },
+    ),
+    Param::new(
+        "refine_threshold",
+        "refine edges longer than × mean",
+        params::drag(0.5, 20.0, 0.05),
+        |t| t.refine_threshold.into(),
+        |t, v, _| {
+            t.refine_threshold = number_param("refine_threshold", v)?;
+            Ok(())
+        },
+    ),
+    Param::script("handle_loop", None, |t, v, ctx| {
+        loop_param(t, "handle_loop", v, ctx)
+    }),
+    Param::script("fixed_loop", None, |t, v, ctx| {
+        loop_param(t, "fixed_loop", v, ctx)
+    }),
+    Param::script("paint_handle", None, |t, v, ctx| {
+        paint_param(t, "paint_handle", v, ctx)
+    }),
+    Param::script("paint_fixed", None, |t, v, ctx| {
+        paint_param(t, "paint_fixed", v, ctx)
+    }),
+    Param::script("erase", None, |t, v, ctx| paint_param(t, "erase", v, ctx)),
+    Param::action("clear", "Clear regions", |t, v, ctx| {
+        if bool_param("clear", v)? {
+            t.clear(ctx);
+        }
+        Ok(())
+    }),
+    Param::info("pivot", |t| t.pivot.to_array().to_vec().into()),
+];
 
 impl Tool for BendelsKlein {
     fn name(&self) -> &str {
@@ -507,35 +682,15 @@ impl Tool for BendelsKlein {
     }
 
     fn ui(&mut self, ui: &mut egui::Ui, ctx: &mut ToolContext<'_>) {
-        ui.horizontal(|ui| {
-            ui.label("Click:");
-            let current = BkMode::ALL
-                .iter()
-                .find(|m| m.0 == self.mode)
-                .map_or("", |m| m.2);
-            egui::ComboBox::from_id_salt("bk-mode")
-                .selected_text(current)
-                .show_ui(ui, |ui| {
-                    for (mode, _, label) in BkMode::ALL {
-                        ui.selectable_value(&mut self.mode, mode, label);
-                    }
-                });
-        });
-        ui.add(
-            egui::Slider::new(&mut self.brush, 0.005..=0.3)
-                .text("brush radius")
-                .logarithmic(true)
-                .custom_formatter(|x, _| format!("{:.1} %", 100.0 * x)),
-        );
+        params::widget(ui, PARAMS, "mode", self, ctx);
+        params::widget(ui, PARAMS, "brush", self, ctx);
         ui.horizontal(|ui| {
             ui.label(format!(
                 "loops: handle {}, fixed {} picks",
                 self.handle_picks.len(),
                 self.fixed_picks.len()
             ));
-            if ui.button("Clear regions").clicked() {
-                self.clear(ctx);
-            }
+            params::widget(ui, PARAMS, "clear", self, ctx);
         });
         match &self.session {
             Some(s) => {
@@ -551,27 +706,15 @@ impl Tool for BendelsKlein {
                 ui.weak("Give a handle and a fixed region (3 loop picks each, or paint).");
             }
         }
-        let mut geodesic = self.geodesic;
-        ui.horizontal(|ui| {
-            ui.label("Distance:");
-            ui.radio_value(&mut geodesic, true, "geodesic");
-            ui.radio_value(&mut geodesic, false, "Euclidean");
-        });
-        if geodesic != self.geodesic {
-            self.geodesic = geodesic;
-            let result = self.rebuild_keep_transform(ctx);
-            Self::report(ctx, result);
-        }
+        params::widget(ui, PARAMS, "distance", self, ctx);
         ui.separator();
         if self.curve.ui(ui) {
             let result = self.shape_changed(ctx);
             Self::report(ctx, result);
         }
         ui.separator();
-        let speed = 0.002 * diagonal(ctx.mesh());
-        if self.transform_ui(ui, speed) {
-            let result = self.apply_transform(ctx, "Bendels–Klein transform");
-            Self::report(ctx, result);
+        for name in ["translate", "axis", "angle", "scale"] {
+            params::widget(ui, PARAMS, name, self, ctx);
         }
         if ui.button("Reset transform").clicked() && self.session.is_some() {
             self.reset_transform();
@@ -580,13 +723,7 @@ impl Tool for BendelsKlein {
         }
         ui.separator();
         ui.horizontal(|ui| {
-            ui.add(
-                egui::DragValue::new(&mut self.refine_threshold)
-                    .speed(0.05)
-                    .range(0.5..=20.0)
-                    .prefix("edges > ")
-                    .suffix(" × mean"),
-            );
+            params::widget(ui, PARAMS, "refine_threshold", self, ctx);
             if ui
                 .add_enabled(self.session.is_some(), egui::Button::new("Refine"))
                 .on_hover_text("Adaptive refinement (Sec. 6): split stretched edges")
@@ -669,173 +806,13 @@ impl Tool for BendelsKlein {
         value: &serde_json::Value,
         ctx: &mut ToolContext<'_>,
     ) -> Result<(), ToolError> {
-        match name {
-            "mode" => {
-                let s = string_param(name, value)?;
-                self.mode = BkMode::parse(s).ok_or_else(|| {
-                    ToolError::bad_value(
-                        name,
-                        "handle_loop, fixed_loop, paint_handle, paint_fixed, erase or drag",
-                        value,
-                    )
-                })?;
-            }
-            "brush" => {
-                let r = number_param(name, value)?;
-                if !(r > 0.0 && r <= 1.0) {
-                    return Err(ToolError::new(format!(
-                        "brush {r} out of range: a fraction of the diagonal in (0, 1]"
-                    )));
-                }
-                self.brush = r;
-            }
-            "distance" => {
-                self.geodesic = match string_param(name, value)? {
-                    "geodesic" => true,
-                    "euclidean" => false,
-                    _ => return Err(ToolError::bad_value(name, "geodesic or euclidean", value)),
-                };
-                self.rebuild_keep_transform(ctx)?;
-            }
-            "shape" => {
-                let s = string_param(name, value)?;
-                let preset = Preset::parse(s)
-                    .ok_or_else(|| ToolError::bad_value(name, "linear, c1, c2 or curve", value))?;
-                self.curve.model.set_preset(preset);
-                self.shape_changed(ctx)?;
-            }
-            "curve_points" => {
-                let bad = || ToolError::bad_value(name, "[[x, y], ...]", value);
-                let list = value.as_array().ok_or_else(bad)?;
-                let mut points = Vec::with_capacity(list.len());
-                for p in list {
-                    let xy = p.as_array().filter(|a| a.len() == 2).ok_or_else(bad)?;
-                    let x = xy[0].as_f64().ok_or_else(bad)?;
-                    let y = xy[1].as_f64().ok_or_else(bad)?;
-                    points.push((x, y));
-                }
-                self.curve
-                    .model
-                    .set_points(points)
-                    .map_err(ToolError::new)?;
-                self.shape_changed(ctx)?;
-            }
-            "monotone" => {
-                self.curve.model.set_monotone(bool_param(name, value)?);
-                self.shape_changed(ctx)?;
-            }
-            "translate" => {
-                self.translate = vec3_param(name, value)?;
-                self.apply_transform(ctx, "Bendels–Klein transform")?;
-            }
-            "axis" => {
-                self.axis = vec3_param(name, value)?;
-                self.apply_transform(ctx, "Bendels–Klein transform")?;
-            }
-            "angle" => {
-                self.angle = number_param(name, value)?;
-                self.apply_transform(ctx, "Bendels–Klein transform")?;
-            }
-            "scale" => {
-                let s = number_param(name, value)?;
-                if !(s > 0.0 && s.is_finite()) {
-                    return Err(ToolError::new(format!("scale {s}: must be positive")));
-                }
-                self.scale = s;
-                self.apply_transform(ctx, "Bendels–Klein transform")?;
-            }
-            "refine_threshold" => {
-                let t = number_param(name, value)?;
-                if !(t > 0.0 && t.is_finite()) {
-                    return Err(ToolError::new(format!(
-                        "refine_threshold {t}: must be positive"
-                    )));
-                }
-                self.refine_threshold = t;
-            }
-            "handle_loop" | "fixed_loop" => {
-                let picks = vertex_list_param(ctx.mesh(), name, value)?;
-                if name == "handle_loop" {
-                    self.handle_picks = picks;
-                } else {
-                    self.fixed_picks = picks;
-                }
-                self.source = Some(RegionSource::Loops);
-                self.build(ctx)?;
-            }
-            "paint_handle" | "paint_fixed" | "erase" => {
-                let v = vertex_param(ctx.mesh(), name, value)?;
-                let p = match name {
-                    "paint_handle" => PAINT_HANDLE,
-                    "paint_fixed" => PAINT_FIXED,
-                    _ => PAINT_NONE,
-                };
-                self.paint_at(ctx, v, p)?;
-            }
-            "clear" => {
-                if bool_param(name, value)? {
-                    self.clear(ctx);
-                }
-            }
-            _ => {
-                return Err(ToolError::unknown_parameter(
-                    self.name(),
-                    name,
-                    &[
-                        "mode",
-                        "brush",
-                        "distance",
-                        "shape",
-                        "curve_points",
-                        "monotone",
-                        "translate",
-                        "axis",
-                        "angle",
-                        "scale",
-                        "refine_threshold",
-                        "handle_loop",
-                        "fixed_loop",
-                        "paint_handle",
-                        "paint_fixed",
-                        "erase",
-                        "clear",
-                    ],
-                ))
-            }
-        }
-        Ok(())
+        // (The name is copied: the setter borrows the tool mutably.)
+        let tool = self.name().to_owned();
+        params::set(&tool, PARAMS, self, name, value, ctx)
     }
 
     fn parameters(&self) -> Vec<(&'static str, serde_json::Value)> {
-        let points: Vec<serde_json::Value> = self
-            .curve
-            .model
-            .points()
-            .iter()
-            .map(|&(x, y)| serde_json::json!([x, y]))
-            .collect();
-        vec![
-            ("mode", self.mode.key().into()),
-            ("brush", self.brush.into()),
-            (
-                "distance",
-                if self.geodesic {
-                    "geodesic"
-                } else {
-                    "euclidean"
-                }
-                .into(),
-            ),
-            ("shape", self.curve.model.preset().key().into()),
-            ("curve_points", points.into()),
-            ("monotone", self.curve.model.monotone().into()),
-            ("translate", self.translate.to_array().to_vec().into()),
-            ("axis", self.axis.to_array().to_vec().into()),
-            ("angle", self.angle.into()),
-            ("scale", self.scale.into()),
-            ("refine_threshold", self.refine_threshold.into()),
-            ("pivot", self.pivot.to_array().to_vec().into()),
-        ]
+        params::list(PARAMS, self)
     }
 
     fn overlay(&self, mesh: &Mesh, overlay: &mut Overlay) {

@@ -25,13 +25,14 @@ use glam::DVec3;
 use halfedge::Mesh;
 use three_d::egui;
 
+use super::params::{self, Param, Widget};
 use super::{
-    bool_param, choice_name, choice_param, number_param, string_param, Drag, DragPhase, Overlay,
-    Pick, Press, SharedLabels, Tool, ToolContext, ToolError,
+    bool_param, choice_name, choice_param, number_param, Drag, DragPhase, Overlay, Pick, Press,
+    SubMeshLabels, Tool, ToolContext, ToolError,
 };
-use crate::app::group;
 use crate::camera::Ray;
 use crate::colors::Rgba;
+use crate::format::group;
 
 /// Which control net.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -116,7 +117,6 @@ struct ControlDrag {
 
 /// The FFD tool (see the module docs).
 pub struct FfdTool {
-    shared: SharedLabels,
     /// Attach to the sub-mesh of the labels (else the whole mesh).
     pub submesh: bool,
     /// Local mode (the surface covers the middle of the object).
@@ -141,11 +141,16 @@ pub struct FfdTool {
     note: Option<String>,
 }
 
+impl Default for FfdTool {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl FfdTool {
-    /// The tool, reading the sub-mesh labels from `shared`.
-    pub fn new(shared: SharedLabels) -> Self {
+    /// The tool (it reads the sub-mesh labels from the mesh's label attribute).
+    pub fn new() -> Self {
         Self {
-            shared,
             submesh: false,
             local: false,
             grid: [7, 5],
@@ -167,8 +172,7 @@ impl FfdTool {
         let mesh = ctx.mesh();
         let mask = if self.submesh {
             Some(
-                self.shared
-                    .get(mesh)
+                SubMeshLabels::of(mesh)
                     .ok_or_else(|| {
                         ToolError::new(
                             "no sub-mesh labels for this mesh: cut one with Multiresolution",
@@ -410,19 +414,140 @@ fn net_name(net: Net) -> &'static str {
     }
 }
 
-const PARAMETERS: [&str; 12] = [
-    "scope",
-    "mode",
-    "grid_u",
-    "grid_v",
-    "operation",
-    "bend",
-    "taper_start",
-    "taper_end",
-    "twist",
-    "attach",
-    "reset",
-    "control",
+/// The scope choices: `(attach to the sub-mesh, script name)`.
+const SCOPES: [(bool, &str); 2] = [(false, "mesh"), (true, "submesh")];
+/// The mode choices: `(local, script name)`.
+const MODES: [(bool, &str); 2] = [(false, "global"), (true, "local")];
+
+/// Stores a number parameter with `store` (the FFD checks it when it is used).
+fn number(
+    t: &mut FfdTool,
+    name: &str,
+    v: &serde_json::Value,
+    store: fn(&mut FfdTool, f64),
+) -> Result<(), ToolError> {
+    store(t, number_param(name, v)?);
+    Ok(())
+}
+
+/// The parameters of [`FfdTool`] (see [`params`]); the FFD checks grid sizes and the
+/// operations' values.
+const PARAMS: &[Param<FfdTool>] = &[
+    Param::new(
+        "scope",
+        "Attach to",
+        Widget::Choice(|| params::names(&SCOPES)),
+        |t| choice_name(&SCOPES, t.submesh).into(),
+        |t, v, _| {
+            t.submesh = choice_param(&SCOPES, "scope", v)?;
+            Ok(())
+        },
+    ),
+    Param::new(
+        "mode",
+        "Mode",
+        Widget::Choice(|| params::names(&MODES)),
+        |t| choice_name(&MODES, t.local).into(),
+        |t, v, _| {
+            t.local = choice_param(&MODES, "mode", v)?;
+            Ok(())
+        },
+    ),
+    Param::new(
+        "grid_u",
+        "control points along u",
+        params::count(4.0, 20.0),
+        |t| t.grid[0].into(),
+        |t, v, _| {
+            t.grid[0] = params::whole("grid_u", v)?;
+            Ok(())
+        },
+    ),
+    Param::new(
+        "grid_v",
+        "control points along v",
+        params::count(4.0, 20.0),
+        |t| t.grid[1].into(),
+        |t, v, _| {
+            t.grid[1] = params::whole("grid_v", v)?;
+            Ok(())
+        },
+    ),
+    Param::new(
+        "operation",
+        "Operation",
+        Widget::Choice(|| params::names(&OPERATIONS)),
+        |t| choice_name(&OPERATIONS, t.operation).into(),
+        |t, v, _| {
+            t.operation = choice_param(&OPERATIONS, "operation", v)?;
+            Ok(())
+        },
+    ),
+    Param::new(
+        "bend",
+        "angle (°)",
+        params::slider(-180.0, 180.0),
+        |t| t.bend.into(),
+        |t, v, _| number(t, "bend", v, |t, x| t.bend = x),
+    ),
+    Param::new(
+        "taper_start",
+        "factor at u = 0",
+        params::slider(0.0, 2.0),
+        |t| t.taper[0].into(),
+        |t, v, _| number(t, "taper_start", v, |t, x| t.taper[0] = x),
+    ),
+    Param::new(
+        "taper_end",
+        "factor at u = 1",
+        params::slider(0.0, 2.0),
+        |t| t.taper[1].into(),
+        |t, v, _| number(t, "taper_end", v, |t, x| t.taper[1] = x),
+    ),
+    Param::new(
+        "twist",
+        "angle (°)",
+        params::slider(-360.0, 360.0),
+        |t| t.twist.into(),
+        |t, v, _| number(t, "twist", v, |t, x| t.twist = x),
+    ),
+    Param::action("attach", "Attach", |t, v, ctx| {
+        if bool_param("attach", v)? {
+            t.attach(ctx)?;
+        }
+        Ok(())
+    }),
+    Param::action("reset", "Reset surfaces", |t, v, ctx| {
+        if bool_param("reset", v)? {
+            t.reset(ctx)?;
+        }
+        Ok(())
+    }),
+    Param::script("control", None, |t, value, ctx| {
+        let bad = || ToolError::bad_value("control", "[\"shape\" or \"height\", i, j]", value);
+        let a = value.as_array().filter(|a| a.len() == 3).ok_or_else(bad)?;
+        let net = match a[0].as_str() {
+            Some("shape") => Net::Shape,
+            Some("height") => Net::Height,
+            _ => return Err(bad()),
+        };
+        let i = a[1].as_u64().ok_or_else(bad)? as usize;
+        let j = a[2].as_u64().ok_or_else(bad)? as usize;
+        t.ensure_attached(ctx)?;
+        let Some(state) = t.state.as_ref() else {
+            return Err(ToolError::new("control: the FFD is not attached"));
+        };
+        let [cu, cv] = state.ffd.shape().count();
+        if i >= cu || j >= cv {
+            return Err(ToolError::new(format!(
+                "control point ({i}, {j}) outside the {cu}×{cv} grid"
+            )));
+        }
+        t.pending.set(Some((net, i, j)));
+        t.selected = Some((net, i, j));
+        t.armed = true;
+        Ok(())
+    }),
 ];
 
 impl Tool for FfdTool {
@@ -439,28 +564,11 @@ impl Tool for FfdTool {
         if let Some(note) = self.note.take() {
             ctx.info(note);
         }
+        for name in ["scope", "mode", "grid_u", "grid_v"] {
+            params::widget(ui, PARAMS, name, self, ctx);
+        }
         ui.horizontal(|ui| {
-            ui.label("Attach to");
-            ui.selectable_value(&mut self.submesh, false, "mesh");
-            ui.selectable_value(&mut self.submesh, true, "sub-mesh");
-        });
-        ui.horizontal(|ui| {
-            ui.label("Mode");
-            ui.selectable_value(&mut self.local, false, "global");
-            ui.selectable_value(&mut self.local, true, "local");
-        });
-        ui.horizontal(|ui| {
-            ui.label("Control grid");
-            ui.add(egui::DragValue::new(&mut self.grid[0]).range(4..=20));
-            ui.label("×");
-            ui.add(egui::DragValue::new(&mut self.grid[1]).range(4..=20));
-        });
-        ui.horizontal(|ui| {
-            if ui.button("Attach").clicked() {
-                if let Err(e) = self.attach(ctx) {
-                    ctx.error(format!("FFD: {e}"));
-                }
-            }
+            params::widget(ui, PARAMS, "attach", self, ctx);
             if ui
                 .add_enabled(self.state.is_some(), egui::Button::new("Reset surfaces"))
                 .clicked()
@@ -488,23 +596,14 @@ impl Tool for FfdTool {
         }
         ui.weak("Press near a control point and drag it (H: up and down).");
         ui.separator();
-        ui.horizontal(|ui| {
-            ui.label("Operation");
-            for (o, name) in OPERATIONS {
-                ui.selectable_value(&mut self.operation, o, name);
-            }
-        });
-        match self.operation {
-            Operation::Bend => {
-                ui.add(egui::Slider::new(&mut self.bend, -180.0..=180.0).text("angle (°)"));
-            }
-            Operation::Taper => {
-                ui.add(egui::Slider::new(&mut self.taper[0], 0.0..=2.0).text("factor at u = 0"));
-                ui.add(egui::Slider::new(&mut self.taper[1], 0.0..=2.0).text("factor at u = 1"));
-            }
-            Operation::Twist => {
-                ui.add(egui::Slider::new(&mut self.twist, -360.0..=360.0).text("angle (°)"));
-            }
+        params::widget(ui, PARAMS, "operation", self, ctx);
+        let shown: &[&str] = match self.operation {
+            Operation::Bend => &["bend"],
+            Operation::Taper => &["taper_start", "taper_end"],
+            Operation::Twist => &["twist"],
+        };
+        for name in shown {
+            params::widget(ui, PARAMS, name, self, ctx);
         }
         if ui.button("Apply").clicked() {
             if let Err(e) = self.run(ctx) {
@@ -606,89 +705,13 @@ impl Tool for FfdTool {
         value: &serde_json::Value,
         ctx: &mut ToolContext<'_>,
     ) -> Result<(), ToolError> {
-        let grid = |value: &serde_json::Value| -> Result<usize, ToolError> {
-            let n = number_param(name, value)?;
-            if (4.0..=64.0).contains(&n) && n.fract() == 0.0 {
-                Ok(n as usize)
-            } else {
-                Err(ToolError::new(format!(
-                    "{name} {n}: a whole number in 4..=64"
-                )))
-            }
-        };
-        match name {
-            "scope" => {
-                self.submesh = match string_param(name, value)? {
-                    "mesh" => false,
-                    "submesh" => true,
-                    s => return Err(ToolError::new(format!("scope {s:?}: mesh or submesh"))),
-                }
-            }
-            "mode" => {
-                self.local = match string_param(name, value)? {
-                    "global" => false,
-                    "local" => true,
-                    s => return Err(ToolError::new(format!("mode {s:?}: global or local"))),
-                }
-            }
-            "grid_u" => self.grid[0] = grid(value)?,
-            "grid_v" => self.grid[1] = grid(value)?,
-            "operation" => self.operation = choice_param(&OPERATIONS, name, value)?,
-            "bend" => self.bend = number_param(name, value)?,
-            "taper_start" => self.taper[0] = number_param(name, value)?,
-            "taper_end" => self.taper[1] = number_param(name, value)?,
-            "twist" => self.twist = number_param(name, value)?,
-            "attach" => {
-                if bool_param(name, value)? {
-                    self.attach(ctx)?;
-                }
-            }
-            "reset" => {
-                if bool_param(name, value)? {
-                    self.reset(ctx)?;
-                }
-            }
-            "control" => {
-                let bad = || ToolError::bad_value(name, "[\"shape\" or \"height\", i, j]", value);
-                let a = value.as_array().filter(|a| a.len() == 3).ok_or_else(bad)?;
-                let net = match a[0].as_str() {
-                    Some("shape") => Net::Shape,
-                    Some("height") => Net::Height,
-                    _ => return Err(bad()),
-                };
-                let i = a[1].as_u64().ok_or_else(bad)? as usize;
-                let j = a[2].as_u64().ok_or_else(bad)? as usize;
-                self.ensure_attached(ctx)?;
-                let [cu, cv] = self.state.as_ref().expect("attached").ffd.shape().count();
-                if i >= cu || j >= cv {
-                    return Err(ToolError::new(format!(
-                        "control point ({i}, {j}) outside the {cu}×{cv} grid"
-                    )));
-                }
-                self.pending.set(Some((net, i, j)));
-                self.selected = Some((net, i, j));
-                self.armed = true;
-            }
-            _ => return Err(ToolError::unknown_parameter(self.name(), name, &PARAMETERS)),
-        }
-        Ok(())
+        // (The name is copied: the setter borrows the tool mutably.)
+        let tool = self.name().to_owned();
+        params::set(&tool, PARAMS, self, name, value, ctx)
     }
 
     fn parameters(&self) -> Vec<(&'static str, serde_json::Value)> {
-        vec![
-            (
-                "scope",
-                if self.submesh { "submesh" } else { "mesh" }.into(),
-            ),
-            ("mode", if self.local { "local" } else { "global" }.into()),
-            ("grid_u", self.grid[0].into()),
-            ("grid_v", self.grid[1].into()),
-            ("operation", choice_name(&OPERATIONS, self.operation).into()),
-            ("bend", self.bend.into()),
-            ("taper_start", self.taper[0].into()),
-            ("taper_end", self.taper[1].into()),
-            ("twist", self.twist.into()),
-        ]
+        params::list(PARAMS, self)
     }
 
     fn overlay(&self, _mesh: &Mesh, overlay: &mut Overlay) {
@@ -813,7 +836,7 @@ mod tests {
             },
             pick: None,
         };
-        let mut tool = FfdTool::new(SharedLabels::default());
+        let mut tool = FfdTool::new();
         tool.grid = [6, 6];
         tool.attach(&mut ctx).unwrap();
         let st = tool.state.as_ref().unwrap();

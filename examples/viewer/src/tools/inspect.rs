@@ -8,6 +8,7 @@ use std::collections::VecDeque;
 use halfedge::{Mesh, VertexId};
 use three_d::egui;
 
+use super::params::{self, Param, Widget};
 use super::{choice_name, choice_param, Overlay, Pick, Tool, ToolContext, ToolError};
 use crate::colors::{format_value, Colormap, NO_LABEL};
 
@@ -145,6 +146,19 @@ pub fn components(mesh: &Mesh) -> (Vec<u32>, Vec<usize>) {
     (labels, sizes)
 }
 
+/// The parameters of [`Inspect`] (see [`params`]).
+const PARAMS: &[Param<Inspect>] = &[Param::new(
+    "color",
+    "Colour by",
+    Widget::Choice(|| params::names(&InspectColoring::ALL)),
+    |t| t.coloring.name().into(),
+    |t, v, ctx| {
+        t.coloring = choice_param(&InspectColoring::ALL, "color", v)?;
+        t.recolor(ctx);
+        Ok(())
+    },
+)];
+
 impl Tool for Inspect {
     fn name(&self) -> &str {
         "Inspect"
@@ -156,20 +170,7 @@ impl Tool for Inspect {
     }
 
     fn ui(&mut self, ui: &mut egui::Ui, ctx: &mut ToolContext<'_>) {
-        let before = self.coloring;
-        ui.horizontal(|ui| {
-            ui.label("Colour by");
-            egui::ComboBox::from_id_salt("inspect-coloring")
-                .selected_text(self.coloring.name())
-                .show_ui(ui, |ui| {
-                    for (c, name) in InspectColoring::ALL {
-                        ui.selectable_value(&mut self.coloring, c, name);
-                    }
-                });
-        });
-        if self.coloring != before {
-            self.recolor(ctx);
-        }
+        params::widget(ui, PARAMS, "color", self, ctx);
         ui.add_space(4.0);
         let mesh = ctx.mesh();
         let Some(pick) = self.pick.filter(|p| mesh.is_valid_vertex(p.vertex)) else {
@@ -258,18 +259,13 @@ impl Tool for Inspect {
         value: &serde_json::Value,
         ctx: &mut ToolContext<'_>,
     ) -> Result<(), ToolError> {
-        match name {
-            "color" => {
-                self.coloring = choice_param(&InspectColoring::ALL, name, value)?;
-                self.recolor(ctx);
-                Ok(())
-            }
-            _ => Err(ToolError::unknown_parameter(self.name(), name, &["color"])),
-        }
+        // (The name is copied: the setter borrows the tool mutably.)
+        let tool = self.name().to_owned();
+        params::set(&tool, PARAMS, self, name, value, ctx)
     }
 
     fn parameters(&self) -> Vec<(&'static str, serde_json::Value)> {
-        vec![("color", self.coloring.name().into())]
+        params::list(PARAMS, self)
     }
 
     fn overlay(&self, mesh: &Mesh, overlay: &mut Overlay) {

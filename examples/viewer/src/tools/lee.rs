@@ -21,9 +21,10 @@ use three_d::egui;
 use super::edit_support::{
     ball_vertices, copy_positions, diagonal, ms, vertex_list_param, vertex_param, Scratch,
 };
+use super::params::{self, Param, Widget};
 use super::{
-    bool_param, number_param, string_param, Drag, DragPhase, Overlay, Pick, Tool, ToolContext,
-    ToolError,
+    bool_param, choice_name, choice_param, number_param, string_param, Drag, DragPhase, Overlay,
+    Pick, Tool, ToolContext, ToolError,
 };
 use crate::colors::NO_LABEL;
 
@@ -317,6 +318,97 @@ fn disk_area(mesh: &Mesh, seed: VertexId, radius: f64) -> Result<EditingArea, To
     }
 }
 
+/// The frame choices of the Lee tool: `(normal frames, script name)`.
+const FRAMES: [(bool, &str); 2] = [(false, "global"), (true, "normal")];
+
+/// The parameters of [`LeeAreaEdit`] (see [`params`]); the editing method checks the
+/// values (the scale, the area).
+const PARAMS: &[Param<LeeAreaEdit>] = &[
+    Param::new(
+        "mode",
+        "Click:",
+        Widget::Choice(|| LeeMode::ALL.iter().map(|m| m.1).collect()),
+        |t| t.mode.key().into(),
+        |t, v, _| {
+            let s = string_param("mode", v)?;
+            t.mode = LeeMode::parse(s).ok_or_else(|| {
+                ToolError::bad_value("mode", "boundary, disk, primitive or drag", v)
+            })?;
+            Ok(())
+        },
+    ),
+    Param::new(
+        "radius",
+        "disk radius (of the diagonal)",
+        params::log_slider(0.01, 0.5),
+        |t| t.radius.into(),
+        |t, v, ctx| {
+            t.radius = number_param("radius", v)?;
+            if matches!(t.source, Some(AreaSource::Disk(_))) {
+                t.build_area(ctx)?;
+            }
+            Ok(())
+        },
+    ),
+    Param::new(
+        "scale",
+        "scale s",
+        params::slider(0.0, 1.0),
+        |t| t.scale.into(),
+        |t, v, ctx| {
+            t.scale = number_param("scale", v)?;
+            t.reshape(ctx)
+        },
+    ),
+    Param::new(
+        "frames",
+        "Frames:",
+        Widget::Choice(|| params::names(&FRAMES)),
+        |t| choice_name(&FRAMES, t.normal_frames).into(),
+        |t, v, ctx| {
+            // "local" is an old name of the normal frames.
+            let local = v.as_str() == Some("local");
+            t.normal_frames = local || choice_param(&FRAMES, "frames", v)?;
+            t.reshape(ctx)
+        },
+    ),
+    Param::script("boundary", None, |t, v, ctx| {
+        let picks = vertex_list_param(ctx.mesh(), "boundary", v)?;
+        if picks.len() < 3 {
+            return Err(ToolError::new("boundary: at least 3 vertices"));
+        }
+        t.boundary_picks = picks;
+        t.source = Some(AreaSource::Loop);
+        t.build_area(ctx)
+    }),
+    Param::script("disk", None, |t, v, ctx| {
+        let v = vertex_param(ctx.mesh(), "disk", v)?;
+        t.source = Some(AreaSource::Disk(v));
+        t.build_area(ctx)
+    }),
+    Param::script("primitive", None, |t, v, ctx| {
+        let p = vertex_list_param(ctx.mesh(), "primitive", v)?;
+        if let Some(&v) = p.iter().find(|&&v| !t.is_interior(ctx.mesh(), v)) {
+            return Err(ToolError::new(format!(
+                "primitive: vertex {} is not inside the editing area",
+                ctx.mesh().vertex_index(v)
+            )));
+        }
+        t.set_primitive(p, ctx)
+    }),
+    Param::action("clear", "Clear all", |t, v, ctx| {
+        if bool_param("clear", v)? {
+            t.clear(ctx);
+        }
+        Ok(())
+    }),
+    Param::info("boundary_picks", |t| t.boundary_picks.len().into()),
+    Param::info("primitive_size", |t| t.primitive.len().into()),
+    Param::info("area_vertices", |t| {
+        t.area().map_or(0, |a| a.vertices().len()).into()
+    }),
+];
+
 impl Tool for LeeAreaEdit {
     fn name(&self) -> &str {
         "Lee area editing"
@@ -329,12 +421,7 @@ impl Tool for LeeAreaEdit {
     }
 
     fn ui(&mut self, ui: &mut egui::Ui, ctx: &mut ToolContext<'_>) {
-        ui.horizontal_wrapped(|ui| {
-            ui.label("Click:");
-            for (mode, _, label) in LeeMode::ALL {
-                ui.selectable_value(&mut self.mode, mode, label);
-            }
-        });
+        params::widget(ui, PARAMS, "mode", self, ctx);
         match self.mode {
             LeeMode::Boundary => {
                 ui.weak("Click vertices around the area; shortest paths join them into a loop (closed from 3 picks on).");
@@ -349,20 +436,7 @@ impl Tool for LeeAreaEdit {
                 ui.weak("Press on an interior vertex and drag it in the view plane.");
             }
         }
-        let r = ui.add(
-            egui::Slider::new(&mut self.radius, 0.01..=0.5)
-                .text("disk radius")
-                .logarithmic(true)
-                .custom_formatter(|x, _| format!("{:.1} %", 100.0 * x)),
-        );
-        if r.changed() && matches!(self.source, Some(AreaSource::Disk(_))) && !r.dragged() {
-            let result = self.build_area(ctx);
-            self.report(ctx, result);
-        }
-        if r.drag_stopped() && matches!(self.source, Some(AreaSource::Disk(_))) {
-            let result = self.build_area(ctx);
-            self.report(ctx, result);
-        }
+        params::widget(ui, PARAMS, "radius", self, ctx);
         ui.horizontal(|ui| {
             ui.label(format!("{} boundary picks", self.boundary_picks.len()));
             if ui.button("Undo pick").clicked() && self.boundary_picks.pop().is_some() {
@@ -397,21 +471,8 @@ impl Tool for LeeAreaEdit {
             }
         });
         ui.separator();
-        let s = ui.add(egui::Slider::new(&mut self.scale, 0.0..=1.0).text("scale s"));
-        let mut frames_changed = false;
-        ui.horizontal(|ui| {
-            ui.label("Frames:");
-            frames_changed |= ui
-                .radio_value(&mut self.normal_frames, false, "global")
-                .changed();
-            frames_changed |= ui
-                .radio_value(&mut self.normal_frames, true, "local (normals)")
-                .changed();
-        });
-        if s.changed() || frames_changed {
-            let result = self.reshape(ctx);
-            self.report(ctx, result);
-        }
+        params::widget(ui, PARAMS, "scale", self, ctx);
+        params::widget(ui, PARAMS, "frames", self, ctx);
         ui.horizontal(|ui| {
             if ui
                 .add_enabled(self.session.is_some(), egui::Button::new("Commit"))
@@ -421,9 +482,7 @@ impl Tool for LeeAreaEdit {
                 let result = self.commit(ctx);
                 self.report(ctx, result);
             }
-            if ui.button("Clear all").clicked() {
-                self.clear(ctx);
-            }
+            params::widget(ui, PARAMS, "clear", self, ctx);
         });
     }
 
@@ -559,111 +618,13 @@ impl Tool for LeeAreaEdit {
         value: &serde_json::Value,
         ctx: &mut ToolContext<'_>,
     ) -> Result<(), ToolError> {
-        match name {
-            "mode" => {
-                let s = string_param(name, value)?;
-                self.mode = LeeMode::parse(s).ok_or_else(|| {
-                    ToolError::bad_value(name, "boundary, disk, primitive or drag", value)
-                })?;
-            }
-            "radius" => {
-                let r = number_param(name, value)?;
-                if !(r > 0.0 && r <= 1.0) {
-                    return Err(ToolError::new(format!(
-                        "radius {r} out of range: a fraction of the diagonal in (0, 1]"
-                    )));
-                }
-                self.radius = r;
-                if matches!(self.source, Some(AreaSource::Disk(_))) {
-                    self.build_area(ctx)?;
-                }
-            }
-            "scale" => {
-                let s = number_param(name, value)?;
-                if !(0.0..=1.0).contains(&s) {
-                    return Err(ToolError::new(format!("scale {s} out of [0, 1]")));
-                }
-                self.scale = s;
-                self.reshape(ctx)?;
-            }
-            "frames" => {
-                self.normal_frames = match string_param(name, value)? {
-                    "global" => false,
-                    "normal" | "local" => true,
-                    _ => return Err(ToolError::bad_value(name, "global or normal", value)),
-                };
-                self.reshape(ctx)?;
-            }
-            "boundary" => {
-                let picks = vertex_list_param(ctx.mesh(), name, value)?;
-                if picks.len() < 3 {
-                    return Err(ToolError::new("boundary: at least 3 vertices"));
-                }
-                self.boundary_picks = picks;
-                self.source = Some(AreaSource::Loop);
-                self.build_area(ctx)?;
-            }
-            "disk" => {
-                let v = vertex_param(ctx.mesh(), name, value)?;
-                self.source = Some(AreaSource::Disk(v));
-                self.build_area(ctx)?;
-            }
-            "primitive" => {
-                let p = vertex_list_param(ctx.mesh(), name, value)?;
-                if let Some(&v) = p.iter().find(|&&v| !self.is_interior(ctx.mesh(), v)) {
-                    return Err(ToolError::new(format!(
-                        "primitive: vertex {} is not inside the editing area",
-                        ctx.mesh().vertex_index(v)
-                    )));
-                }
-                self.set_primitive(p, ctx)?;
-            }
-            "clear" => {
-                if bool_param(name, value)? {
-                    self.clear(ctx);
-                }
-            }
-            _ => {
-                return Err(ToolError::unknown_parameter(
-                    self.name(),
-                    name,
-                    &[
-                        "mode",
-                        "radius",
-                        "scale",
-                        "frames",
-                        "boundary",
-                        "disk",
-                        "primitive",
-                        "clear",
-                    ],
-                ))
-            }
-        }
-        Ok(())
+        // (The name is copied: the setter borrows the tool mutably.)
+        let tool = self.name().to_owned();
+        params::set(&tool, PARAMS, self, name, value, ctx)
     }
 
     fn parameters(&self) -> Vec<(&'static str, serde_json::Value)> {
-        vec![
-            ("mode", self.mode.key().into()),
-            ("radius", self.radius.into()),
-            ("scale", self.scale.into()),
-            (
-                "frames",
-                if self.normal_frames {
-                    "normal"
-                } else {
-                    "global"
-                }
-                .into(),
-            ),
-            ("boundary_picks", self.boundary_picks.len().into()),
-            ("primitive_size", self.primitive.len().into()),
-            (
-                "area_vertices",
-                self.area().map_or(0, |a| a.vertices().len()).into(),
-            ),
-        ]
+        params::list(PARAMS, self)
     }
 
     fn overlay(&self, mesh: &Mesh, overlay: &mut Overlay) {

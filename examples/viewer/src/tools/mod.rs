@@ -14,6 +14,8 @@
 //!   every move, end);
 //! - [`Tool::apply`] is the tool's main action (its *Apply* button, the script's `apply`);
 //! - [`Tool::set_parameter`] / [`Tool::parameters`] expose the parameters to scripts;
+//!   each tool declares its parameters once, in a table of [`params::Param`]s that also
+//!   draws their widgets;
 //! - [`Tool::overlay`] adds markers and segments drawn over the mesh;
 //! - [`Tool::on_mesh_replaced`] drops state that refers to a mesh that is gone (after
 //!   loading a file, undo or redo);
@@ -38,6 +40,7 @@ mod ffd;
 mod inspect;
 mod lee;
 mod multires;
+pub mod params;
 mod submesh;
 
 pub use bendels_klein::{BendelsKlein, BkMode};
@@ -45,7 +48,7 @@ pub use ffd::FfdTool;
 pub use inspect::Inspect;
 pub use lee::{LeeAreaEdit, LeeMode};
 pub use multires::{
-    connectivity_fingerprint, Multires, SharedLabels, SubMeshLabels, HOST, SUBMESH,
+    frontier_overlay, refreshed_label_layer, Multires, SubMeshLabels, HOST, LABEL_LAYER, SUBMESH,
 };
 pub use submesh::SubMeshEdit;
 
@@ -59,14 +62,13 @@ use crate::document::Document;
 
 /// The tools of the viewer, in selector order. Add new methods here.
 pub fn default_tools() -> Vec<Box<dyn Tool>> {
-    let labels = SharedLabels::default();
     vec![
         Box::new(Inspect::default()),
-        Box::new(Multires::new(labels.clone())),
+        Box::new(Multires::new()),
         Box::new(LeeAreaEdit::new()),
         Box::new(BendelsKlein::default()),
-        Box::new(SubMeshEdit::new(labels.clone())),
-        Box::new(FfdTool::new(labels)),
+        Box::new(SubMeshEdit::new()),
+        Box::new(FfdTool::new()),
     ]
 }
 

@@ -7,24 +7,22 @@
 //!   back through a channel) while the panel shows its progress (levels done, faces left);
 //!   the viewer stays responsive and keeps the mesh unchanged until it returns
 //!   ([`Tool::poll`]).
-//! - **Level slider**: coarsens or refines with the hierarchy's detail coefficients. Edits
-//!   made by other tools at a coarse level ride along to the finer levels: before moving,
-//!   the document's positions are copied into the hierarchy's mesh (when the document's
-//!   connectivity is the hierarchy's current level, or a level already visited, e.g. after
-//!   undo), then the hierarchy moves, and its mesh goes back into the document as one undo
-//!   step.
+//! - **Level slider**: coarsens or refines with the hierarchy's detail coefficients. The
+//!   document holds the hierarchy ([`crate::document::Document::go_to_level`]): its mesh is
+//!   the document's mesh, so edits made by other tools at a coarse level are edits of the
+//!   hierarchy's mesh and ride along to the finer levels; a level change is one undo step
+//!   (the level and the positions left, not a copy of the mesh).
 //! - **Sub-mesh frontier** (section 4.1, Fig. 2): (a) picked vertices joined into a closed
 //!   loop by shortest edge paths, (b) a collar of faces (the faces around the loop through
 //!   the picked vertices; the frontier is its border on the side of the smaller part),
 //!   (c) a cutting plane through a picked point, normal along an axis or the view. The
 //!   labels (host, sub-mesh, frontier) colour the mesh, the frontier is drawn over it, and
 //!   the labels ride along through level changes (Fig. 4 rule, [`halfedge::labels`]).
-//!   They are shared with the *Sub-mesh edits* and *FFD* tools through [`SharedLabels`].
+//!   They live in one place, the mesh's label attribute
+//!   ([`halfedge::labels::LABEL_ATTRIBUTE`]), where the *Sub-mesh edits* and *FFD* tools
+//!   read them ([`SubMeshLabels::of`]).
 
-use std::cell::RefCell;
-use std::collections::HashMap;
 use std::ops::ControlFlow;
-use std::rc::Rc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{self, Receiver, TryRecvError};
 use std::sync::{Arc, Mutex};
@@ -32,19 +30,21 @@ use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use glam::DVec3;
+use halfedge::labels::LABEL_ATTRIBUTE;
 use halfedge::{
-    BuildProgress, DetailMode, FaceId, Hierarchy, HierarchyOptions, Mesh, Method, VertexId,
+    BuildProgress, DetailMode, FaceId, Hierarchy, HierarchyOptions, Label, Mesh, Method, VertexId,
     FRONTIER,
 };
 use three_d::egui;
 
+use super::params::{self, Param, Widget};
 use super::{
-    bool_param, choice_name, choice_param, number_param, string_param, Background, Overlay, Pick,
-    Tool, ToolContext, ToolError, ViewInfo,
+    bool_param, choice_name, choice_param, number_param, Background, Overlay, Pick, Tool,
+    ToolContext, ToolError, ViewInfo,
 };
-use crate::app::group;
-use crate::colors::{Rgba, NO_LABEL};
+use crate::colors::{ColorLayer, LabelField, LabelTarget, Rgba, NO_LABEL};
 use crate::document::Revision;
+use crate::format::group;
 
 /// Label of the host (the part outside the sub-mesh).
 pub const HOST: u32 = 0;
@@ -54,59 +54,46 @@ pub const SUBMESH: u32 = 1;
 /// Colour of the frontier segments.
 const FRONTIER_COLOR: Rgba = [255, 220, 40, 255];
 
-/// A hash of a mesh's connectivity: slot counts and, for every live face, its index, its
-/// corners and its halfedges (rotated to start at the smallest corner). Equal
-/// fingerprints mean the same handles and the same triangles, so that per-slot data (labels,
-/// positions) carry over.
-pub fn connectivity_fingerprint(mesh: &Mesh) -> u64 {
-    const K: u64 = 0x9E37_79B9_7F4A_7C15;
-    let mut h: u64 = 0xCBF2_9CE4_8422_2325;
-    let mut mix = |x: u64| {
-        h = (h ^ x).wrapping_mul(K).rotate_left(29);
-    };
-    for x in [
-        mesh.vertex_slots(),
-        mesh.halfedge_slots(),
-        mesh.face_slots(),
-        mesh.n_vertices(),
-        mesh.n_faces(),
-    ] {
-        mix(x as u64);
-    }
-    for f in mesh.faces() {
-        mix(mesh.face_index(f) as u64);
-        let hs: Vec<_> = mesh.face_halfedges(f).collect();
-        let vs: Vec<usize> = hs
-            .iter()
-            .map(|&e| mesh.vertex_index(mesh.to_vertex(e)))
-            .collect();
-        let start = (0..vs.len()).min_by_key(|&i| vs[i]).unwrap_or(0);
-        for k in 0..vs.len() {
-            let i = (start + k) % vs.len();
-            mix(vs[i] as u64);
-            mix(mesh.halfedge_index(hs[i]) as u64);
-        }
-    }
-    h
-}
-
-/// Sub-mesh labels of the current mesh: one label per vertex slot ([`HOST`], [`SUBMESH`]
-/// or [`FRONTIER`]), valid for the connectivity they were made on.
+/// Sub-mesh labels of a mesh, read from its label attribute
+/// ([`halfedge::labels::LABEL_ATTRIBUTE`], the one place they are stored): one label per
+/// vertex slot ([`HOST`], [`SUBMESH`] or [`FRONTIER`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct SubMeshLabels {
-    /// Label per vertex slot (dead slots: [`NO_LABEL`]).
+    /// Label per vertex slot (dead slots: [`NO_LABEL`], which is also [`FRONTIER`]'s
+    /// value: ask [`is_live`](Self::is_live)).
     pub labels: Vec<u32>,
-    /// [`connectivity_fingerprint`] of the mesh they belong to.
-    pub fingerprint: u64,
-    /// How they were made (for the status line and panels).
-    pub description: String,
+    /// Live slots.
+    live: Vec<bool>,
 }
 
 impl SubMeshLabels {
-    /// True when the labels belong to `mesh`'s connectivity.
-    pub fn matches(&self, mesh: &Mesh) -> bool {
-        self.labels.len() == mesh.vertex_slots()
-            && self.fingerprint == connectivity_fingerprint(mesh)
+    /// The labels of `mesh`, if it has a label attribute.
+    pub fn of(mesh: &Mesh) -> Option<Self> {
+        let attribute = mesh.find_attribute::<VertexId, Label>(LABEL_ATTRIBUTE)?;
+        let mut live = vec![false; mesh.vertex_slots()];
+        for v in mesh.vertices() {
+            live[mesh.vertex_index(v)] = true;
+        }
+        Some(Self {
+            labels: read_labels(mesh, attribute),
+            live,
+        })
+    }
+
+    /// True when vertex slot `i` is live.
+    pub fn is_live(&self, i: usize) -> bool {
+        self.live.get(i).copied().unwrap_or(false)
+    }
+
+    /// A summary: vertices per part.
+    pub fn description(&self) -> String {
+        let (host, sub, front) = self.counts();
+        format!(
+            "sub-mesh {} · host {} · frontier {} vertices",
+            group(sub),
+            group(host),
+            group(front)
+        )
     }
 
     /// The sub-mesh as a mask per vertex slot: the sub-mesh and its frontier (the frontier
@@ -114,14 +101,15 @@ impl SubMeshLabels {
     pub fn inside_mask(&self) -> Vec<bool> {
         self.labels
             .iter()
-            .map(|&l| l == SUBMESH || l == FRONTIER)
+            .zip(&self.live)
+            .map(|(&l, &live)| live && (l == SUBMESH || l == FRONTIER))
             .collect()
     }
 
     /// Number of vertices per label `(host, sub-mesh, frontier)`.
     pub fn counts(&self) -> (usize, usize, usize) {
         let mut c = (0, 0, 0);
-        for &l in &self.labels {
+        for (&l, _) in self.labels.iter().zip(&self.live).filter(|(_, &live)| live) {
             match l {
                 HOST => c.0 += 1,
                 SUBMESH => c.1 += 1,
@@ -136,7 +124,9 @@ impl SubMeshLabels {
     pub fn display_labels(&self) -> Vec<u32> {
         self.labels
             .iter()
-            .map(|&l| match l {
+            .zip(&self.live)
+            .map(|(&l, &live)| match l {
+                _ if !live => NO_LABEL,
                 HOST => 0,
                 SUBMESH => 1,
                 FRONTIER => 2,
@@ -145,56 +135,50 @@ impl SubMeshLabels {
             .collect()
     }
 
-    /// Colours the mesh by these labels.
-    pub fn show(&self, ctx: &mut ToolContext<'_>) {
-        ctx.show_vertex_labels(
-            "sub-mesh labels",
-            self.display_labels(),
-            vec![
+    /// The colour layer of these labels (named [`LABEL_LAYER`]).
+    pub fn layer(&self) -> ColorLayer {
+        ColorLayer::Labels(LabelField {
+            name: LABEL_LAYER.into(),
+            target: LabelTarget::Vertices,
+            labels: self.display_labels(),
+            legend: vec![
                 (0, "host".into()),
                 (1, "sub-mesh".into()),
                 (2, "frontier".into()),
             ],
-        );
+        })
     }
 
-    /// The frontier edges (both ends on the frontier) as segments over `mesh`.
-    pub fn frontier_overlay(&self, mesh: &Mesh, overlay: &mut Overlay) {
-        if self.labels.len() != mesh.vertex_slots() {
-            return;
-        }
-        for e in mesh.edges() {
-            let (a, b) = (mesh.from_vertex(e), mesh.to_vertex(e));
-            if self.labels[mesh.vertex_index(a)] == FRONTIER
-                && self.labels[mesh.vertex_index(b)] == FRONTIER
-            {
-                overlay.segment(mesh.position(a), mesh.position(b), FRONTIER_COLOR);
-            }
-        }
+    /// Colours the mesh by these labels.
+    pub fn show(&self, ctx: &mut ToolContext<'_>) {
+        ctx.display.set(self.layer());
     }
 }
 
-/// The sub-mesh labels shared by the tools (set by *Multiresolution*, used by *Sub-mesh
-/// edits* and *FFD*).
-#[derive(Clone, Debug, Default)]
-pub struct SharedLabels(Rc<RefCell<Option<SubMeshLabels>>>);
+/// Name of the colour layer of the sub-mesh labels.
+pub const LABEL_LAYER: &str = "sub-mesh labels";
 
-impl SharedLabels {
-    /// The labels, if any and if they belong to `mesh`.
-    pub fn get(&self, mesh: &Mesh) -> Option<SubMeshLabels> {
-        self.0
-            .borrow()
-            .as_ref()
-            .filter(|l| l.matches(mesh))
-            .cloned()
+/// The colour layer `layer` should become after the mesh's labels changed (a level
+/// change, undo, redo): the labels read again from `mesh` when `layer` shows the sub-mesh
+/// labels (none left: the base colour); `None` for any other layer, which stays.
+pub fn refreshed_label_layer(layer: &ColorLayer, mesh: &Mesh) -> Option<ColorLayer> {
+    if layer.name() != Some(LABEL_LAYER) {
+        return None;
     }
-    /// Replaces the labels.
-    pub fn set(&self, labels: Option<SubMeshLabels>) {
-        *self.0.borrow_mut() = labels;
-    }
-    /// True when labels are set (whatever mesh they belong to).
-    pub fn is_set(&self) -> bool {
-        self.0.borrow().is_some()
+    Some(SubMeshLabels::of(mesh).map_or(ColorLayer::None, |l| l.layer()))
+}
+
+/// The frontier edges of `mesh`'s labels (both ends on the frontier) as segments.
+pub fn frontier_overlay(mesh: &Mesh, overlay: &mut Overlay) {
+    let Some(attribute) = mesh.find_attribute::<VertexId, Label>(LABEL_ATTRIBUTE) else {
+        return;
+    };
+    let labels = mesh.attribute_values(attribute);
+    for e in mesh.edges() {
+        let (a, b) = (mesh.from_vertex(e), mesh.to_vertex(e));
+        if labels[mesh.vertex_index(a)] == FRONTIER && labels[mesh.vertex_index(b)] == FRONTIER {
+            overlay.segment(mesh.position(a), mesh.position(b), FRONTIER_COLOR);
+        }
     }
 }
 
@@ -267,12 +251,8 @@ struct PendingBuild {
     method: Method,
     target_faces: usize,
     input_faces: usize,
-    /// Connectivity of the input, to tell whether level 0 comes back with other slots.
-    input_fingerprint: u64,
     /// The document's revision when the build started: it must not change meanwhile.
     revision: Revision,
-    /// Sub-mesh labels of the input, attached to the hierarchy at level 0.
-    labels: Option<SubMeshLabels>,
     /// Set to ask the build to stop at its next progress report.
     cancel: Arc<AtomicBool>,
 }
@@ -307,7 +287,6 @@ fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
 
 /// The multiresolution tool (see the module docs).
 pub struct Multires {
-    shared: SharedLabels,
     /// Rounds (the paper) or QEM.
     pub method: Method,
     /// Stop building at this many faces.
@@ -317,13 +296,10 @@ pub struct Multires {
     /// How refinement carries coarse edits: local frames with exact regions (default) or
     /// the paper's centroid translations.
     pub detail: DetailMode,
-    hierarchy: Option<Hierarchy>,
     /// The build running on another thread, if any.
     pending: Option<PendingBuild>,
-    /// Level shown by the slider.
+    /// The document's level, as of the last callback (for the listing).
     level: usize,
-    /// Connectivity fingerprint → level, for the levels visited.
-    visited: HashMap<u64, usize>,
     /// Frontier construction.
     pub frontier: FrontierMode,
     /// Cutting-plane normal.
@@ -336,19 +312,22 @@ pub struct Multires {
     view: Option<ViewInfo>,
 }
 
+impl Default for Multires {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl Multires {
-    /// The tool, sharing its labels through `shared`.
-    pub fn new(shared: SharedLabels) -> Self {
+    /// The tool.
+    pub fn new() -> Self {
         Self {
-            shared,
             method: Method::Rounds,
             target_faces: 500,
             max_normal_deviation: 90.0,
             detail: DetailMode::LocalFrame,
-            hierarchy: None,
             pending: None,
             level: 0,
-            visited: HashMap::new(),
             frontier: FrontierMode::Loop,
             normal: PlaneNormal::Y,
             flip: false,
@@ -357,11 +336,6 @@ impl Multires {
             collar: Vec::new(),
             view: None,
         }
-    }
-
-    /// The hierarchy, once built.
-    pub fn hierarchy(&self) -> Option<&Hierarchy> {
-        self.hierarchy.as_ref()
     }
 
     fn options(&self) -> HierarchyOptions {
@@ -403,9 +377,7 @@ impl Multires {
     pub fn start_build(&mut self, ctx: &mut ToolContext<'_>) -> Result<(), ToolError> {
         self.check_idle()?;
         let input = ctx.mesh().clone();
-        let input_fingerprint = connectivity_fingerprint(&input);
         let input_faces = input.n_faces();
-        let labels = self.shared.get(&input);
         let options = self.options();
         let progress = Arc::new(Mutex::new(None));
         let (sender, result) = mpsc::channel();
@@ -438,9 +410,7 @@ impl Multires {
             method: self.method,
             target_faces: self.target_faces,
             input_faces,
-            input_fingerprint,
             revision: ctx.doc.revision(),
-            labels,
             cancel,
         });
         ctx.info(format!(
@@ -486,27 +456,15 @@ impl Multires {
                 "the mesh changed while the hierarchy was being built: build it again",
             ));
         }
-        let input_fp = pending.input_fingerprint;
         let input_faces = pending.input_faces;
         let coarse_faces = h.mesh().n_faces();
         // Back to the input (bit for bit), where the document is.
         h.go_to_level(0)?;
-        if let Some(labels) = pending.labels {
-            // Labels made on the input: attach them at level 0.
-            let attribute = h.mesh_mut().label_attribute()?;
-            let n = labels.labels.len();
-            h.mesh_mut().attribute_values_mut(attribute)[..n].copy_from_slice(&labels.labels);
+        // Sub-mesh labels of the input came along in its label attribute: from now on the
+        // hierarchy carries them through its levels.
+        if let Some(attribute) = h.mesh().find_attribute::<VertexId, Label>(LABEL_ATTRIBUTE) {
             h.attach_labels(attribute);
         }
-        let fp = connectivity_fingerprint(h.mesh());
-        if fp != input_fp {
-            ctx.begin_topology_edit("Build hierarchy");
-            *ctx.mesh_mut() = h.mesh().clone();
-            ctx.doc.end_edit();
-        }
-        self.visited.clear();
-        self.visited.insert(fp, 0);
-        self.level = 0;
         // Counted as the panel counts them: the input is level 0.
         let levels = h.coarsest_level() + 1;
         // Say plainly when the target was missed, or reached only by widening the bounds.
@@ -516,7 +474,10 @@ impl Multires {
         } else {
             String::new()
         };
-        self.hierarchy = Some(h);
+        // The document holds the hierarchy from now on (one undo step: undo gives the
+        // plain mesh back).
+        ctx.doc.set_hierarchy(h, "Build hierarchy");
+        self.level = 0;
         // ASCII only: the status line's font has no arrows.
         ctx.info(format!(
             "Built {} hierarchy: {levels} levels, {} down to {} faces in {:.0} ms{how}",
@@ -528,83 +489,31 @@ impl Multires {
         Ok(())
     }
 
-    /// Copies the document's positions into the hierarchy's mesh, first moving the
-    /// hierarchy to the document's level when the document shows another visited level.
-    fn sync_from_document(&mut self, ctx: &ToolContext<'_>) -> Result<(), ToolError> {
-        self.check_idle()?;
-        let h = self
-            .hierarchy
-            .as_mut()
-            .ok_or_else(|| ToolError::new("no hierarchy: build one first"))?;
-        let doc = ctx.mesh();
-        let fp = connectivity_fingerprint(doc);
-        if fp != connectivity_fingerprint(h.mesh()) {
-            let Some(&level) = self.visited.get(&fp) else {
-                return Err(ToolError::new(
-                    "the mesh's connectivity is none of the hierarchy's levels (another \
-                     mesh was loaded or its connectivity changed): build the hierarchy again",
-                ));
-            };
-            h.go_to_level(level)?;
-            if connectivity_fingerprint(h.mesh()) != fp {
-                return Err(ToolError::new(
-                    "the hierarchy could not return to the document's level: build it again",
-                ));
-            }
-            self.level = level;
-        }
-        let target = h.mesh_mut();
-        let src = doc.positions();
-        let live: Vec<usize> = doc.vertices().map(|v| doc.vertex_index(v)).collect();
-        let dst = target.positions_mut();
-        for i in live {
-            dst[i] = src[i];
-        }
-        Ok(())
-    }
-
-    /// Moves to `level` (coarsening or refining with detail coefficients), one undo step.
+    /// Moves the document's hierarchy to `level` (coarsening or refining with detail
+    /// coefficients), one undo step.
     pub fn go_to_level(
         &mut self,
         level: usize,
         ctx: &mut ToolContext<'_>,
     ) -> Result<(), ToolError> {
-        self.sync_from_document(ctx)?;
-        let h = self.hierarchy.as_mut().expect("synced");
-        if level > h.coarsest_level() {
-            return Err(ToolError::new(format!(
-                "level {level} does not exist (levels 0..={})",
-                h.coarsest_level()
-            )));
-        }
-        let from = h.current_level().unwrap_or(self.level);
-        if from == level
-            && connectivity_fingerprint(ctx.mesh()) == connectivity_fingerprint(h.mesh())
-        {
+        self.check_idle()?;
+        let from = ctx
+            .doc
+            .hierarchy()
+            .ok_or_else(|| ToolError::new("no hierarchy: build one first"))?
+            .level_at_or_finer();
+        if ctx.doc.hierarchy().and_then(Hierarchy::current_level) == Some(level) {
             self.level = level;
             return Ok(());
         }
         let start = Instant::now();
-        h.go_to_level(level)?;
+        ctx.doc.go_to_level(level, &format!("Level {level}"))?;
         let took = start.elapsed();
-        let fp = connectivity_fingerprint(h.mesh());
-        self.visited.insert(fp, level);
         self.level = level;
-        ctx.begin_topology_edit(&format!("Level {level}"));
-        *ctx.mesh_mut() = h.mesh().clone();
         self.picks.clear();
         self.collar.clear();
-        // The labels rode along (Fig. 4 rule): publish them for this level.
-        if let Some(attribute) = h.label_attribute() {
-            let labels = read_labels(h.mesh(), attribute);
-            let labels = SubMeshLabels {
-                labels,
-                fingerprint: fp,
-                description: "multiresolution labels".into(),
-            };
-            labels.show(ctx);
-            self.shared.set(Some(labels));
-        }
+        // The labels rode along in the mesh (Fig. 4 rule): show them at this level.
+        self.show_labels(ctx);
         let verb = if level > from { "coarsened" } else { "refined" };
         ctx.info(format!(
             "Level {level}: {} faces, {} vertices ({verb} from level {from} in {:.1} ms)",
@@ -615,18 +524,57 @@ impl Multires {
         Ok(())
     }
 
-    /// Makes the frontier from the picks and labels the two sides (on the hierarchy's
-    /// mesh when there is one, so that the labels ride along through levels).
+    /// Makes the frontier from the picks and labels the two sides, in the label attribute
+    /// of the document's mesh (the hierarchy's mesh when there is one, so that the labels
+    /// ride along through levels).
     pub fn define_labels(&mut self, ctx: &mut ToolContext<'_>) -> Result<(), ToolError> {
         self.check_idle()?;
-        let use_hierarchy = self.hierarchy.is_some() && self.sync_from_document(ctx).is_ok();
-        let mut scratch;
-        let mesh: &mut Mesh = if use_hierarchy {
-            self.hierarchy.as_mut().expect("checked").mesh_mut()
-        } else {
-            scratch = ctx.mesh().clone();
-            &mut scratch
+        let cut = Cut {
+            frontier: self.frontier,
+            picks: &self.picks,
+            plane: self.plane,
+            flip: self.flip,
         };
+        let (collar, description) = ctx.doc.edit_labels(|mesh| cut.label(mesh))?;
+        self.collar = collar;
+        self.show_labels(ctx);
+        ctx.info(format!("Labelled: {description}"));
+        Ok(())
+    }
+
+    fn clear_picks(&mut self, ctx: &mut ToolContext<'_>) {
+        self.picks.clear();
+        self.collar.clear();
+        self.plane = None;
+        ctx.doc.edit_labels(|mesh| {
+            if let Some(a) = mesh.find_attribute::<VertexId, Label>(LABEL_ATTRIBUTE) {
+                mesh.remove_attribute(a);
+            }
+        });
+        ctx.clear_colors();
+        ctx.info("Multiresolution: picks and labels cleared");
+    }
+
+    fn show_labels(&self, ctx: &mut ToolContext<'_>) {
+        if let Some(l) = SubMeshLabels::of(ctx.mesh()) {
+            l.show(ctx);
+        }
+    }
+}
+
+/// What a cut of the mesh into sub-mesh and host is made from.
+struct Cut<'a> {
+    frontier: FrontierMode,
+    picks: &'a [VertexId],
+    plane: Option<(DVec3, DVec3)>,
+    flip: bool,
+}
+
+impl Cut<'_> {
+    /// Makes the frontier and labels the two sides in `mesh`'s label attribute; returns
+    /// the collar (collar mode) and a description.
+    fn label(&self, mesh: &mut Mesh) -> Result<(Vec<FaceId>, String), ToolError> {
+        let mut collar = Vec::new();
         let frontier = match self.frontier {
             FrontierMode::Loop => {
                 if self.picks.len() < 3 {
@@ -635,7 +583,7 @@ impl Multires {
                         self.picks.len()
                     )));
                 }
-                mesh.frontier_through(&self.picks)?
+                mesh.frontier_through(self.picks)?
             }
             FrontierMode::Collar => {
                 if self.picks.len() < 3 {
@@ -644,9 +592,8 @@ impl Multires {
                         self.picks.len()
                     )));
                 }
-                let path = mesh.closed_loop_through(&self.picks)?;
+                let path = mesh.closed_loop_through(self.picks)?;
                 let mut seen = vec![false; mesh.face_slots()];
-                let mut collar = Vec::new();
                 for &e in &path {
                     for f in mesh.adjacent_faces(mesh.from_vertex(e)) {
                         if !std::mem::replace(&mut seen[mesh.face_index(f)], true) {
@@ -654,9 +601,7 @@ impl Multires {
                         }
                     }
                 }
-                let frontier = mesh.frontier_from_collar(&collar)?;
-                self.collar = collar;
-                frontier
+                mesh.frontier_from_collar(&collar)?
             }
             FrontierMode::Plane => {
                 let (point, normal) = self
@@ -665,11 +610,10 @@ impl Multires {
                 mesh.frontier_from_plane(point, normal)?
             }
         };
-        let (mut attribute, mut counts) = mesh.label_sides(&frontier, SUBMESH, HOST)?;
-        let mut swap = match self.frontier {
-            FrontierMode::Plane => {
+        let (attribute, mut counts) = mesh.label_sides(&frontier, SUBMESH, HOST)?;
+        let mut swap = match (self.frontier, self.plane) {
+            (FrontierMode::Plane, Some((point, normal))) => {
                 // The sub-mesh is on the normal's side of the plane.
-                let (point, normal) = self.plane.expect("checked");
                 let values = mesh.attribute_values(attribute);
                 let side: f64 = mesh
                     .vertices()
@@ -682,25 +626,12 @@ impl Multires {
         };
         swap ^= self.flip;
         if swap {
-            (attribute, counts) = mesh.label_sides(&frontier, HOST, SUBMESH)?;
+            (_, counts) = mesh.label_sides(&frontier, HOST, SUBMESH)?;
         }
-        let labels = read_labels(mesh, attribute);
-        let fp = connectivity_fingerprint(mesh);
-        if use_hierarchy {
-            self.hierarchy
-                .as_mut()
-                .expect("checked")
-                .attach_labels(attribute);
-        }
-        let sub = if swap {
-            counts.right_vertices
+        let (sub, host) = if swap {
+            (counts.right_vertices, counts.left_vertices)
         } else {
-            counts.left_vertices
-        };
-        let host = if swap {
-            counts.left_vertices
-        } else {
-            counts.right_vertices
+            (counts.left_vertices, counts.right_vertices)
         };
         let description = format!(
             "{} frontier of {} edges: sub-mesh {} vertices, host {}, frontier {}",
@@ -710,33 +641,7 @@ impl Multires {
             group(host),
             group(counts.frontier_vertices)
         );
-        let labels = SubMeshLabels {
-            labels,
-            fingerprint: fp,
-            description: description.clone(),
-        };
-        labels.show(ctx);
-        self.shared.set(Some(labels));
-        ctx.info(format!("Labelled: {description}"));
-        Ok(())
-    }
-
-    fn clear_picks(&mut self, ctx: &mut ToolContext<'_>) {
-        self.picks.clear();
-        self.collar.clear();
-        self.plane = None;
-        self.shared.set(None);
-        if let Some(h) = &mut self.hierarchy {
-            h.detach_labels();
-        }
-        ctx.clear_colors();
-        ctx.info("Multiresolution: picks and labels cleared");
-    }
-
-    fn show_labels(&self, ctx: &mut ToolContext<'_>) {
-        if let Some(l) = self.shared.get(ctx.mesh()) {
-            l.show(ctx);
-        }
+        Ok((collar, description))
     }
 }
 
@@ -758,17 +663,132 @@ fn read_labels(mesh: &Mesh, attribute: halfedge::Attribute<VertexId, u32>) -> Ve
     labels
 }
 
-const PARAMETERS: [&str; 10] = [
-    "method",
-    "detail",
-    "target_faces",
-    "level",
-    "frontier",
-    "normal",
-    "flip",
-    "define",
-    "clear_picks",
-    "max_normal_deviation",
+/// The method choices.
+const METHODS: [(Method, &str); 2] = [(Method::Rounds, "rounds"), (Method::Qem, "qem")];
+/// The detail-mode choices.
+const DETAILS: [(DetailMode, &str); 2] = [
+    (DetailMode::LocalFrame, "local"),
+    (DetailMode::Translation, "translation"),
+];
+
+/// Redefines the labels after a change of the frontier's settings, when there are
+/// enough picks.
+fn relabel(t: &mut Multires, ctx: &mut ToolContext<'_>) -> Result<(), ToolError> {
+    if t.has_enough_picks() {
+        t.define_labels(ctx)?;
+    }
+    Ok(())
+}
+
+/// The parameters of [`Multires`] (see [`params`]); the hierarchy's build checks the
+/// target and the planarity bound.
+const PARAMS: &[Param<Multires>] = &[
+    Param::new(
+        "method",
+        "Method",
+        Widget::Choice(|| params::names(&METHODS)),
+        |t| choice_name(&METHODS, t.method).into(),
+        |t, v, _| {
+            t.method = choice_param(&METHODS, "method", v)?;
+            Ok(())
+        },
+    ),
+    Param::new(
+        "detail",
+        "Detail",
+        Widget::Choice(|| params::names(&DETAILS)),
+        |t| choice_name(&DETAILS, t.detail).into(),
+        |t, v, _| {
+            t.detail = choice_param(&DETAILS, "detail", v)?;
+            Ok(())
+        },
+    ),
+    Param::new(
+        "target_faces",
+        "Target faces",
+        Widget::Drag {
+            min: 4.0,
+            max: 1e7,
+            integer: true,
+            speed: 10.0,
+        },
+        |t| t.target_faces.into(),
+        |t, v, _| {
+            t.target_faces = params::whole("target_faces", v)?;
+            Ok(())
+        },
+    ),
+    Param::new(
+        "max_normal_deviation",
+        "planarity (°)",
+        params::slider(10.0, 180.0),
+        |t| t.max_normal_deviation.into(),
+        |t, v, _| {
+            t.max_normal_deviation = number_param("max_normal_deviation", v)?;
+            Ok(())
+        },
+    ),
+    Param::new(
+        "level",
+        "level",
+        Widget::Levels(|ctx| {
+            ctx.doc
+                .hierarchy()
+                .map(|h| (0.0, h.coarsest_level() as f64))
+        }),
+        |t| t.level.into(),
+        |t, v, ctx| t.go_to_level(params::whole("level", v)?, ctx),
+    ),
+    Param::new(
+        "frontier",
+        "Frontier",
+        Widget::Choice(|| params::names(&FrontierMode::ALL)),
+        |t| t.frontier.name().into(),
+        |t, v, ctx| {
+            let frontier = choice_param(&FrontierMode::ALL, "frontier", v)?;
+            if frontier != t.frontier {
+                t.frontier = frontier;
+                t.picks.clear();
+                t.plane = None;
+            }
+            relabel(t, ctx)
+        },
+    ),
+    Param::new(
+        "normal",
+        "Normal",
+        Widget::Choice(|| params::names(&PlaneNormal::ALL)),
+        |t| t.normal.name().into(),
+        |t, v, ctx| {
+            t.normal = choice_param(&PlaneNormal::ALL, "normal", v)?;
+            if let Some((p, _)) = t.plane {
+                t.plane = Some((p, t.normal.vector(&ctx.view)));
+            }
+            relabel(t, ctx)
+        },
+    ),
+    Param::new(
+        "flip",
+        "flip sides",
+        Widget::Check,
+        |t| t.flip.into(),
+        |t, v, ctx| {
+            t.flip = bool_param("flip", v)?;
+            relabel(t, ctx)
+        },
+    ),
+    Param::action("define", "Label", |t, v, ctx| {
+        if bool_param("define", v)? {
+            t.define_labels(ctx)?;
+        }
+        Ok(())
+    }),
+    Param::action("clear_picks", "Clear", |t, v, ctx| {
+        if bool_param("clear_picks", v)? {
+            t.clear_picks(ctx);
+        }
+        Ok(())
+    }),
 ];
 
 impl Tool for Multires {
@@ -817,6 +837,8 @@ impl Tool for Multires {
     }
 
     fn poll(&mut self, ctx: &mut ToolContext<'_>) -> Background {
+        // The document's level (undo and redo walk it too).
+        self.level = ctx.doc.hierarchy().map_or(0, Hierarchy::level_at_or_finer);
         let Some(pending) = &self.pending else {
             return Background::Idle;
         };
@@ -872,83 +894,13 @@ impl Tool for Multires {
         value: &serde_json::Value,
         ctx: &mut ToolContext<'_>,
     ) -> Result<(), ToolError> {
-        match name {
-            "method" => {
-                self.method = match string_param(name, value)?.to_lowercase().as_str() {
-                    "rounds" => Method::Rounds,
-                    "qem" => Method::Qem,
-                    s => return Err(ToolError::new(format!("method {s:?}: rounds or qem"))),
-                }
-            }
-            "detail" => {
-                self.detail = match string_param(name, value)?.to_lowercase().as_str() {
-                    "local" => DetailMode::LocalFrame,
-                    "translation" => DetailMode::Translation,
-                    s => {
-                        return Err(ToolError::new(format!(
-                            "detail {s:?}: local or translation"
-                        )))
-                    }
-                }
-            }
-            "target_faces" => {
-                let n = number_param(name, value)?;
-                if !(n >= 4.0 && n.is_finite()) {
-                    return Err(ToolError::new(format!("target_faces {n}: at least 4")));
-                }
-                self.target_faces = n as usize;
-            }
-            "max_normal_deviation" => {
-                let d = number_param(name, value)?;
-                if !(d > 0.0 && d <= 180.0) {
-                    return Err(ToolError::new(format!(
-                        "max_normal_deviation {d}: degrees in (0, 180]"
-                    )));
-                }
-                self.max_normal_deviation = d;
-            }
-            "level" => {
-                let l = number_param(name, value)?;
-                if !(l >= 0.0 && l.fract() == 0.0) {
-                    return Err(ToolError::bad_value(name, "a level number", value));
-                }
-                self.go_to_level(l as usize, ctx)?;
-            }
-            "frontier" => {
-                self.frontier = choice_param(&FrontierMode::ALL, name, value)?;
-                self.picks.clear();
-                self.plane = None;
-            }
-            "normal" => {
-                self.normal = choice_param(&PlaneNormal::ALL, name, value)?;
-            }
-            "flip" => self.flip = bool_param(name, value)?,
-            "define" => {
-                if bool_param(name, value)? {
-                    self.define_labels(ctx)?;
-                }
-            }
-            "clear_picks" => {
-                if bool_param(name, value)? {
-                    self.clear_picks(ctx);
-                }
-            }
-            _ => return Err(ToolError::unknown_parameter(self.name(), name, &PARAMETERS)),
-        }
-        Ok(())
+        // (The name is copied: the setter borrows the tool mutably.)
+        let tool = self.name().to_owned();
+        params::set(&tool, PARAMS, self, name, value, ctx)
     }
 
     fn parameters(&self) -> Vec<(&'static str, serde_json::Value)> {
-        vec![
-            ("method", method_name(self.method).to_lowercase().into()),
-            ("detail", detail_name(self.detail).into()),
-            ("target_faces", self.target_faces.into()),
-            ("max_normal_deviation", self.max_normal_deviation.into()),
-            ("level", self.level.into()),
-            ("frontier", self.frontier.name().into()),
-            ("normal", self.normal.name().into()),
-            ("flip", self.flip.into()),
-        ]
+        params::list(PARAMS, self)
     }
 
     fn overlay(&self, mesh: &Mesh, overlay: &mut Overlay) {
@@ -960,19 +912,12 @@ impl Tool for Multires {
         if let Some((p, _)) = self.plane {
             overlay.marker(p, Overlay::PICK, 1.5);
         }
-        if let Some(labels) = self.shared.0.borrow().as_ref() {
-            if labels.labels.len() == mesh.vertex_slots() {
-                labels.frontier_overlay(mesh, overlay);
-            }
-        }
+        frontier_overlay(mesh, overlay);
     }
 
     fn on_mesh_replaced(&mut self, mesh: &Mesh) {
         self.picks.retain(|&v| mesh.is_valid_vertex(v));
         self.collar.retain(|&f| mesh.is_valid_face(f));
-        if let Some(&level) = self.visited.get(&connectivity_fingerprint(mesh)) {
-            self.level = level;
-        }
     }
 
     fn activate(&mut self, ctx: &mut ToolContext<'_>) {
@@ -984,95 +929,52 @@ impl Multires {
     /// The panel's controls (disabled while a build runs).
     fn controls_ui(&mut self, ui: &mut egui::Ui, ctx: &mut ToolContext<'_>) {
         ui.strong("Hierarchy");
-        ui.horizontal(|ui| {
-            ui.label("Method");
-            ui.selectable_value(&mut self.method, Method::Rounds, "rounds");
-            ui.selectable_value(&mut self.method, Method::Qem, "QEM");
-        });
-        ui.horizontal(|ui| {
-            ui.label("Detail")
-                .on_hover_text("how refinement carries coarse edits (applies to the next build)");
-            ui.selectable_value(&mut self.detail, DetailMode::LocalFrame, "local frames")
-                .on_hover_text("offsets in local frames: rotations carried, regions exact");
-            ui.selectable_value(&mut self.detail, DetailMode::Translation, "paper")
-                .on_hover_text("the paper's centroid translations");
-        });
-        ui.horizontal(|ui| {
-            ui.label("Target faces");
-            ui.add(egui::DragValue::new(&mut self.target_faces).range(4..=10_000_000));
-        });
-        if self.method == Method::Rounds {
-            ui.add(
-                egui::Slider::new(&mut self.max_normal_deviation, 10.0..=180.0)
-                    .text("planarity (°)"),
+        params::widget(ui, PARAMS, "method", self, ctx);
+        if let Some(r) = params::widget(ui, PARAMS, "detail", self, ctx) {
+            r.on_hover_text(
+                "how refinement carries coarse edits (applies to the next build): local \
+                 frames carry rotations, translation is the paper's centroid translations",
             );
+        }
+        params::widget(ui, PARAMS, "target_faces", self, ctx);
+        if self.method == Method::Rounds {
+            params::widget(ui, PARAMS, "max_normal_deviation", self, ctx);
         }
         if ui.button("Build hierarchy").clicked() {
             if let Err(e) = self.start_build(ctx) {
                 ctx.error(format!("Build failed: {e}"));
             }
         }
-        if let Some(h) = &self.hierarchy {
-            let coarsest = h.coarsest_level();
-            let counts = h.level_face_counts().to_vec();
-            let mut level = self.level;
-            let r = ui.add(egui::Slider::new(&mut level, 0..=coarsest).text("level"));
-            ui.weak(format!(
-                "level {level}: {} faces · {} levels · {} faces at the coarsest",
-                group(counts[level.min(coarsest)]),
-                coarsest + 1,
-                group(counts[coarsest])
-            ));
-            if level != self.level {
-                if let Err(e) = self.go_to_level(level, ctx) {
-                    ctx.error(format!("Level change failed: {e}"));
-                }
-            }
+        self.level = ctx.doc.hierarchy().map_or(0, Hierarchy::level_at_or_finer);
+        // The level slider's range is the hierarchy's levels (no hierarchy: no slider).
+        if let Some(r) = params::widget(ui, PARAMS, "level", self, ctx) {
             if r.drag_stopped() || (r.changed() && !r.dragged()) {
                 ctx.doc.end_edit();
             }
-        } else {
-            ui.weak("No hierarchy yet.");
+        }
+        match ctx.doc.hierarchy() {
+            Some(h) => {
+                let coarsest = h.coarsest_level();
+                let counts = h.level_face_counts();
+                ui.weak(format!(
+                    "level {}: {} faces · {} levels · {} faces at the coarsest",
+                    self.level,
+                    group(counts[self.level.min(coarsest)]),
+                    coarsest + 1,
+                    group(counts[coarsest])
+                ));
+            }
+            None => {
+                ui.weak("No hierarchy yet.");
+            }
         }
         ui.separator();
         ui.strong("Sub-mesh");
-        let before = (self.frontier, self.normal, self.flip);
-        ui.horizontal(|ui| {
-            ui.label("Frontier");
-            egui::ComboBox::from_id_salt("multires-frontier")
-                .selected_text(self.frontier.name())
-                .show_ui(ui, |ui| {
-                    for (m, name) in FrontierMode::ALL {
-                        ui.selectable_value(&mut self.frontier, m, name);
-                    }
-                });
-        });
+        params::widget(ui, PARAMS, "frontier", self, ctx);
         if self.frontier == FrontierMode::Plane {
-            ui.horizontal(|ui| {
-                ui.label("Normal");
-                egui::ComboBox::from_id_salt("multires-normal")
-                    .selected_text(self.normal.name())
-                    .show_ui(ui, |ui| {
-                        for (m, name) in PlaneNormal::ALL {
-                            ui.selectable_value(&mut self.normal, m, name);
-                        }
-                    });
-            });
+            params::widget(ui, PARAMS, "normal", self, ctx);
         }
-        ui.checkbox(&mut self.flip, "flip sides");
-        if (self.frontier, self.normal, self.flip) != before {
-            if before.0 != self.frontier {
-                self.picks.clear();
-                self.plane = None;
-            } else if let Some((p, _)) = self.plane {
-                self.plane = Some((p, self.normal.vector(&ctx.view)));
-            }
-            if self.has_enough_picks() {
-                if let Err(e) = self.define_labels(ctx) {
-                    ctx.error(format!("Frontier: {e}"));
-                }
-            }
-        }
+        params::widget(ui, PARAMS, "flip", self, ctx);
         ui.weak(match self.frontier {
             FrontierMode::Loop => "Click vertices around the part to cut (3 or more).",
             FrontierMode::Collar => {
@@ -1084,25 +986,11 @@ impl Multires {
         });
         ui.horizontal(|ui| {
             ui.label(format!("{} picks", self.picks.len()));
-            if ui.button("Label").clicked() {
-                if let Err(e) = self.define_labels(ctx) {
-                    ctx.error(format!("Frontier: {e}"));
-                }
-            }
-            if ui.button("Clear").clicked() {
-                self.clear_picks(ctx);
-            }
+            params::widget(ui, PARAMS, "define", self, ctx);
+            params::widget(ui, PARAMS, "clear_picks", self, ctx);
         });
-        if let Some(l) = self.shared.get(ctx.mesh()) {
-            let (host, sub, front) = l.counts();
-            ui.weak(format!(
-                "sub-mesh {} · host {} · frontier {} vertices",
-                group(sub),
-                group(host),
-                group(front)
-            ));
-        } else if self.shared.is_set() {
-            ui.weak("The labels belong to another level or mesh.");
+        if let Some(l) = SubMeshLabels::of(ctx.mesh()) {
+            ui.weak(l.description());
         }
     }
 
@@ -1111,14 +999,6 @@ impl Multires {
             FrontierMode::Loop | FrontierMode::Collar => self.picks.len() >= 3,
             FrontierMode::Plane => self.plane.is_some(),
         }
-    }
-}
-
-/// The script name of a detail mode.
-fn detail_name(mode: DetailMode) -> &'static str {
-    match mode {
-        DetailMode::LocalFrame => "local",
-        DetailMode::Translation => "translation",
     }
 }
 
@@ -1190,7 +1070,7 @@ mod tests {
         let input = generators::icosphere(7);
         let mut fixture = Fixture::new(input.clone());
         let mut ctx = fixture.ctx();
-        let mut tool = Multires::new(SharedLabels::default());
+        let mut tool = Multires::new();
         tool.target_faces = 200;
         tool.apply(&mut ctx).unwrap();
         tool.cancel_build();
@@ -1200,21 +1080,21 @@ mod tests {
             "{}",
             ctx.status.message
         );
-        assert!(tool.hierarchy.is_none());
+        assert!(ctx.doc.hierarchy().is_none());
         assert!(ctx.mesh().positions() == input.positions());
         assert_eq!(ctx.mesh().n_faces(), input.n_faces());
         // The tool builds again afterwards.
         tool.target_faces = 20_000;
         tool.apply(&mut ctx).unwrap();
         assert_eq!(poll_until_idle(&mut tool, &mut ctx), Background::Idle);
-        assert!(tool.hierarchy.is_some());
+        assert!(ctx.doc.hierarchy().is_some());
     }
 
     #[test]
     fn the_detail_switch_reaches_the_hierarchy() {
         let mut fixture = Fixture::new(generators::icosphere(3));
         let mut ctx = fixture.ctx();
-        let mut tool = Multires::new(SharedLabels::default());
+        let mut tool = Multires::new();
         tool.target_faces = 100;
         assert!(tool
             .set_parameter("detail", &"sideways".into(), &mut ctx)
@@ -1228,7 +1108,7 @@ mod tests {
             assert!(tool.parameters().contains(&("detail", name.into())));
             tool.apply(&mut ctx).unwrap();
             assert_eq!(poll_until_idle(&mut tool, &mut ctx), Background::Idle);
-            assert_eq!(tool.hierarchy().unwrap().detail_mode(), mode);
+            assert_eq!(ctx.doc.hierarchy().unwrap().detail_mode(), mode);
         }
     }
 
@@ -1237,7 +1117,7 @@ mod tests {
         let input = generators::icosphere(4);
         let mut fixture = Fixture::new(input.clone());
         let mut ctx = fixture.ctx();
-        let mut tool = Multires::new(SharedLabels::default());
+        let mut tool = Multires::new();
         tool.target_faces = 200;
         tool.apply(&mut ctx).unwrap();
         assert!(tool.is_building());
@@ -1259,13 +1139,13 @@ mod tests {
                 .with_target_faces(200),
         )
         .unwrap();
-        let h = tool.hierarchy().expect("built");
+        let h = ctx.doc.hierarchy().expect("built");
         assert_eq!(h.level_face_counts(), direct.level_face_counts());
         assert!(h.coarsest_level() >= 2);
+        let coarsest = h.coarsest_level();
         // The document stays the input, bit for bit.
         assert_eq!(ctx.mesh().positions(), input.positions());
         // Level changes and undo work on the hierarchy from the thread.
-        let coarsest = h.coarsest_level();
         tool.set_parameter("level", &coarsest.into(), &mut ctx)
             .unwrap();
         ctx.doc.end_edit();
@@ -1282,8 +1162,8 @@ mod tests {
     fn build_errors_reach_the_status_line() {
         let mut fixture = Fixture::new(generators::icosphere(2));
         let mut ctx = fixture.ctx();
-        let mut tool = Multires::new(SharedLabels::default());
-        // Out of range (the panel and scripts refuse it; the field is public).
+        let mut tool = Multires::new();
+        // Out of range: the library refuses it.
         tool.max_normal_deviation = 200.0;
         tool.start_build(&mut ctx).unwrap();
         match poll_until_idle(&mut tool, &mut ctx) {
@@ -1292,7 +1172,7 @@ mod tests {
         }
         assert!(ctx.status.is_error);
         assert!(ctx.status.message.starts_with("Build failed"));
-        assert!(tool.hierarchy().is_none() && !tool.is_building());
+        assert!(ctx.doc.hierarchy().is_none() && !tool.is_building());
         assert_eq!(ctx.doc.undo_len(), 0);
     }
 
@@ -1300,7 +1180,7 @@ mod tests {
     fn a_mesh_changed_during_the_build_refuses_the_result() {
         let mut fixture = Fixture::new(generators::icosphere(2));
         let mut ctx = fixture.ctx();
-        let mut tool = Multires::new(SharedLabels::default());
+        let mut tool = Multires::new();
         tool.target_faces = 40;
         tool.start_build(&mut ctx).unwrap();
         ctx.positions_mut()[0] += DVec3::X;
@@ -1309,7 +1189,7 @@ mod tests {
             poll_until_idle(&mut tool, &mut ctx),
             Background::Failed(_)
         ));
-        assert!(tool.hierarchy().is_none());
+        assert!(ctx.doc.hierarchy().is_none());
     }
 
     #[test]
@@ -1321,24 +1201,148 @@ mod tests {
         assert_eq!(build_fraction(50, 100, 50), 1.0);
     }
 
+    /// Builds a hierarchy of `mesh` in the document through the tool, down to `target`.
+    fn built(fixture: &mut Fixture, target: usize) -> Multires {
+        let mut tool = Multires::new();
+        tool.target_faces = target;
+        let mut ctx = fixture.ctx();
+        tool.apply(&mut ctx).unwrap();
+        assert_eq!(poll_until_idle(&mut tool, &mut ctx), Background::Idle);
+        tool
+    }
+
     #[test]
-    fn fingerprints_tell_connectivity_apart() {
-        let a = generators::icosphere(2);
-        let mut b = a.clone();
-        b.positions_mut()[0] += DVec3::X;
-        assert_eq!(connectivity_fingerprint(&a), connectivity_fingerprint(&b));
-        let c = generators::icosphere(1);
-        assert_ne!(connectivity_fingerprint(&a), connectivity_fingerprint(&c));
-        let mut h =
-            Hierarchy::build(a.clone(), &HierarchyOptions::rounds().with_target_faces(80)).unwrap();
-        assert_ne!(
-            connectivity_fingerprint(h.mesh()),
-            connectivity_fingerprint(&a)
-        );
-        h.go_to_level(0).unwrap();
+    fn the_document_shows_the_hierarchys_own_mesh_at_every_level() {
+        let mut fixture = Fixture::new(generators::icosphere(3));
+        let mut tool = built(&mut fixture, 100);
+        let mut ctx = fixture.ctx();
+        let coarsest = ctx.doc.hierarchy().unwrap().coarsest_level();
+        for level in [coarsest, 1, 0, coarsest] {
+            tool.go_to_level(level, &mut ctx).unwrap();
+            let h = ctx.doc.hierarchy().unwrap();
+            // One mesh: the document's mesh is the hierarchy's, not a copy of it.
+            assert!(std::ptr::eq(ctx.mesh(), h.mesh()));
+            assert_eq!(h.current_level(), Some(level));
+            assert_eq!(ctx.mesh().n_faces(), h.level_face_counts()[level]);
+            assert_eq!(tool.parameters()[4], ("level", level.into()));
+        }
+    }
+
+    #[test]
+    fn an_edit_at_a_coarse_level_is_carried_to_the_fine_level() {
+        let input = generators::icosphere(3);
+        let mut fixture = Fixture::new(input.clone());
+        let mut tool = built(&mut fixture, 100);
+        let mut ctx = fixture.ctx();
+        let coarsest = ctx.doc.hierarchy().unwrap().coarsest_level();
+        tool.go_to_level(coarsest, &mut ctx).unwrap();
+        ctx.doc.end_edit();
+        let t = DVec3::new(0.25, -0.5, 0.125);
+        ctx.begin_edit("move");
+        for p in ctx.positions_mut() {
+            *p += t;
+        }
+        ctx.doc.end_edit();
+        tool.go_to_level(0, &mut ctx).unwrap();
+        ctx.doc.end_edit();
+        assert_eq!(ctx.mesh().n_faces(), input.n_faces());
+        for v in input.vertices() {
+            let d = ctx.mesh().position(v) - input.position(v) - t;
+            assert!(d.length() < 1e-9, "{v}: off by {d}");
+        }
+        // Undo: level 0, the move, the coarsening, the build; each exact.
+        let labels: Vec<String> = ctx.doc.undo_labels().map(str::to_owned).collect();
         assert_eq!(
-            connectivity_fingerprint(h.mesh()),
-            connectivity_fingerprint(&a)
+            labels,
+            [
+                "Build hierarchy",
+                &format!("Level {coarsest}"),
+                "move",
+                "Level 0"
+            ]
         );
+        for _ in 0..3 {
+            ctx.doc.undo().unwrap();
+        }
+        assert_eq!(ctx.mesh().positions(), input.positions());
+        assert_eq!(ctx.mesh().n_faces(), input.n_faces());
+        assert!(ctx.doc.hierarchy().is_some());
+        ctx.doc.undo().unwrap();
+        assert!(
+            ctx.doc.hierarchy().is_none(),
+            "undoing the build gives the plain mesh"
+        );
+        assert_eq!(ctx.mesh().positions(), input.positions());
+        ctx.doc.redo().unwrap();
+        assert!(ctx.doc.hierarchy().is_some());
+    }
+
+    #[test]
+    fn labels_live_in_the_mesh_and_ride_along_through_the_levels() {
+        let mut fixture = Fixture::new(generators::icosphere(3));
+        let mut tool = built(&mut fixture, 100);
+        let mut ctx = fixture.ctx();
+        tool.set_parameter("frontier", &"plane".into(), &mut ctx)
+            .unwrap();
+        tool.set_parameter("normal", &"x".into(), &mut ctx).unwrap();
+        let v = ctx.mesh().vertices().next().unwrap();
+        let pick = Pick {
+            vertex: v,
+            face: None,
+            point: DVec3::ZERO,
+        };
+        tool.on_pick(Some(&pick), &mut ctx);
+        let fine = SubMeshLabels::of(ctx.mesh()).expect("labelled");
+        let (host, sub, front) = fine.counts();
+        assert!(host > 0 && sub > 0 && front > 0, "{:?}", fine.counts());
+        assert_eq!(host + sub + front, ctx.mesh().n_vertices());
+        let coarsest = ctx.doc.hierarchy().unwrap().coarsest_level();
+        tool.go_to_level(coarsest, &mut ctx).unwrap();
+        // The same attribute, at the coarse level: every live vertex labelled.
+        let coarse = SubMeshLabels::of(ctx.mesh()).expect("labels ride along");
+        let (h, s, f) = coarse.counts();
+        assert_eq!(h + s + f, ctx.mesh().n_vertices());
+        assert!(s > 0 && h > 0);
+        // The other tools read them there.
+        let mut sub_tool = super::super::SubMeshEdit::new();
+        sub_tool
+            .set_parameter("source", &"labels".into(), &mut ctx)
+            .unwrap();
+        assert!(sub_tool.submesh(ctx.mesh()).is_ok());
+        // Back at level 0 the labels are the ones made there.
+        tool.go_to_level(0, &mut ctx).unwrap();
+        assert_eq!(SubMeshLabels::of(ctx.mesh()), Some(fine));
+        // Clearing removes them from the mesh.
+        tool.set_parameter("clear_picks", &true.into(), &mut ctx)
+            .unwrap();
+        assert!(SubMeshLabels::of(ctx.mesh()).is_none());
+    }
+
+    #[test]
+    fn the_label_layer_follows_the_mesh_through_undo() {
+        let mut fixture = Fixture::new(generators::icosphere(3));
+        let mut tool = built(&mut fixture, 100);
+        let mut ctx = fixture.ctx();
+        tool.set_parameter("frontier", &"plane".into(), &mut ctx)
+            .unwrap();
+        let v = ctx.mesh().vertices().next().unwrap();
+        let pick = Pick {
+            vertex: v,
+            face: None,
+            point: DVec3::ZERO,
+        };
+        tool.on_pick(Some(&pick), &mut ctx);
+        let fine_layer = ctx.display.layer().clone();
+        assert_eq!(fine_layer.name(), Some(LABEL_LAYER));
+        tool.go_to_level(2, &mut ctx).unwrap();
+        ctx.doc.end_edit();
+        let coarse_layer = ctx.display.layer().clone();
+        assert_ne!(coarse_layer, fine_layer);
+        // Undo walks back to level 0: the layer shown is stale until refreshed.
+        ctx.doc.undo().unwrap();
+        let refreshed = refreshed_label_layer(ctx.display.layer(), ctx.mesh()).unwrap();
+        assert_eq!(refreshed, fine_layer);
+        // Other layers stay as they are.
+        assert!(refreshed_label_layer(&ColorLayer::None, ctx.mesh()).is_none());
     }
 }

@@ -21,12 +21,13 @@ use glam::DVec3;
 use halfedge::{Mesh, VertexId};
 use three_d::egui;
 
+use super::params::{self, Param, Widget};
 use super::{
-    bool_param, choice_name, choice_param, number_param, string_param, Drag, DragPhase, Overlay,
-    Pick, SharedLabels, Tool, ToolContext, ToolError, ViewInfo,
+    bool_param, choice_name, choice_param, frontier_overlay, number_param, Drag, DragPhase,
+    Overlay, Pick, SubMeshLabels, Tool, ToolContext, ToolError, ViewInfo,
 };
-use crate::app::group;
 use crate::colors::NO_LABEL;
+use crate::format::group;
 
 /// Where the sub-mesh comes from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -81,7 +82,6 @@ struct PullDrag {
 
 /// The sub-mesh edit tool (see the module docs).
 pub struct SubMeshEdit {
-    shared: SharedLabels,
     /// Where the sub-mesh comes from.
     pub source: Source,
     /// Rings around the picked vertex (source `ring`).
@@ -117,11 +117,16 @@ pub struct SubMeshEdit {
     view: Option<ViewInfo>,
 }
 
+impl Default for SubMeshEdit {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl SubMeshEdit {
-    /// The tool, reading the multiresolution labels from `shared`.
-    pub fn new(shared: SharedLabels) -> Self {
+    /// The tool (it reads the sub-mesh labels from the mesh's label attribute).
+    pub fn new() -> Self {
         Self {
-            shared,
             source: Source::Labels,
             rings: 4,
             operation: Operation::Pull,
@@ -157,9 +162,7 @@ impl SubMeshEdit {
     /// The sub-mesh the tool acts on.
     pub fn submesh(&self, mesh: &Mesh) -> Result<SubMesh, ToolError> {
         let mask = match self.source {
-            Source::Labels => self
-                .shared
-                .get(mesh)
+            Source::Labels => SubMeshLabels::of(mesh)
                 .ok_or_else(|| {
                     ToolError::new(
                         "no sub-mesh labels for this mesh: make a frontier with the \
@@ -369,41 +372,173 @@ pub fn rings_around(mesh: &Mesh, centre: VertexId, rings: usize) -> Vec<bool> {
     mask
 }
 
-const PARAMETERS: [&str; 16] = [
-    "source",
-    "rings",
-    "operation",
-    "levels",
-    "falloff",
-    "scale",
-    "angle",
-    "taper",
-    "twist",
-    "lambda",
-    "mu",
-    "iterations",
-    "weights",
-    "smooth_region",
-    "smooth_collar",
-    "apply",
+/// The fall-off choices: `(smooth, script name)`.
+const FALLOFFS: [(bool, &str); 2] = [(false, "linear"), (true, "smooth")];
+/// The smoothing weights: `(cotangent, script name)`.
+const WEIGHTS: [(bool, &str); 2] = [(false, "uniform"), (true, "cotangent")];
+/// What smoothing covers: `(the whole mesh, script name)`.
+const SMOOTH_REGIONS: [(bool, &str); 2] = [(false, "submesh"), (true, "mesh")];
+
+/// Stores a number with `store` and shows the sub-mesh (the editing methods check the
+/// values when they run).
+fn number(
+    t: &mut SubMeshEdit,
+    name: &str,
+    v: &serde_json::Value,
+    ctx: &mut ToolContext<'_>,
+    store: fn(&mut SubMeshEdit, f64),
+) -> Result<(), ToolError> {
+    store(t, number_param(name, v)?);
+    t.show(ctx);
+    Ok(())
+}
+
+/// Stores a whole number with `store` and shows the sub-mesh.
+fn whole(
+    t: &mut SubMeshEdit,
+    name: &str,
+    v: &serde_json::Value,
+    ctx: &mut ToolContext<'_>,
+    store: fn(&mut SubMeshEdit, usize),
+) -> Result<(), ToolError> {
+    store(t, params::whole(name, v)?);
+    t.show(ctx);
+    Ok(())
+}
+
+/// Stores one of `table`'s choices with `store` and shows the sub-mesh.
+fn choice<T: Copy>(
+    t: &mut SubMeshEdit,
+    table: &[(T, &'static str)],
+    name: &str,
+    v: &serde_json::Value,
+    ctx: &mut ToolContext<'_>,
+    store: fn(&mut SubMeshEdit, T),
+) -> Result<(), ToolError> {
+    store(t, choice_param(table, name, v)?);
+    t.show(ctx);
+    Ok(())
+}
+
+/// The parameters of [`SubMeshEdit`] (see [`params`]).
+const PARAMS: &[Param<SubMeshEdit>] = &[
+    Param::new(
+        "source",
+        "Sub-mesh",
+        Widget::Choice(|| params::names(&SOURCES)),
+        |t| choice_name(&SOURCES, t.source).into(),
+        |t, v, ctx| choice(t, &SOURCES, "source", v, ctx, |t, x| t.source = x),
+    ),
+    Param::new(
+        "rings",
+        "rings",
+        params::count(0.0, 30.0),
+        |t| t.rings.into(),
+        |t, v, ctx| whole(t, "rings", v, ctx, |t, x| t.rings = x),
+    ),
+    Param::new(
+        "operation",
+        "Operation",
+        Widget::Choice(|| params::names(&OPERATIONS)),
+        |t| choice_name(&OPERATIONS, t.operation).into(),
+        |t, v, ctx| choice(t, &OPERATIONS, "operation", v, ctx, |t, x| t.operation = x),
+    ),
+    Param::new(
+        "levels",
+        "propagation n",
+        params::count(0.0, 20.0),
+        |t| t.levels.into(),
+        |t, v, ctx| whole(t, "levels", v, ctx, |t, x| t.levels = x),
+    ),
+    Param::new(
+        "falloff",
+        "fall-off",
+        Widget::Choice(|| params::names(&FALLOFFS)),
+        |t| choice_name(&FALLOFFS, t.smooth_falloff).into(),
+        |t, v, ctx| choice(t, &FALLOFFS, "falloff", v, ctx, |t, x| t.smooth_falloff = x),
+    ),
+    Param::new(
+        "scale",
+        "factor",
+        params::log_slider(0.2, 3.0),
+        |t| t.scale.into(),
+        |t, v, ctx| number(t, "scale", v, ctx, |t, x| t.scale = x),
+    ),
+    Param::new(
+        "angle",
+        "angle (°)",
+        params::slider(-180.0, 180.0),
+        |t| t.angle.into(),
+        |t, v, ctx| number(t, "angle", v, ctx, |t, x| t.angle = x),
+    ),
+    Param::new(
+        "taper",
+        "factor",
+        params::log_slider(0.1, 3.0),
+        |t| t.taper.into(),
+        |t, v, ctx| number(t, "taper", v, ctx, |t, x| t.taper = x),
+    ),
+    Param::new(
+        "twist",
+        "angle (°)",
+        params::slider(-360.0, 360.0),
+        |t| t.twist.into(),
+        |t, v, ctx| number(t, "twist", v, ctx, |t, x| t.twist = x),
+    ),
+    Param::new(
+        "lambda",
+        "λ",
+        params::slider(0.01, 0.9),
+        |t| t.lambda.into(),
+        |t, v, ctx| number(t, "lambda", v, ctx, |t, x| t.lambda = x),
+    ),
+    Param::new(
+        "mu",
+        "μ",
+        params::slider(-0.95, -0.01),
+        |t| t.mu.into(),
+        |t, v, ctx| number(t, "mu", v, ctx, |t, x| t.mu = x),
+    ),
+    Param::new(
+        "iterations",
+        "iterations",
+        params::count(1.0, 200.0),
+        |t| t.iterations.into(),
+        |t, v, ctx| whole(t, "iterations", v, ctx, |t, x| t.iterations = x),
+    ),
+    Param::new(
+        "weights",
+        "weights",
+        Widget::Choice(|| params::names(&WEIGHTS)),
+        |t| choice_name(&WEIGHTS, t.cotangent).into(),
+        |t, v, ctx| choice(t, &WEIGHTS, "weights", v, ctx, |t, x| t.cotangent = x),
+    ),
+    Param::new(
+        "smooth_region",
+        "smooth",
+        Widget::Choice(|| params::names(&SMOOTH_REGIONS)),
+        |t| choice_name(&SMOOTH_REGIONS, t.smooth_whole).into(),
+        |t, v, ctx| {
+            choice(t, &SMOOTH_REGIONS, "smooth_region", v, ctx, |t, x| {
+                t.smooth_whole = x;
+            })
+        },
+    ),
+    Param::new(
+        "smooth_collar",
+        "collar rings",
+        params::count(0.0, 10.0),
+        |t| t.smooth_collar.into(),
+        |t, v, ctx| whole(t, "smooth_collar", v, ctx, |t, x| t.smooth_collar = x),
+    ),
+    Param::action("apply", "Apply", |t, v, ctx| {
+        if bool_param("apply", v)? {
+            t.run(ctx)?;
+        }
+        t.show(ctx);
+        Ok(())
+    }),
 ];
-
-fn positive(name: &str, x: f64) -> Result<f64, ToolError> {
-    if x > 0.0 && x.is_finite() {
-        Ok(x)
-    } else {
-        Err(ToolError::new(format!("{name} {x}: must be positive")))
-    }
-}
-
-fn count(name: &str, value: &serde_json::Value) -> Result<usize, ToolError> {
-    let x = number_param(name, value)?;
-    if x >= 0.0 && x.fract() == 0.0 && x < 1e6 {
-        Ok(x as usize)
-    } else {
-        Err(ToolError::bad_value(name, "a whole number ≥ 0", value))
-    }
-}
 
 impl Tool for SubMeshEdit {
     fn name(&self) -> &str {
@@ -417,83 +552,52 @@ impl Tool for SubMeshEdit {
 
     fn ui(&mut self, ui: &mut egui::Ui, ctx: &mut ToolContext<'_>) {
         self.view = Some(ctx.view);
-        let before = (self.source, self.rings, self.levels, self.operation);
-        ui.horizontal(|ui| {
-            ui.label("Sub-mesh");
-            for (s, name) in SOURCES {
-                ui.selectable_value(&mut self.source, s, name);
-            }
-        });
+        params::widget(ui, PARAMS, "source", self, ctx);
         match self.source {
             Source::Labels => {
-                if self.shared.get(ctx.mesh()).is_none() {
+                if SubMeshLabels::of(ctx.mesh()).is_none() {
                     ui.weak("No labels for this mesh: cut one with Multiresolution.");
                 }
             }
             Source::Ring => {
-                ui.add(egui::Slider::new(&mut self.rings, 0..=30).text("rings"));
+                params::widget(ui, PARAMS, "rings", self, ctx);
                 ui.weak("Click (or press to pull) the centre vertex.");
             }
             Source::All => {}
         }
-        ui.horizontal_wrapped(|ui| {
-            ui.label("Operation");
-            for (o, name) in OPERATIONS {
-                ui.selectable_value(&mut self.operation, o, name);
-            }
-        });
+        params::widget(ui, PARAMS, "operation", self, ctx);
         if self.operation != Operation::Smooth {
-            ui.add(egui::Slider::new(&mut self.levels, 0..=20).text("propagation n"));
-            ui.checkbox(&mut self.smooth_falloff, "smooth fall-off");
+            params::widget(ui, PARAMS, "levels", self, ctx);
+            params::widget(ui, PARAMS, "falloff", self, ctx);
         }
-        match self.operation {
+        let shown: &[&str] = match self.operation {
             Operation::Pull => {
                 ui.weak("Press on the mesh and drag: the sub-mesh follows in the view plane.");
+                &[]
             }
-            Operation::Scale => {
-                ui.add(
-                    egui::Slider::new(&mut self.scale, 0.2..=3.0)
-                        .text("factor")
-                        .logarithmic(true),
-                );
+            Operation::Scale => &["scale"],
+            Operation::Rotate => &["angle"],
+            Operation::Taper => &["taper"],
+            Operation::Twist => &["twist"],
+            Operation::Smooth if self.smooth_whole => {
+                &["lambda", "mu", "iterations", "weights", "smooth_region"]
             }
-            Operation::Rotate => {
-                ui.add(egui::Slider::new(&mut self.angle, -180.0..=180.0).text("angle (°)"));
-            }
-            Operation::Taper => {
-                ui.add(
-                    egui::Slider::new(&mut self.taper, 0.1..=3.0)
-                        .text("factor")
-                        .logarithmic(true),
-                );
-            }
-            Operation::Twist => {
-                ui.add(egui::Slider::new(&mut self.twist, -360.0..=360.0).text("angle (°)"));
-            }
-            Operation::Smooth => {
-                ui.add(egui::Slider::new(&mut self.lambda, 0.01..=0.9).text("λ"));
-                ui.add(egui::Slider::new(&mut self.mu, -0.95..=-0.01).text("μ"));
-                ui.add(egui::Slider::new(&mut self.iterations, 1..=200).text("iterations"));
-                ui.horizontal(|ui| {
-                    ui.selectable_value(&mut self.cotangent, false, "uniform");
-                    ui.selectable_value(&mut self.cotangent, true, "cotangent");
-                });
-                ui.horizontal(|ui| {
-                    ui.selectable_value(&mut self.smooth_whole, false, "sub-mesh + collar");
-                    ui.selectable_value(&mut self.smooth_whole, true, "whole mesh");
-                });
-                if !self.smooth_whole {
-                    ui.add(egui::Slider::new(&mut self.smooth_collar, 0..=10).text("collar rings"));
-                }
-            }
+            Operation::Smooth => &[
+                "lambda",
+                "mu",
+                "iterations",
+                "weights",
+                "smooth_region",
+                "smooth_collar",
+            ],
+        };
+        for name in shown {
+            params::widget(ui, PARAMS, name, self, ctx);
         }
         if self.operation != Operation::Pull && ui.button("Apply").clicked() {
             if let Err(e) = self.run(ctx) {
                 ctx.error(format!("Sub-mesh edit: {e}"));
             }
-        }
-        if before != (self.source, self.rings, self.levels, self.operation) {
-            self.show(ctx);
         }
     }
 
@@ -574,102 +678,13 @@ impl Tool for SubMeshEdit {
         value: &serde_json::Value,
         ctx: &mut ToolContext<'_>,
     ) -> Result<(), ToolError> {
-        match name {
-            "source" => self.source = choice_param(&SOURCES, name, value)?,
-            "rings" => self.rings = count(name, value)?,
-            "operation" => self.operation = choice_param(&OPERATIONS, name, value)?,
-            "levels" => self.levels = count(name, value)?,
-            "falloff" => {
-                self.smooth_falloff = match string_param(name, value)? {
-                    "smooth" => true,
-                    "linear" => false,
-                    s => return Err(ToolError::new(format!("falloff {s:?}: linear or smooth"))),
-                }
-            }
-            "scale" => self.scale = positive(name, number_param(name, value)?)?,
-            "angle" => self.angle = number_param(name, value)?,
-            "taper" => self.taper = positive(name, number_param(name, value)?)?,
-            "twist" => self.twist = number_param(name, value)?,
-            "lambda" => self.lambda = positive(name, number_param(name, value)?)?,
-            "mu" => {
-                let mu = number_param(name, value)?;
-                if mu >= 0.0 || mu.is_nan() {
-                    return Err(ToolError::new(format!("mu {mu}: must be negative")));
-                }
-                self.mu = mu;
-            }
-            "iterations" => self.iterations = count(name, value)?,
-            "weights" => {
-                self.cotangent = match string_param(name, value)? {
-                    "cotangent" => true,
-                    "uniform" => false,
-                    s => {
-                        return Err(ToolError::new(format!(
-                            "weights {s:?}: uniform or cotangent"
-                        )))
-                    }
-                }
-            }
-            "smooth_region" => {
-                self.smooth_whole = match string_param(name, value)? {
-                    "mesh" => true,
-                    "submesh" => false,
-                    s => {
-                        return Err(ToolError::new(format!(
-                            "smooth_region {s:?}: submesh or mesh"
-                        )))
-                    }
-                }
-            }
-            "smooth_collar" => self.smooth_collar = count(name, value)?,
-            "apply" => {
-                if bool_param(name, value)? {
-                    self.run(ctx)?;
-                }
-            }
-            _ => return Err(ToolError::unknown_parameter(self.name(), name, &PARAMETERS)),
-        }
-        self.show(ctx);
-        Ok(())
+        // (The name is copied: the setter borrows the tool mutably.)
+        let tool = self.name().to_owned();
+        params::set(&tool, PARAMS, self, name, value, ctx)
     }
 
     fn parameters(&self) -> Vec<(&'static str, serde_json::Value)> {
-        vec![
-            ("source", choice_name(&SOURCES, self.source).into()),
-            ("rings", self.rings.into()),
-            ("operation", choice_name(&OPERATIONS, self.operation).into()),
-            ("levels", self.levels.into()),
-            (
-                "falloff",
-                if self.smooth_falloff {
-                    "smooth"
-                } else {
-                    "linear"
-                }
-                .into(),
-            ),
-            ("scale", self.scale.into()),
-            ("angle", self.angle.into()),
-            ("taper", self.taper.into()),
-            ("twist", self.twist.into()),
-            ("lambda", self.lambda.into()),
-            ("mu", self.mu.into()),
-            ("iterations", self.iterations.into()),
-            (
-                "weights",
-                if self.cotangent {
-                    "cotangent"
-                } else {
-                    "uniform"
-                }
-                .into(),
-            ),
-            (
-                "smooth_region",
-                if self.smooth_whole { "mesh" } else { "submesh" }.into(),
-            ),
-            ("smooth_collar", self.smooth_collar.into()),
-        ]
+        params::list(PARAMS, self)
     }
 
     fn overlay(&self, mesh: &Mesh, overlay: &mut Overlay) {
@@ -679,9 +694,7 @@ impl Tool for SubMeshEdit {
             }
         }
         if self.source == Source::Labels {
-            if let Some(labels) = self.shared.get(mesh) {
-                labels.frontier_overlay(mesh, overlay);
-            }
+            frontier_overlay(mesh, overlay);
         }
     }
 
@@ -717,8 +730,7 @@ mod tests {
     #[test]
     fn a_scale_without_propagation_leaves_the_host_alone() {
         let mesh = generators::icosphere(3);
-        let shared = SharedLabels::default();
-        let mut tool = SubMeshEdit::new(shared);
+        let mut tool = SubMeshEdit::new();
         tool.source = Source::Ring;
         tool.centre = mesh.vertices().next();
         tool.levels = 0;
