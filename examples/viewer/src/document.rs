@@ -18,7 +18,12 @@
 //! A positions-only edit that turns out to change the connectivity is upgraded on the fly
 //! (the snapshot becomes the old mesh: exact, since the connectivity had not changed yet).
 //! A connectivity change made by a tool on a hierarchy's mesh leaves a plain mesh (the
-//! hierarchy could not walk it); undo brings the hierarchy back.
+//! hierarchy could not walk it); undo brings the hierarchy back. A change that the
+//! hierarchy can take (new vertices added at its input, `halfedge::Hierarchy::edit_input`,
+//! as the Bendels–Klein refinement does through
+//! `edit::blend::BlendSession::refine_in_hierarchy`) goes through
+//! [`Document::edit_hierarchy`] instead: the document keeps the hierarchy at its level,
+//! and undo gives back the hierarchy as it was.
 //!
 //! Revisions (`geometry`, `topology`, `labels`) tell the renderer and the panels what to
 //! refresh; the picking structure (the library's `halfedge::bvh::Bvh`) keeps itself
@@ -300,6 +305,40 @@ impl Document {
         });
         self.redo.clear();
         self.bump_all();
+    }
+
+    /// Changes the hierarchy with `change` as one undo step named `label` (closing the
+    /// open edit first), for changes the hierarchy keeps through its levels (new
+    /// vertices at its input: `Hierarchy::edit_input`). `change` works on a copy and
+    /// returns its result and whether to keep the change: when it fails or says not to
+    /// keep, the document is exactly as it was and no step is recorded; otherwise the copy
+    /// becomes the document's hierarchy and the hierarchy as it was goes into the
+    /// history, so that undo restores it exactly (mesh, level, records).
+    ///
+    /// # Errors
+    /// [`DocumentError::NoHierarchy`] (converted into `E`) when the document holds a
+    /// plain mesh; the error of `change`.
+    pub fn edit_hierarchy<R, E: From<DocumentError>>(
+        &mut self,
+        label: &str,
+        change: impl FnOnce(&mut Hierarchy) -> Result<(R, bool), E>,
+    ) -> Result<R, E> {
+        let Content::Levels(h) = &self.content else {
+            return Err(DocumentError::NoHierarchy.into());
+        };
+        let mut work = h.clone();
+        self.end_edit();
+        let (result, keep) = change(&mut work)?;
+        if keep {
+            let before = std::mem::replace(&mut self.content, Content::Levels(work));
+            self.push_undo(Entry {
+                label: label.to_owned(),
+                snapshot: Snapshot::Content(Box::new(before)),
+            });
+            self.redo.clear();
+            self.bump_all();
+        }
+        Ok(result)
     }
 
     /// Moves the hierarchy to `level` (coarser or finer, with its detail coefficients),

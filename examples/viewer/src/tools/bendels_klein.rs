@@ -9,7 +9,10 @@
 //! `A` (translate, rotate about an axis through the handle's centroid, scale) is applied
 //! live as the fields change: each vertex moves to `exp(α log A) p` (Sec. 3, after Alexa
 //! 2002), the handle to `A p`, the fixed region never moves. Dragging the handle in the
-//! view plane translates it. Adaptive refinement (Sec. 6) splits stretched edges.
+//! view plane translates it. Adaptive refinement (Sec. 6) splits stretched edges. On the
+//! mesh of a multiresolution hierarchy (at any level) it is made at the hierarchy's input
+//! (`BlendSession::refine_in_hierarchy`): the hierarchy is built again and stays the
+//! document's, at its level; the regions are then given again.
 //!
 //! One change gesture (a drag of a field, of the handle or of a curve point) is one undo
 //! step. After undo / redo the restored surface becomes the new rest state and the
@@ -397,6 +400,9 @@ impl BendelsKlein {
     /// Adaptive refinement (Sec. 6) of the stretched deformable area.
     fn refine(&mut self, ctx: &mut ToolContext<'_>) -> Result<(), ToolError> {
         self.ensure_session(ctx)?;
+        if ctx.doc.hierarchy().is_some() {
+            return self.refine_in_hierarchy(ctx);
+        }
         let Some(session) = &mut self.session else {
             return Err(ToolError::new("Bendels–Klein: no edit to refine"));
         };
@@ -420,6 +426,88 @@ impl BendelsKlein {
             report.longest_edge
         ));
         self.show(ctx);
+        Ok(())
+    }
+
+    /// Adaptive refinement of an edit made on the mesh of the document's hierarchy (at
+    /// any level): through `BlendSession::refine_in_hierarchy`, which splits the stretched
+    /// edges at the input and builds the hierarchy again, so that the document keeps the
+    /// hierarchy at its level, every level stays reachable, and undo gives back the
+    /// hierarchy as it was ([`Document::edit_hierarchy`](crate::document::Document::edit_hierarchy)).
+    /// The threshold is a multiple of the mean edge length at full resolution, estimated
+    /// from the current level's (scaled by the square root of the ratio of the face
+    /// counts; exact at level 0). The rebuilt levels have other vertices than the ones the
+    /// regions were given on: the regions are cleared, give them again to edit further.
+    fn refine_in_hierarchy(&mut self, ctx: &mut ToolContext<'_>) -> Result<(), ToolError> {
+        let Some(session) = &self.session else {
+            return Err(ToolError::new("Bendels–Klein: no edit to refine"));
+        };
+        let Some(h) = ctx.doc.hierarchy() else {
+            return Err(ToolError::new("Bendels–Klein: no hierarchy"));
+        };
+        let faces = h.level_face_counts();
+        let level = h.level_at_or_finer();
+        let ratio = match (faces.get(level), faces.first()) {
+            (Some(&here), Some(&input)) if input > 0 => here as f64 / input as f64,
+            _ => 1.0,
+        };
+        let max = self.refine_threshold * ctx.mesh().mean_edge_length() * ratio.sqrt();
+        let regions = session.regions().clone();
+        let original = session.original_positions().to_vec();
+        let a = session.transform();
+        let options = self.options();
+        let start = Instant::now();
+        let report = ctx.doc.edit_hierarchy("Bendels–Klein refine", |h| {
+            // The library refines through a session made on the hierarchy's own mesh
+            // (this tool's session is bound to its scratch copy): the same regions,
+            // rest positions, shape and transform (the blend is applied again, to the
+            // same positions).
+            let mesh = h.mesh_mut();
+            if original.len() != mesh.vertex_slots() {
+                return Err(ToolError::new(
+                    "Bendels–Klein: the session does not fit the mesh; give the regions again",
+                ));
+            }
+            mesh.positions_mut().copy_from_slice(&original);
+            let mut s = BlendSession::new(h.mesh(), regions, options)?;
+            s.apply(h.mesh_mut(), a)?;
+            let report = s.refine_in_hierarchy(h, RefineOptions::new(max))?;
+            let keep = report.new_vertices > 0;
+            Ok::<_, ToolError>((report, keep))
+        })?;
+        let t = start.elapsed();
+        if report.new_vertices > 0 {
+            // The rebuilt hierarchy's levels have vertices of their own.
+            self.handle_picks.clear();
+            self.fixed_picks.clear();
+            self.paint.clear();
+            self.source = None;
+            self.regions = None;
+            self.session = None;
+            self.stale = false;
+            self.scratch.clear();
+            self.reset_transform();
+            ctx.clear_colors();
+        } else {
+            self.show(ctx);
+        }
+        let h = ctx.doc.hierarchy();
+        ctx.info(format!(
+            "Bendels–Klein refine: {} new vertices in {} passes ({}, at the input of the \
+             hierarchy, rebuilt: {} levels, back at level {}), longest edge {:.3e} \
+             (threshold {max:.3e}){}",
+            report.new_vertices,
+            report.passes,
+            ms(t),
+            h.map_or(0, |h| h.n_levels()),
+            h.map_or(0, |h| h.level_at_or_finer()),
+            report.longest_edge,
+            if report.new_vertices > 0 {
+                "; give the regions again to edit further"
+            } else {
+                ""
+            }
+        ));
         Ok(())
     }
 
@@ -913,5 +1001,160 @@ impl BendelsKlein {
             ms(t)
         ));
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::colors::Display;
+    use crate::document::Document;
+    use crate::tools::{Status, ViewInfo};
+    use halfedge::{generators, Hierarchy, HierarchyOptions};
+
+    /// A document holding a hierarchy of an icosphere at `level`, and the rest of what a
+    /// tool context borrows.
+    struct Fixture {
+        doc: Document,
+        display: Display,
+        status: Status,
+        input: Mesh,
+    }
+
+    impl Fixture {
+        fn at_level(level: usize) -> Self {
+            let input = generators::icosphere(4);
+            let h = Hierarchy::build(
+                input.clone(),
+                &HierarchyOptions::rounds().with_target_faces(150),
+            )
+            .unwrap();
+            assert!(h.coarsest_level() >= 2, "{:?}", h.level_face_counts());
+            let mut doc = Document::new(input.clone(), None, None);
+            doc.set_hierarchy(h, "build");
+            doc.go_to_level(level, "level").unwrap();
+            doc.end_edit();
+            Self {
+                doc,
+                display: Display::default(),
+                status: Status::default(),
+                input,
+            }
+        }
+
+        fn ctx(&mut self) -> ToolContext<'_> {
+            ToolContext {
+                doc: &mut self.doc,
+                display: &mut self.display,
+                status: &mut self.status,
+                view: ViewInfo {
+                    eye: DVec3::new(0.0, 0.0, 5.0),
+                    forward: DVec3::NEG_Z,
+                    right: DVec3::X,
+                    up: DVec3::Y,
+                    scene_radius: 1.0,
+                },
+                pick: None,
+            }
+        }
+    }
+
+    fn bits(positions: &[DVec3]) -> Vec<[u64; 3]> {
+        positions
+            .iter()
+            .map(|p| p.to_array().map(f64::to_bits))
+            .collect()
+    }
+
+    /// The number in "… refine: N new vertices …" of the status line.
+    fn new_vertices(status: &Status) -> usize {
+        let rest = status
+            .message
+            .split("refine: ")
+            .nth(1)
+            .unwrap_or_else(|| panic!("no refine report: {}", status.message));
+        rest.split(' ').next().unwrap().parse().unwrap()
+    }
+
+    /// Paints the handle (the top cap) and the fixed part (the lower half) of the level
+    /// shown, pulls the handle up, refines, and checks that the hierarchy survives.
+    fn refine_keeps_the_hierarchy(level: usize) {
+        let mut fixture = Fixture::at_level(level);
+        let input = fixture.input.clone();
+        let mut ctx = fixture.ctx();
+        let mut tool = BendelsKlein::default();
+        let mesh = ctx.mesh();
+        tool.paint = (0..mesh.vertex_slots())
+            .map(|i| match mesh.vertex_at(i).map(|v| mesh.position(v).z) {
+                Some(z) if z > 0.7 => PAINT_HANDLE,
+                Some(z) if z < 0.0 => PAINT_FIXED,
+                _ => PAINT_NONE,
+            })
+            .collect();
+        tool.source = Some(RegionSource::Painted);
+        tool.build(&mut ctx).unwrap();
+        assert!(tool.session.is_some());
+        tool.set_parameter("translate", &serde_json::json!([0.0, 0.0, 1.0]), &mut ctx)
+            .unwrap();
+        ctx.doc.end_edit();
+        let before_positions = bits(ctx.mesh().positions());
+        let before_vertices = ctx.mesh().n_vertices();
+        let steps = ctx.doc.undo_len();
+        tool.refine_threshold = 1.5;
+        tool.apply(&mut ctx).unwrap();
+        assert!(!ctx.status.is_error, "{}", ctx.status.message);
+        let added = new_vertices(&*ctx.status);
+        assert!(added > 0, "{}", ctx.status.message);
+
+        // The document still holds the hierarchy, at the same level, with levels.
+        let h = ctx
+            .doc
+            .hierarchy()
+            .expect("the refinement dropped the hierarchy");
+        assert_eq!(h.current_level(), Some(level));
+        assert!(h.n_levels() > 1);
+        assert!(std::ptr::eq(ctx.mesh(), h.mesh()));
+        let coarsest = h.coarsest_level();
+        let after_vertices = ctx.mesh().n_vertices();
+        assert_eq!(ctx.doc.undo_len(), steps + 1);
+        assert_eq!(ctx.doc.undo_labels().last(), Some("Bendels–Klein refine"));
+
+        // Every level is reachable, the new vertices are at the input (one slider drag).
+        ctx.doc.go_to_level(0, "levels").unwrap();
+        ctx.mesh().check().unwrap();
+        assert_eq!(ctx.mesh().n_vertices(), input.n_vertices() + added);
+        ctx.doc.go_to_level(coarsest, "levels").unwrap();
+        ctx.mesh().check().unwrap();
+        ctx.doc.go_to_level(level, "levels").unwrap();
+        ctx.mesh().check().unwrap();
+        ctx.doc.end_edit();
+        assert_eq!(ctx.mesh().n_vertices(), after_vertices);
+
+        // Undo: the level walk, then the refinement, gives the hierarchy as it was.
+        assert_eq!(ctx.doc.undo().as_deref(), Some("levels"));
+        assert_eq!(ctx.doc.undo().as_deref(), Some("Bendels–Klein refine"));
+        tool.on_mesh_replaced(ctx.doc.mesh());
+        let h = ctx.doc.hierarchy().expect("undo gives the hierarchy back");
+        assert_eq!(h.current_level(), Some(level));
+        assert_eq!(ctx.mesh().n_vertices(), before_vertices);
+        assert_eq!(bits(ctx.mesh().positions()), before_positions);
+        // Redo gives the refined hierarchy again, undo the one before.
+        assert_eq!(ctx.doc.redo().as_deref(), Some("Bendels–Klein refine"));
+        assert_eq!(ctx.doc.hierarchy().unwrap().current_level(), Some(level));
+        assert_eq!(ctx.mesh().n_vertices(), after_vertices);
+        ctx.doc.undo();
+        assert_eq!(bits(ctx.mesh().positions()), before_positions);
+        ctx.doc.go_to_level(0, "levels").unwrap();
+        assert_eq!(ctx.mesh().n_vertices(), input.n_vertices());
+    }
+
+    #[test]
+    fn refinement_at_a_coarse_level_keeps_the_hierarchy_and_undoes_exactly() {
+        refine_keeps_the_hierarchy(2);
+    }
+
+    #[test]
+    fn refinement_at_level_0_of_a_hierarchy_keeps_the_hierarchy() {
+        refine_keeps_the_hierarchy(0);
     }
 }
