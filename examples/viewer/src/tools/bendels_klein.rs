@@ -1097,6 +1097,8 @@ mod tests {
         tool.set_parameter("translate", &serde_json::json!([0.0, 0.0, 1.0]), &mut ctx)
             .unwrap();
         ctx.doc.end_edit();
+        let roles = tool.session.as_ref().unwrap().regions().roles().to_vec();
+        let ancestors = ctx.doc.hierarchy().unwrap().ancestors(level).unwrap();
         let before_positions = bits(ctx.mesh().positions());
         let before_vertices = ctx.mesh().n_vertices();
         let steps = ctx.doc.undo_len();
@@ -1123,6 +1125,25 @@ mod tests {
         ctx.doc.go_to_level(0, "levels").unwrap();
         ctx.mesh().check().unwrap();
         assert_eq!(ctx.mesh().n_vertices(), input.n_vertices() + added);
+        // The edit reached the input as the library carries it: the fixed part did not
+        // move, the handle is its translated input (local-frame detail, marked handle).
+        let fine = ctx.mesh();
+        let mut handle = 0;
+        for v in input.vertices() {
+            let (p, q) = (input.position(v), fine.position(v));
+            match roles[ancestors[input.vertex_index(v)] as usize] {
+                Role::Fixed => assert_eq!(q, p, "fixed vertex {v} moved"),
+                Role::Handle => {
+                    handle += 1;
+                    assert!(
+                        (q - p - DVec3::Z).length() < 1e-9,
+                        "handle vertex {v} at {q}"
+                    );
+                }
+                Role::Deformable => {}
+            }
+        }
+        assert!(handle > 10, "{handle} handle vertices");
         ctx.doc.go_to_level(coarsest, "levels").unwrap();
         ctx.mesh().check().unwrap();
         ctx.doc.go_to_level(level, "levels").unwrap();
