@@ -682,6 +682,58 @@ mod tests {
     }
 
     #[test]
+    fn a_hierarchy_edit_keeps_the_hierarchy_and_undo_restores_it_exactly() {
+        let (mut d, input) = hierarchy_doc();
+        d.go_to_level(2, "coarsen").unwrap();
+        d.end_edit();
+        let before = d.mesh().positions().to_vec();
+        let (vertices, steps) = (d.mesh().n_vertices(), d.undo_len());
+        // Refused or not kept: nothing changes, no step.
+        let r: Result<(), DocumentError> = d.edit_hierarchy("fail", |h| {
+            h.mesh_mut().positions_mut()[0] = DVec3::splat(9.0);
+            Err(DocumentError::NoHierarchy)
+        });
+        assert!(r.is_err());
+        let kept = d.edit_hierarchy("skip", |h| {
+            h.mesh_mut().positions_mut()[0] = DVec3::splat(9.0);
+            Ok::<_, DocumentError>((7, false))
+        });
+        assert_eq!(kept.unwrap(), 7);
+        assert_eq!(d.undo_len(), steps);
+        assert_eq!(d.mesh().positions(), &before[..]);
+        // A change at the input: split one edge there.
+        let topology = d.revision().topology;
+        d.edit_hierarchy("split", |h| {
+            h.edit_input(|m| {
+                let e = m.edges().next().unwrap();
+                let p = 0.5 * (m.position(m.from_vertex(e)) + m.position(m.to_vertex(e)));
+                m.split_edge(e, p).map(|_| ())
+            })?;
+            Ok::<_, DocumentError>(((), true))
+        })
+        .unwrap();
+        assert!(d.revision().topology > topology);
+        let h = d.hierarchy().expect("the hierarchy stays");
+        assert_eq!(h.current_level(), Some(2));
+        assert!(std::ptr::eq(d.mesh(), h.mesh()));
+        assert_eq!(d.undo_labels().last(), Some("split"));
+        d.go_to_level(0, "refine").unwrap();
+        assert_eq!(d.mesh().n_vertices(), input.n_vertices() + 1);
+        d.undo();
+        d.undo();
+        assert_eq!(d.hierarchy().unwrap().current_level(), Some(2));
+        assert_eq!(d.mesh().n_vertices(), vertices);
+        assert_eq!(d.mesh().positions(), &before[..]);
+        d.redo();
+        d.go_to_level(0, "refine").unwrap();
+        assert_eq!(d.mesh().n_vertices(), input.n_vertices() + 1);
+        // A plain mesh has no hierarchy to edit.
+        let mut plain = doc();
+        let r = plain.edit_hierarchy("x", |_| Ok::<_, DocumentError>(((), true)));
+        assert!(matches!(r, Err(DocumentError::NoHierarchy)));
+    }
+
+    #[test]
     fn labels_are_the_meshs_attribute_and_the_hierarchy_carries_them() {
         let (mut d, _) = hierarchy_doc();
         let r = d.revision().labels;

@@ -107,7 +107,8 @@ pub struct BendelsKlein {
     pub angle: f64,
     /// Uniform scale about the handle's centroid.
     pub scale: f64,
-    /// Refinement threshold, a multiple of the mesh's mean edge length.
+    /// Refinement threshold, a multiple of the mesh's mean edge length (on a hierarchy's
+    /// mesh: of the full-resolution mesh's, estimated from the level shown).
     pub refine_threshold: f64,
     handle_picks: Vec<VertexId>,
     fixed_picks: Vec<VertexId>,
