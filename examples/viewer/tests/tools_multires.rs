@@ -567,3 +567,99 @@ fn ffd_press_beyond_the_silhouette_grabs_a_control_point() {
     assert_screenshot(&p("shot.png"));
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn bendels_klein_refinement_at_a_coarse_level_keeps_the_hierarchy() {
+    let Some(prefix) = display_command() else {
+        return;
+    };
+    let dir = scratch_dir("multires-bk");
+    let input = dir.join("sphere.obj");
+    let original = generators::icosphere(4);
+    halfedge::io::write_obj(&input, &original).unwrap();
+    let p = |name: &str| dir.join(name);
+    // The viewer's build is the direct one (see the background-build test): its level 2
+    // gives the vertex indices to paint at.
+    let level = 2;
+    let mut direct = Hierarchy::build(
+        original.clone(),
+        &HierarchyOptions::rounds().with_target_faces(200),
+    )
+    .unwrap();
+    direct.go_to_level(level).unwrap();
+    let coarse = direct.mesh();
+    let extreme = |sign: f64| {
+        coarse
+            .vertices()
+            .max_by(|&a, &b| {
+                (sign * coarse.position(a).z).total_cmp(&(sign * coarse.position(b).z))
+            })
+            .map(|v| coarse.vertex_index(v))
+            .unwrap()
+    };
+    let (top, bottom) = (extreme(1.0), extreme(-1.0));
+    let coarsest = direct.coarsest_level();
+    assert!(coarsest > level);
+    run_script(
+        prefix,
+        "multires-bk",
+        &dir,
+        &input,
+        serde_json::json!([
+            {"action": "select_tool", "tool": "multiresolution"},
+            {"action": "set", "param": "method", "value": "rounds"},
+            {"action": "set", "param": "target_faces", "value": 200},
+            {"action": "apply"},
+            {"action": "set", "param": "level", "value": level},
+            {"action": "select_tool", "tool": "bendels"},
+            {"action": "set", "param": "brush", "value": 0.15},
+            {"action": "set", "param": "paint_handle", "value": top},
+            {"action": "set", "param": "brush", "value": 0.3},
+            {"action": "set", "param": "paint_fixed", "value": bottom},
+            {"action": "set", "param": "translate", "value": [0.0, 0.0, 1.0]},
+            {"action": "save", "path": p("edited.obj")},
+            {"action": "set", "param": "refine_threshold", "value": 1.5},
+            {"action": "apply"},
+            {"action": "save", "path": p("refined.obj")},
+            {"action": "select_tool", "tool": "multiresolution"},
+            {"action": "set", "param": "level", "value": 0},
+            {"action": "save", "path": p("fine.obj")},
+            {"action": "set", "param": "level", "value": coarsest},
+            {"action": "set", "param": "level", "value": level},
+            {"action": "save", "path": p("back.obj")},
+            {"action": "undo"}, {"action": "undo"}, {"action": "undo"},
+            {"action": "undo"},
+            {"action": "save", "path": p("undone.obj")},
+            {"action": "set", "param": "level", "value": 0},
+            {"action": "save", "path": p("undone-fine.obj")}
+        ]),
+    );
+    let (edited, refined) = (read(&p("edited.obj")), read(&p("refined.obj")));
+    refined.check().unwrap();
+    // The refinement is at the input: the level shown is still a coarse level.
+    let fine = read(&p("fine.obj"));
+    fine.check().unwrap();
+    assert!(
+        fine.n_vertices() > original.n_vertices(),
+        "no vertex added at the input ({} → {})",
+        original.n_vertices(),
+        fine.n_vertices()
+    );
+    assert!(
+        refined.n_faces() < fine.n_faces() * 3 / 4,
+        "level {level} is coarse ({} faces, {} at level 0)",
+        refined.n_faces(),
+        fine.n_faces()
+    );
+    let back = read(&p("back.obj"));
+    back.check().unwrap();
+    assert_eq!(back.n_vertices(), refined.n_vertices());
+    // Undo (level 2, level 0 … the walk is one step per change, the refinement) gives the
+    // edited coarse mesh bit for bit, and the input vertex count at level 0.
+    let undone = read(&p("undone.obj"));
+    assert_eq!(undone.n_vertices(), edited.n_vertices());
+    assert_eq!(undone.positions(), edited.positions());
+    let undone_fine = read(&p("undone-fine.obj"));
+    assert_eq!(undone_fine.n_vertices(), original.n_vertices());
+    std::fs::remove_dir_all(&dir).ok();
+}
