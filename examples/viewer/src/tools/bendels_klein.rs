@@ -815,7 +815,10 @@ impl Tool for BendelsKlein {
             params::widget(ui, PARAMS, "refine_threshold", self, ctx);
             if ui
                 .add_enabled(self.session.is_some(), egui::Button::new("Refine"))
-                .on_hover_text("Adaptive refinement (Sec. 6): split stretched edges")
+                .on_hover_text(
+                    "Adaptive refinement (Sec. 6): split stretched edges (on a hierarchy: at \
+                     its input, and the hierarchy is built again)",
+                )
                 .clicked()
             {
                 let result = self.refine(ctx);
