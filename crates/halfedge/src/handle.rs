@@ -147,6 +147,19 @@ impl Slots {
     pub(crate) fn collected(&self) -> bool {
         !self.generations.is_empty()
     }
+    /// The handle check of a mesh that collected garbage (see
+    /// [`collected`](Self::collected)): panics unless `k` names a live element or a
+    /// tombstone. Out of line, so the accessors' fast path stays a load and a branch.
+    #[cold]
+    #[inline(never)]
+    pub(crate) fn check_collected<K: Key + std::fmt::Display>(&self, k: K, kind: &str) {
+        if !self.contains(k) {
+            panic!(
+                "stale {kind} handle {k}: not an element of this mesh (removed by garbage \
+                 collection, or from another mesh)"
+            );
+        }
+    }
     /// True when `k` names a live element or a tombstone.
     #[inline]
     pub(crate) fn contains<K: Key>(&self, k: K) -> bool {

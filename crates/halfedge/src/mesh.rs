@@ -221,26 +221,23 @@ impl Mesh {
     /// collection first frees a slot this is one predictable branch (a handle past the
     /// arrays is still refused, by the indexing's bounds check).
     #[inline(always)]
-    #[track_caller]
     pub(crate) fn check_vertex(&self, v: VertexId) {
-        if self.vertex_slots_.collected() && !self.vertex_slots_.contains(v) {
-            stale_handle("vertex", v);
+        if self.vertex_slots_.collected() {
+            self.vertex_slots_.check_collected(v, "vertex");
         }
     }
     /// [`check_vertex`](Self::check_vertex) for halfedges.
     #[inline(always)]
-    #[track_caller]
     pub(crate) fn check_halfedge(&self, h: HalfedgeId) {
-        if self.halfedge_slots_.collected() && !self.halfedge_slots_.contains(h) {
-            stale_handle("halfedge", h);
+        if self.halfedge_slots_.collected() {
+            self.halfedge_slots_.check_collected(h, "halfedge");
         }
     }
     /// [`check_vertex`](Self::check_vertex) for faces.
     #[inline(always)]
-    #[track_caller]
     pub(crate) fn check_face(&self, f: FaceId) {
-        if self.face_slots_.collected() && !self.face_slots_.contains(f) {
-            stale_handle("face", f);
+        if self.face_slots_.collected() {
+            self.face_slots_.check_collected(f, "face");
         }
     }
     /// Slot index of a handle as `u32`.
@@ -679,13 +676,4 @@ impl Mesh {
             }
         }
     }
-}
-
-/// The panic of the handle checks, out of line so that the checks stay a compare and a
-/// branch in the accessors' loops.
-#[cold]
-#[inline(never)]
-#[track_caller]
-fn stale_handle(kind: &str, handle: impl std::fmt::Display) -> ! {
-    panic!("stale {kind} handle {handle}: not an element of this mesh (removed by garbage collection, or from another mesh)")
 }
