@@ -193,13 +193,31 @@ fn coarse_edits_keep_their_regions_land_their_handles_and_stay_close_on_generate
 }
 
 #[test]
-#[ignore = "known failure (issue 12): 17 of 192 runs (mostly twists and tapers at levels 3-4, whose linear ramps have kinks that a coarse level puts on cluster boundaries) flip a few more fine faces than the full-resolution edit; cargo test --release -- --ignored known_failure"]
+#[ignore = "known failure (issue 12): 17 of 192 runs (11 twists, whose rigid end's clusters reach down the ramp at levels 2-4, and 6 scales) flip a few more fine faces than the full-resolution edit (56 extra faces in all); cargo test --release -- --ignored known_failure"]
 fn known_failure_coarse_edits_end_like_full_resolution_edits_on_generated_meshes() {
     let reports = generated_reports();
     assert_all(
         &reports,
         "flips_coarse_path <= flips_full_res",
         Report::no_extra_flips,
+    );
+}
+
+#[test]
+fn coarse_edits_flip_few_more_faces_than_full_resolution_edits_on_generated_meshes() {
+    // Where the coarse path still flips more faces than the full-resolution edit (mostly
+    // twists, whose rigid end's clusters reach down their ramp), the splits that would
+    // fold their faces are drawn back: over the 192 runs the extra flipped faces add up
+    // to 56 (99 before) and no run has more than 12 (21 before).
+    let reports = generated_reports();
+    let extra: Vec<usize> = reports
+        .iter()
+        .map(|(_, r)| r.flips_coarse_path.saturating_sub(r.flips_full_res))
+        .collect();
+    let (total, largest) = (extra.iter().sum::<usize>(), extra.iter().max().copied());
+    assert!(
+        total <= 64 && largest <= Some(14),
+        "{total} extra flipped faces in all, at most {largest:?} in one run"
     );
 }
 
@@ -320,7 +338,7 @@ fn coarse_edits_keep_their_regions_land_their_handles_and_stay_close_on_the_shar
 }
 
 #[test]
-#[ignore = "known failure (issue 12): 19 of 144 runs (12 twists or tapers, whose ramp kinks a coarse level puts on cluster boundaries; fandisk's QEM bk) flip a few more fine faces than the full-resolution edit; needs ../shared/meshes; cargo test --release -- --ignored known_failure"]
+#[ignore = "known failure (issue 12): 14 of 144 runs (9 twists or tapers, whose ramp kinks a coarse level puts on cluster boundaries; fandisk's QEM bk and teapot's rounds bk; two scales and a lee) flip a few more fine faces than the full-resolution edit; needs ../shared/meshes; cargo test --release -- --ignored known_failure"]
 fn known_failure_coarse_edits_meet_the_targets_on_the_shared_meshes() {
     assert_all(&shared_reports(), "the targets", Report::meets_targets);
 }

@@ -449,7 +449,9 @@ fn interpolate(
         residual = residual.max((q - anchor - map * (r - at.placed)).length());
         motion = motion.max((q - r).length());
     }
-    let step = link.iter().any(|&i| exact(i, at.p0).is_some());
+    // A still neighbour (its cluster's motion is exactly zero) is a step; a rigidly or
+    // affinely moved one (a marked part) is not: its motion is smooth.
+    let step = link.iter().any(|&i| exact(i, at.p0) == Some(DVec3::ZERO));
     let moved = motion > 0.0;
     let trust = if step || !moved {
         0.0
@@ -463,6 +465,74 @@ fn interpolate(
         blend(place(at.p0)?, carried[0]),
         blend(place(at.p1)?, carried[1]),
     ])
+}
+
+/// How many faces around a split's two vertices placed at `q` are turned over (by more
+/// than 90°) against where they were before the edit: the triangles of each vertex and
+/// two consecutive neighbours of its list, and the triangles across the split edge at
+/// either end of each list.
+fn turned_over(
+    positions: &[DVec3],
+    rest: &[[f64; 3]],
+    lists: Lists<'_>,
+    at: Collapsed,
+    q: [DVec3; 2],
+) -> usize {
+    let rest_of = |i: u32| rest.get(i as usize).map(|&p| DVec3::from_array(p));
+    let now_of = |i: u32| positions.get(i as usize).copied();
+    let normal = |a: DVec3, b: DVec3, c: DVec3| (b - a).cross(c - a);
+    let mut count = 0;
+    for (k, list) in [lists.l0, lists.l1].into_iter().enumerate() {
+        let then = if k == 0 { at.p0 } else { at.p1 };
+        for w in list.windows(2) {
+            if let (Some(ra), Some(rb), Some(a), Some(b)) =
+                (rest_of(w[0]), rest_of(w[1]), now_of(w[0]), now_of(w[1]))
+            {
+                count += usize::from(normal(q[k], a, b).dot(normal(then, ra, rb)) < 0.0);
+            }
+        }
+        for &l in [list.first(), list.last()].into_iter().flatten() {
+            if let (Some(rl), Some(a)) = (rest_of(l), now_of(l)) {
+                count += usize::from(normal(q[0], q[1], a).dot(normal(at.p0, at.p1, rl)) < 0.0);
+            }
+        }
+    }
+    count
+}
+
+/// `q`, the interpolated placement of a split, unless it turns faces around the split
+/// over ([`turned_over`]; an interpolation between coarse vertices whose motions differ
+/// much, such as the fine vertices between a twist's rigid end and its ramp, can fold
+/// them): then the endpoints' motion is drawn towards the survivor's (`t = 1` is `q`,
+/// `t = 0` the recorded endpoints translated with the survivor), by the largest of
+/// `t = 3/4, 1/2, 1/4, 0` that turns the fewest faces over. A placement that turns
+/// nothing over is returned as it is.
+fn unfold(
+    positions: &[DVec3],
+    rest: &[[f64; 3]],
+    lists: Lists<'_>,
+    anchor: DVec3,
+    at: Collapsed,
+    q: [DVec3; 2],
+) -> [DVec3; 2] {
+    let count = |q: [DVec3; 2]| turned_over(positions, rest, lists, at, q);
+    let first = count(q);
+    if first == 0 {
+        return q;
+    }
+    let shift = anchor - at.placed;
+    let mut best = (first, q);
+    for t in [0.75, 0.5, 0.25, 0.0] {
+        let candidate = [
+            at.p0 + shift + t * (q[0] - at.p0 - shift),
+            at.p1 + shift + t * (q[1] - at.p1 - shift),
+        ];
+        let c = count(candidate);
+        if c < best.0 {
+            best = (c, candidate);
+        }
+    }
+    best.1
 }
 
 /// Where the split of a survivor that moved apart from its ring puts its endpoints when
@@ -737,6 +807,9 @@ impl Details {
                                 exact,
                             )
                         });
+                        let interpolated = interpolated
+                            .zip(rest)
+                            .map(|(q, (rest, _))| unfold(positions, rest, lists, anchor, at, q));
                         Placement::At(interpolated.unwrap_or_else(|| {
                             settle(
                                 &f,
@@ -1044,6 +1117,34 @@ mod tests {
         assert_eq!(q0, t.transform_point3(at.p0));
         assert_eq!(q1, t.transform_point3(at.p1));
         assert!(Details::affine_placement(&t, anchor + DVec3::Y * 1e-6, at).is_none());
+    }
+
+    #[test]
+    fn an_interpolated_split_that_folds_its_faces_is_drawn_back_towards_the_survivor() {
+        // The hexagon at rest and now, the survivor at its centre: endpoints that stay
+        // inside the ring turn nothing over and are kept as they are; an endpoint thrown
+        // beyond the ring (as an interpolation between very different motions can)
+        // turns its fan over and is drawn back until nothing is turned over.
+        let positions = ring();
+        let rest: Vec<[f64; 3]> = positions.iter().map(|p| p.to_array()).collect();
+        let at = Collapsed {
+            p0: DVec3::new(-0.25, 0.0, 0.0),
+            p1: DVec3::new(0.35, 0.0, 0.0),
+            placed: DVec3::ZERO,
+        };
+        let lists = lists(&[0, 1, 2, 3], &[3, 4, 5, 0]);
+        let lifted = DVec3::new(0.0, 0.0, 0.2);
+        let inside = [at.p0 + lifted, at.p1 + DVec3::new(0.1, 0.05, 0.1)];
+        assert_eq!(turned_over(&positions, &rest, lists, at, inside), 0);
+        assert_eq!(unfold(&positions, &rest, lists, lifted, at, inside), inside);
+        let folded = [at.p0, DVec3::new(-2.5, 0.0, 0.0)];
+        assert!(turned_over(&positions, &rest, lists, at, folded) > 0);
+        let drawn = unfold(&positions, &rest, lists, lifted, at, folded);
+        assert_eq!(turned_over(&positions, &rest, lists, at, drawn), 0);
+        // drawn back along the way to the survivor's translation of the record
+        let direction = (folded[1] - (at.p1 + lifted)).normalize();
+        let back = drawn[1] - (at.p1 + lifted);
+        assert!(back.cross(direction).length() < 1e-12 && back.dot(direction) >= 0.0);
     }
 
     #[test]

@@ -1068,11 +1068,23 @@ impl Hierarchy {
         let rest = rest.map(|k| &self.rests[k]);
         let (marks, positions) = (&self.marks, self.mesh.positions());
         // The motion of a link vertex's whole cluster when it is exact: none for a vertex
-        // that stayed and is in no region; `None` for the others (they interpolate).
-        let exact = |i: u32, _: DVec3| -> Option<DVec3> {
+        // that stayed and is in no region; its affine map's motion at the point for a
+        // vertex whose affine mark fits it (its whole cluster lands on that map); `None`
+        // for the others (they interpolate).
+        let exact = |i: u32, p: DVec3| -> Option<DVec3> {
             let i = i as usize;
             let at_rest = rest?.positions.get(i).map(|&q| DVec3::from_array(q))?;
-            (marks.of(i) == UNMARKED && positions[i] == at_rest).then_some(DVec3::ZERO)
+            let mark = marks.of(i);
+            if mark == UNMARKED {
+                return (positions[i] == at_rest).then_some(DVec3::ZERO);
+            }
+            let map = marks.maps.get(mark as usize)?;
+            let at = Collapsed {
+                p0: p,
+                p1: p,
+                placed: at_rest,
+            };
+            Details::affine_placement(map, positions[i], at).map(|[q, _]| q - p)
         };
         let before = rest.map(|rest| {
             (
