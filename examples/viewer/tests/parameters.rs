@@ -7,42 +7,13 @@
 
 use std::time::{Duration, Instant};
 
-use glam::DVec3;
 use halfedge::generators;
-use viewer::colors::Display;
 use viewer::document::Document;
-use viewer::tools::{default_tools, Background, Status, Tool, ToolContext, ViewInfo};
+use viewer::tools::{default_tools, Background, Headless, Tool};
 
-struct Fixture {
-    doc: Document,
-    display: Display,
-    status: Status,
-}
-
-impl Fixture {
-    fn new() -> Self {
-        Self {
-            doc: Document::new(generators::icosphere(2), None, None),
-            display: Display::default(),
-            status: Status::default(),
-        }
-    }
-
-    fn ctx(&mut self) -> ToolContext<'_> {
-        ToolContext {
-            doc: &mut self.doc,
-            display: &mut self.display,
-            status: &mut self.status,
-            view: ViewInfo {
-                eye: DVec3::new(0.0, 0.0, 5.0),
-                forward: DVec3::NEG_Z,
-                right: DVec3::X,
-                up: DVec3::Y,
-                scene_radius: 1.0,
-            },
-            pick: None,
-        }
-    }
+/// The tools on a small sphere, without a window.
+fn fixture() -> Headless {
+    Headless::new(Document::new(generators::icosphere(2), None, None))
 }
 
 fn listed(tool: &dyn Tool, name: &str) -> Option<serde_json::Value> {
@@ -57,7 +28,7 @@ const NEEDS_STATE: &[(&str, &str)] = &[("Multiresolution", "level")];
 
 #[test]
 fn every_listed_parameter_is_set_back_by_its_name() {
-    let mut fixture = Fixture::new();
+    let mut fixture = fixture();
     for mut tool in default_tools() {
         let listing = tool.parameters();
         let mut names: Vec<&str> = listing.iter().map(|(n, _)| *n).collect();
@@ -93,7 +64,7 @@ fn every_listed_parameter_is_set_back_by_its_name() {
 
 #[test]
 fn unknown_parameters_are_refused_with_the_tables_names() {
-    let mut fixture = Fixture::new();
+    let mut fixture = fixture();
     for mut tool in default_tools() {
         let mut ctx = fixture.ctx();
         let e = tool
@@ -126,7 +97,7 @@ fn set_values_are_the_listed_values() {
         ("FFD", "grid_u", 9.into()),
         ("FFD", "twist", 45.0.into()),
     ];
-    let mut fixture = Fixture::new();
+    let mut fixture = fixture();
     let mut tools = default_tools();
     for (tool_name, name, value) in cases {
         let tool = tools
@@ -152,7 +123,7 @@ fn set_values_are_the_listed_values() {
 /// through, and the hierarchy's build refuses it with its own message.
 #[test]
 fn out_of_range_values_reach_the_library_which_refuses_them() {
-    let mut fixture = Fixture::new();
+    let mut fixture = fixture();
     let mut tools = default_tools();
     let tool = tools
         .iter_mut()
@@ -190,7 +161,7 @@ fn out_of_range_values_reach_the_library_which_refuses_them() {
 /// edit refuses it (nothing moves).
 #[test]
 fn a_negative_scale_is_refused_by_the_sub_mesh_edit() {
-    let mut fixture = Fixture::new();
+    let mut fixture = fixture();
     let before = fixture.doc.mesh().positions().to_vec();
     let mut tools = default_tools();
     let tool = tools

@@ -1011,17 +1011,14 @@ impl BendelsKlein {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::colors::Display;
     use crate::document::Document;
-    use crate::tools::{Status, ViewInfo};
+    use crate::tools::{Headless, Status};
     use halfedge::{generators, Hierarchy, HierarchyOptions};
 
     /// A document holding a hierarchy of an icosphere at `level`, and the rest of what a
     /// tool context borrows.
     struct Fixture {
-        doc: Document,
-        display: Display,
-        status: Status,
+        tools: Headless,
         input: Mesh,
     }
 
@@ -1039,27 +1036,13 @@ mod tests {
             doc.go_to_level(level, "level").unwrap();
             doc.end_edit();
             Self {
-                doc,
-                display: Display::default(),
-                status: Status::default(),
+                tools: Headless::new(doc),
                 input,
             }
         }
 
         fn ctx(&mut self) -> ToolContext<'_> {
-            ToolContext {
-                doc: &mut self.doc,
-                display: &mut self.display,
-                status: &mut self.status,
-                view: ViewInfo {
-                    eye: DVec3::new(0.0, 0.0, 5.0),
-                    forward: DVec3::NEG_Z,
-                    right: DVec3::X,
-                    up: DVec3::Y,
-                    scene_radius: 1.0,
-                },
-                pick: None,
-            }
+            self.tools.ctx()
         }
     }
 

@@ -296,6 +296,45 @@ pub fn choice_param<T: Copy>(
         })
 }
 
+/// A document with the display and status line a tool context borrows, and a camera
+/// looking down −z from 5 units: tools driven without a window (tests, headless scripts).
+pub struct Headless {
+    /// The document.
+    pub doc: Document,
+    /// What colours the mesh.
+    pub display: Display,
+    /// The status line.
+    pub status: Status,
+}
+
+impl Headless {
+    /// Headless tools on `doc`.
+    pub fn new(doc: Document) -> Self {
+        Self {
+            doc,
+            display: Display::default(),
+            status: Status::default(),
+        }
+    }
+
+    /// The context a tool callback gets (no pick).
+    pub fn ctx(&mut self) -> ToolContext<'_> {
+        ToolContext {
+            doc: &mut self.doc,
+            display: &mut self.display,
+            status: &mut self.status,
+            view: ViewInfo {
+                eye: DVec3::new(0.0, 0.0, 5.0),
+                forward: DVec3::NEG_Z,
+                right: DVec3::X,
+                up: DVec3::Y,
+                scene_radius: 1.0,
+            },
+            pick: None,
+        }
+    }
+}
+
 /// What a tool callback can see and change.
 pub struct ToolContext<'a> {
     /// The mesh and its history. Prefer the helper methods below for edits.

@@ -1005,46 +1005,14 @@ impl Multires {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::colors::Display;
     use crate::document::Document;
-    use crate::tools::Status;
+    use crate::tools::Headless;
     use halfedge::generators;
 
-    fn view() -> ViewInfo {
-        ViewInfo {
-            eye: DVec3::new(0.0, 0.0, 5.0),
-            forward: DVec3::NEG_Z,
-            right: DVec3::X,
-            up: DVec3::Y,
-            scene_radius: 1.0,
-        }
-    }
-
-    /// A document and the rest of what a tool context borrows, for tests without a window.
-    struct Fixture {
-        doc: Document,
-        display: Display,
-        status: Status,
-    }
-
-    impl Fixture {
-        fn new(mesh: Mesh) -> Self {
-            Self {
-                doc: Document::new(mesh, None, None),
-                display: Display::default(),
-                status: Status::default(),
-            }
-        }
-
-        fn ctx(&mut self) -> ToolContext<'_> {
-            ToolContext {
-                doc: &mut self.doc,
-                display: &mut self.display,
-                status: &mut self.status,
-                view: view(),
-                pick: None,
-            }
-        }
+    /// A document on `mesh` and the rest of what a tool context borrows, for tests
+    /// without a window.
+    fn fixture(mesh: Mesh) -> Headless {
+        Headless::new(Document::new(mesh, None, None))
     }
 
     /// Polls `tool` like the viewer does every frame until its build is done.
@@ -1068,7 +1036,7 @@ mod tests {
     fn a_cancelled_build_leaves_the_tool_idle_and_the_mesh_unchanged() {
         // Large enough that the first level takes far longer than asking to cancel.
         let input = generators::icosphere(7);
-        let mut fixture = Fixture::new(input.clone());
+        let mut fixture = fixture(input.clone());
         let mut ctx = fixture.ctx();
         let mut tool = Multires::new();
         tool.target_faces = 200;
@@ -1092,7 +1060,7 @@ mod tests {
 
     #[test]
     fn the_detail_switch_reaches_the_hierarchy() {
-        let mut fixture = Fixture::new(generators::icosphere(3));
+        let mut fixture = fixture(generators::icosphere(3));
         let mut ctx = fixture.ctx();
         let mut tool = Multires::new();
         tool.target_faces = 100;
@@ -1115,7 +1083,7 @@ mod tests {
     #[test]
     fn background_build_gives_the_levels_of_a_direct_build_and_undo_works() {
         let input = generators::icosphere(4);
-        let mut fixture = Fixture::new(input.clone());
+        let mut fixture = fixture(input.clone());
         let mut ctx = fixture.ctx();
         let mut tool = Multires::new();
         tool.target_faces = 200;
@@ -1160,7 +1128,7 @@ mod tests {
 
     #[test]
     fn build_errors_reach_the_status_line() {
-        let mut fixture = Fixture::new(generators::icosphere(2));
+        let mut fixture = fixture(generators::icosphere(2));
         let mut ctx = fixture.ctx();
         let mut tool = Multires::new();
         // Out of range: the library refuses it.
@@ -1178,7 +1146,7 @@ mod tests {
 
     #[test]
     fn a_mesh_changed_during_the_build_refuses_the_result() {
-        let mut fixture = Fixture::new(generators::icosphere(2));
+        let mut fixture = fixture(generators::icosphere(2));
         let mut ctx = fixture.ctx();
         let mut tool = Multires::new();
         tool.target_faces = 40;
@@ -1202,7 +1170,7 @@ mod tests {
     }
 
     /// Builds a hierarchy of `mesh` in the document through the tool, down to `target`.
-    fn built(fixture: &mut Fixture, target: usize) -> Multires {
+    fn built(fixture: &mut Headless, target: usize) -> Multires {
         let mut tool = Multires::new();
         tool.target_faces = target;
         let mut ctx = fixture.ctx();
@@ -1213,7 +1181,7 @@ mod tests {
 
     #[test]
     fn the_document_shows_the_hierarchys_own_mesh_at_every_level() {
-        let mut fixture = Fixture::new(generators::icosphere(3));
+        let mut fixture = fixture(generators::icosphere(3));
         let mut tool = built(&mut fixture, 100);
         let mut ctx = fixture.ctx();
         let coarsest = ctx.doc.hierarchy().unwrap().coarsest_level();
@@ -1231,7 +1199,7 @@ mod tests {
     #[test]
     fn an_edit_at_a_coarse_level_is_carried_to_the_fine_level() {
         let input = generators::icosphere(3);
-        let mut fixture = Fixture::new(input.clone());
+        let mut fixture = fixture(input.clone());
         let mut tool = built(&mut fixture, 100);
         let mut ctx = fixture.ctx();
         let coarsest = ctx.doc.hierarchy().unwrap().coarsest_level();
@@ -1279,7 +1247,7 @@ mod tests {
 
     #[test]
     fn labels_live_in_the_mesh_and_ride_along_through_the_levels() {
-        let mut fixture = Fixture::new(generators::icosphere(3));
+        let mut fixture = fixture(generators::icosphere(3));
         let mut tool = built(&mut fixture, 100);
         let mut ctx = fixture.ctx();
         tool.set_parameter("frontier", &"plane".into(), &mut ctx)
@@ -1320,7 +1288,7 @@ mod tests {
 
     #[test]
     fn the_label_layer_follows_the_mesh_through_undo() {
-        let mut fixture = Fixture::new(generators::icosphere(3));
+        let mut fixture = fixture(generators::icosphere(3));
         let mut tool = built(&mut fixture, 100);
         let mut ctx = fixture.ctx();
         tool.set_parameter("frontier", &"plane".into(), &mut ctx)
