@@ -131,8 +131,8 @@ fn bench(c: &mut Criterion) {
         });
     }
     // Issue 13: a frontier defined on the full mesh and made to hold at every level
-    // (label the two sides of a plane through the middle, `constrain_to_labels`: one
-    // rebuild that collapses no edge across the frontier), against
+    // (label the two sides of a plane through the middle, `constrain_to_labels`: the
+    // records replayed, those near the frontier planned again), against
     // `rounds_coarsen_to_2000` (one build) in this group.
     {
         let options = rounds_options();

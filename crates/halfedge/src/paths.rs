@@ -5,7 +5,7 @@
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
-use crate::{Error, FaceId, HalfedgeId, Mesh, Result, VertexId};
+use crate::{Error, HalfedgeId, Mesh, Result, VertexId};
 
 #[derive(PartialEq)]
 struct Entry(f64, VertexId);
@@ -110,39 +110,59 @@ impl Mesh {
         Ok(loop_halfedges)
     }
 
-    /// Splits the faces along a set of cut edges: faces are flood-filled across every
-    /// edge that is not cut. Returns a region id per face slot (`u32::MAX` for removed
-    /// slots) and the number of regions. `cut` lists halfedges (either direction).
+    /// Splits the faces along a set of cut edges: faces on the two sides of an edge that
+    /// is not cut are in one region. Returns a region id per face slot (`u32::MAX` for
+    /// removed slots) and the number of regions, numbered in the order of each region's
+    /// first face. `cut` lists halfedges (either direction).
+    ///
+    /// One pass over the edges in slot order joins faces in a union–find forest (path
+    /// halving, the smaller root kept), a second pass over the faces numbers the roots:
+    /// both walk the mesh's arrays in order, where a flood fill jumps about them.
     pub fn face_regions(&self, cut: &[HalfedgeId]) -> (Vec<u32>, u32) {
         let mut is_cut = vec![false; self.halfedge_slots()];
         for &h in cut {
             is_cut[self.halfedge_index(h)] = true;
             is_cut[self.halfedge_index(self.opposite(h))] = true;
         }
-        let mut region = vec![u32::MAX; self.face_slots()];
-        let mut count = 0u32;
-        let mut stack: Vec<FaceId> = Vec::new();
-        for f in self.faces() {
-            if region[self.face_index(f)] != u32::MAX {
+        let n_faces = self.face_slots();
+        let mut parent: Vec<u32> = (0..n_faces as u32).collect();
+        let find = |parent: &mut [u32], mut x: u32| -> u32 {
+            while parent[x as usize] != x {
+                let up = parent[parent[x as usize] as usize];
+                parent[x as usize] = up;
+                x = up;
+            }
+            x
+        };
+        for i in (0..self.halfedge_slots()).step_by(2) {
+            let Some(h) = self.halfedge_at(i) else {
+                continue;
+            };
+            if is_cut[i] {
                 continue;
             }
-            region[self.face_index(f)] = count;
-            stack.push(f);
-            while let Some(g) = stack.pop() {
-                for h in self.face_halfedges(g) {
-                    if is_cut[self.halfedge_index(h)] {
-                        continue;
-                    }
-                    if let Some(n) = self.face(self.opposite(h)) {
-                        let r = &mut region[self.face_index(n)];
-                        if *r == u32::MAX {
-                            *r = count;
-                            stack.push(n);
-                        }
-                    }
-                }
+            let (Some(f), Some(g)) = (self.face(h), self.face(self.opposite(h))) else {
+                continue;
+            };
+            let a = find(&mut parent, self.face_index(f) as u32);
+            let b = find(&mut parent, self.face_index(g) as u32);
+            if a != b {
+                parent[a.max(b) as usize] = a.min(b);
             }
-            count += 1;
+        }
+        let mut region = vec![u32::MAX; n_faces];
+        let mut count = 0u32;
+        for i in 0..n_faces {
+            if self.face_at(i).is_none() {
+                continue;
+            }
+            let root = find(&mut parent, i as u32) as usize;
+            // A root is the smallest face slot of its region: numbered before its faces.
+            if region[root] == u32::MAX {
+                region[root] = count;
+                count += 1;
+            }
+            region[i] = region[root];
         }
         (region, count)
     }

@@ -644,6 +644,29 @@ impl Details {
         }
     }
 
+    /// These buffers emptied, for `records` records of `mode` (see
+    /// [`with_capacity`](Self::with_capacity)), keeping the memory they hold.
+    pub(crate) fn recycled(mut self, mode: DetailMode, records: usize) -> Self {
+        self.mode = mode;
+        self.neighbours.clear();
+        self.neighbours.reserve(12 * records);
+        self.offsets.clear();
+        self.offsets.reserve(2 * records + 1);
+        self.offsets.push(0);
+        self.coefficients.clear();
+        self.coefficients.reserve(records);
+        let framed = if mode == DetailMode::LocalFrame {
+            records
+        } else {
+            0
+        };
+        self.framed.clear();
+        self.framed.reserve(framed);
+        self.centres.clear();
+        self.centres.reserve(framed);
+        self
+    }
+
     /// The scheme.
     pub(crate) fn mode(&self) -> DetailMode {
         self.mode
@@ -674,6 +697,22 @@ impl Details {
             self.centres.push(DVec3::ZERO);
         }
         self.refresh(self.coefficients.len() - 1, positions, at);
+    }
+
+    /// Appends a copy of record `r` of `from` (same scheme): for a collapse made again
+    /// on a neighbourhood exactly as it was when `from`'s record was taken.
+    pub(crate) fn push_copy(&mut self, from: &Details, r: usize) {
+        debug_assert_eq!(self.mode, from.mode);
+        let (l0, l1) = from.lists(r);
+        self.neighbours.extend_from_slice(l0);
+        self.offsets.push(self.neighbours.len() as u32);
+        self.neighbours.extend_from_slice(l1);
+        self.offsets.push(self.neighbours.len() as u32);
+        self.coefficients.push(from.coefficients[r]);
+        if self.mode == DetailMode::LocalFrame {
+            self.framed.push(from.framed[r]);
+            self.centres.push(from.centres[r]);
+        }
     }
 
     /// Appends the one-ring `ring` (in rotation order) of one endpoint without the other
