@@ -1327,8 +1327,9 @@ impl Hierarchy {
         // up anything: from now on it cannot fail (its progress never asks it to stop).
         self.options.validate()?;
         check_positions(&input)?;
-        // The records about to be replaced lend their memory to the new ones (the rebuild
-        // then touches no fresh pages, about a fifth of a build on a large mesh).
+        // The records about to be replaced lend their memory to the new ones: one set of
+        // buffers at a time, and no fresh pages to fault in (on the 1.6 M-face bench mesh
+        // 32 k page faults instead of 113 k; the time saved was within this host's noise).
         let storage = spare.unwrap_or_else(|| Storage::take(self));
         let mut rebuilt = Hierarchy::build_validated(input, &self.options, storage, &mut |_| {
             ControlFlow::Continue(())
@@ -1356,9 +1357,8 @@ impl Hierarchy {
 }
 
 /// The buffers of a hierarchy's records and detail coefficients, handed from a hierarchy
-/// that is about to be replaced to the build that replaces it: reusing memory the old
-/// hierarchy has already touched spares the rebuild most of its page faults (about a
-/// fifth of a build on a large mesh).
+/// that is about to be replaced to the build that replaces it: the rebuild then holds one
+/// set of buffers instead of two and faults in no fresh pages.
 #[derive(Default)]
 pub(crate) struct Storage {
     records: Vec<CollapseRecord>,
