@@ -513,6 +513,22 @@ impl BlendSession {
     /// As [`apply`](Self::apply); nothing is changed then.
     pub fn apply_in_hierarchy(&mut self, hierarchy: &mut Hierarchy, a: DMat4) -> Result<()> {
         self.apply(hierarchy.mesh_mut(), a)?;
+        self.mark_in_hierarchy(hierarchy)
+    }
+
+    /// The marks of [`apply_in_hierarchy`](Self::apply_in_hierarchy) alone, for an edit
+    /// applied elsewhere (to a copy of the hierarchy's mesh whose positions were then
+    /// copied back, as an interactive application does): the handle is marked with the
+    /// session's current transform ([`Hierarchy::set_affine_mark`]), the handle and the
+    /// deformable region as the edit's region ([`Hierarchy::mark_region`]). The session
+    /// must have been made on the hierarchy's mesh at its current level. With the paper's
+    /// translations nothing is marked.
+    ///
+    /// # Errors
+    /// [`EditError::Stale`] when the session was not made on the hierarchy's mesh at its
+    /// current level; nothing is marked then.
+    pub fn mark_in_hierarchy(&self, hierarchy: &mut Hierarchy) -> Result<()> {
+        self.check_mesh(hierarchy.mesh())?;
         if hierarchy.detail_mode() == halfedge::DetailMode::LocalFrame {
             let map = glam::DAffine3::from_mat4(self.power.transform());
             if map.is_finite() {

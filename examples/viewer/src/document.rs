@@ -341,6 +341,26 @@ impl Document {
         Ok(result)
     }
 
+    /// Lets `mark` tell the hierarchy how the open position edit moved its mesh (affine
+    /// and region marks, `Hierarchy::set_affine_mark` / `mark_region`), so that refining
+    /// it places the finer levels as the edit meant: a handle lands exactly, a region's
+    /// motion is interpolated over its fine vertices. Not an undo step of its own: the
+    /// marks belong to the positions the edit wrote, and undo or redo of a position step
+    /// drops every mark (they would describe motion the mesh no longer has). Does nothing
+    /// and returns `Ok(None)` when the document holds a plain mesh.
+    ///
+    /// # Errors
+    /// The error of `mark`.
+    pub fn mark_hierarchy<R, E>(
+        &mut self,
+        mark: impl FnOnce(&mut Hierarchy) -> Result<R, E>,
+    ) -> Result<Option<R>, E> {
+        match &mut self.content {
+            Content::Levels(h) => mark(h).map(Some),
+            Content::Plain(_) => Ok(None),
+        }
+    }
+
     /// Moves the hierarchy to `level` (coarser or finer, with its detail coefficients),
     /// as an undo step named `label`; level changes in one open edit (a slider drag) are
     /// one step. The step stores the level and the positions left, not the mesh.
@@ -415,6 +435,11 @@ impl Document {
     fn swap_in(&mut self, entry: Entry) -> Entry {
         let snapshot = match entry.snapshot {
             Snapshot::Positions(mut p) => {
+                // The hierarchy's marks describe the motion of the positions being
+                // swapped out.
+                if let Content::Levels(h) = &mut self.content {
+                    h.clear_marks();
+                }
                 let positions = self.content.mesh_for_values().positions_mut();
                 if p.len() == positions.len() {
                     positions.swap_with_slice(&mut p);

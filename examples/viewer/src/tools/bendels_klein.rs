@@ -237,10 +237,12 @@ impl BendelsKlein {
         ctx: &mut ToolContext<'_>,
         regions: Regions,
     ) -> Result<(), ToolError> {
-        // Made on the scratch mesh the session is applied to (a session is bound to its
-        // mesh: see `halfedge::MeshBinding`), which has the document's positions.
+        // Made on the document's mesh (a session is bound to its mesh: see
+        // `halfedge::MeshBinding`): it applies to the scratch copy made since and marks
+        // the document's hierarchy (see `apply_transform`).
         let options = self.options();
-        let mesh = self.scratch.sync(ctx.doc);
+        self.scratch.sync(ctx.doc);
+        let mesh = ctx.doc.mesh();
         let session = BlendSession::new(mesh, regions, options)?;
         let handle = session.regions().handle();
         self.pivot =
@@ -359,6 +361,9 @@ impl BendelsKlein {
             .collect();
         let n = slots.len();
         copy_positions(ctx, label, self.scratch.mesh(), slots.into_iter());
+        // At a coarse level of a hierarchy the handle's transform and the moved region are
+        // marked: refining lands the handle exactly and keeps the fixed region still.
+        ctx.doc.mark_hierarchy(|h| session.mark_in_hierarchy(h))?;
         ctx.info(format!(
             "Bendels–Klein: handle transform applied to {n} vertices (exp(α log A)) in {}",
             ms(t)
@@ -1154,6 +1159,84 @@ mod tests {
         assert_eq!(bits(ctx.mesh().positions()), before_positions);
         ctx.doc.go_to_level(0, "levels").unwrap();
         assert_eq!(ctx.mesh().n_vertices(), input.n_vertices());
+    }
+
+    /// At level 2 of the fixture: paints the handle (top cap) and the fixed part (lower
+    /// half), turns the handle by 40° about x and lifts it, as one undo step. Returns the
+    /// tool (its session made).
+    fn rotate_the_cap(ctx: &mut ToolContext<'_>) -> BendelsKlein {
+        let mut tool = BendelsKlein::default();
+        let mesh = ctx.mesh();
+        tool.paint = (0..mesh.vertex_slots())
+            .map(|i| match mesh.vertex_at(i).map(|v| mesh.position(v).z) {
+                Some(z) if z > 0.7 => PAINT_HANDLE,
+                Some(z) if z < 0.0 => PAINT_FIXED,
+                _ => PAINT_NONE,
+            })
+            .collect();
+        tool.source = Some(RegionSource::Painted);
+        tool.build(ctx).unwrap();
+        for (name, value) in [
+            ("axis", serde_json::json!([1.0, 0.0, 0.0])),
+            ("angle", serde_json::json!(40.0)),
+            ("translate", serde_json::json!([0.0, 0.1, 0.3])),
+        ] {
+            tool.set_parameter(name, &value, ctx).unwrap();
+        }
+        assert!(!ctx.status.is_error, "{}", ctx.status.message);
+        ctx.doc.end_edit();
+        tool
+    }
+
+    #[test]
+    fn a_handle_rotated_at_a_coarse_level_lands_exactly_at_full_resolution() {
+        // Refined to the input, the handle is exactly the handle's rigid transform of its
+        // input vertices and the fixed half has not moved, bit for bit: the tool marks the
+        // document's hierarchy with the handle's transform and the moved region.
+        let level = 2;
+        let mut fixture = Fixture::at_level(level);
+        let input = fixture.input.clone();
+        let mut ctx = fixture.ctx();
+        let tool = rotate_the_cap(&mut ctx);
+        let a = glam::DAffine3::from_mat4(tool.transform());
+        let roles = tool.session.as_ref().unwrap().regions().roles().to_vec();
+        let ancestors = ctx.doc.hierarchy().unwrap().ancestors(level).unwrap();
+        ctx.doc.go_to_level(0, "levels").unwrap();
+        let fine = ctx.mesh();
+        let (mut handle, mut fixed, mut worst) = (0, 0, 0.0f64);
+        for v in input.vertices() {
+            let (p, q) = (input.position(v), fine.position(v));
+            match roles[ancestors[input.vertex_index(v)] as usize] {
+                Role::Fixed => {
+                    fixed += 1;
+                    assert_eq!(q, p, "fixed vertex {v} moved");
+                }
+                Role::Handle => {
+                    handle += 1;
+                    worst = worst.max((q - a.transform_point3(p)).length());
+                }
+                Role::Deformable => {}
+            }
+        }
+        assert!(handle > 10 && fixed > 100, "{handle} handle, {fixed} fixed");
+        // The icosphere's diagonal is about 3.5.
+        assert!(
+            worst < 1e-9,
+            "a handle vertex is {worst:e} off its rigid target"
+        );
+    }
+
+    #[test]
+    fn undoing_a_coarse_edit_drops_its_marks() {
+        // The edit undone at its level, the hierarchy refines to the input bit for bit:
+        // the handle's mark went with the positions it described.
+        let mut fixture = Fixture::at_level(2);
+        let input = fixture.input.clone();
+        let mut ctx = fixture.ctx();
+        rotate_the_cap(&mut ctx);
+        assert_eq!(ctx.doc.undo().as_deref(), Some("Bendels–Klein transform"));
+        ctx.doc.go_to_level(0, "levels").unwrap();
+        assert_eq!(bits(ctx.mesh().positions()), bits(input.positions()));
     }
 
     #[test]
