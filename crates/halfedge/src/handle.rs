@@ -346,32 +346,24 @@ impl Iterator for LiveIndices<'_> {
     }
     #[inline]
     fn fold<B, F: FnMut(B, u32) -> B>(self, init: B, mut f: F) -> B {
+        // One call of `f` in the whole loop: the caller's closure is then inlined into it
+        // (with a call per element in several fast paths, a large closure — a
+        // circulator with its checks — is compiled out of line and called per element).
         let mut acc = init;
         let mut mask = self.mask;
-        while mask != 0 {
-            acc = f(acc, self.base + mask.trailing_zeros() / 2);
-            mask &= mask - 1;
-        }
         let mut base = self.base;
-        for &word in self.words {
-            base = base.wrapping_add(PER_WORD as u32);
-            let mut mask = live_bits(word) & self.select;
-            if mask == ALL_SLOTS {
-                for i in base..base + PER_WORD as u32 {
-                    acc = f(acc, i);
-                }
-            } else if mask == EVEN_SLOTS {
-                for i in (base..base + PER_WORD as u32).step_by(2) {
-                    acc = f(acc, i);
-                }
-            } else {
-                while mask != 0 {
-                    acc = f(acc, base + mask.trailing_zeros() / 2);
-                    mask &= mask - 1;
-                }
+        let mut words = self.words;
+        loop {
+            while mask != 0 {
+                acc = f(acc, base + mask.trailing_zeros() / 2);
+                mask &= mask - 1;
             }
+            let Some(&word) = words.next() else {
+                return acc;
+            };
+            base = base.wrapping_add(PER_WORD as u32);
+            mask = live_bits(word) & self.select;
         }
-        acc
     }
 }
 
