@@ -37,6 +37,7 @@
 use glam::DVec3;
 
 use crate::handle::{slot, NONE};
+use crate::mesh::HalfedgeRec;
 use crate::{Error, FaceId, HalfedgeId, Mesh, Result, VertexId};
 
 /// Why [`Mesh::is_collapse_ok`] refuses a collapse (OpenMesh's
@@ -201,9 +202,16 @@ pub(crate) struct Step {
     /// Number of halfedges moved from `v0` to `v1`.
     moved: u32,
     /// Bit `i`: the collapse changed the outgoing halfedge of vertex `i` of
-    /// `[v1, vl, vr]` (the split writes back only those).
+    /// `[v1, vl, vr]` (the split writes back only those). Bits [`FACE_LEFT`] and
+    /// [`FACE_RIGHT`]: the collapse re-chose the halfedge of the face beyond the removed
+    /// edge `vl–v0`, `v0–vr`.
     changed: u8,
 }
+
+/// [`Step::changed`]: the face beyond `vl–v0` had `v0 → vl` as its halfedge.
+const FACE_LEFT: u8 = 1 << 3;
+/// [`Step::changed`]: the face beyond `v0–vr` had `vr → v0` as its halfedge.
+const FACE_RIGHT: u8 = 1 << 4;
 
 impl Step {
     /// `v1`, `vl`, `vr`, as far as they exist, with their outgoing halfedges before the
@@ -449,6 +457,7 @@ impl Mesh {
     /// removed halfedges, which their tombstones keep: so it gives the same before the
     /// collapse (which writes them) and after it (the split, which restores them).
     /// `None` when an index is out of range.
+    #[inline]
     fn links_of(&self, h: u32, s: &Sides) -> Option<([Link; 4], usize)> {
         let o = h ^ 1;
         let flip = |x: u32| if x == NONE { NONE } else { x ^ 1 };
@@ -614,6 +623,11 @@ impl Mesh {
             self.n_faces -= 1;
         }
         let mut changed = 0u8;
+        for (bit, [g, _, _]) in [FACE_LEFT, FACE_RIGHT].into_iter().zip(face_halfedges) {
+            if g != NONE {
+                changed |= bit;
+            }
+        }
         for (i, (&v, &old)) in record_vertices.iter().zip(&before).enumerate() {
             if self.vertex_conn[slot(v)] != old {
                 changed |= 1 << i;
@@ -652,16 +666,17 @@ impl Mesh {
         let sides = self.sides_checked(step.v0v1)?;
         let (links, n_links) = self.links_of(step.v0v1, &sides)?;
         let mut face_halfedges = [[NONE; 3]; 2];
-        for (k, (x, r)) in [(sides.vlv0, sides.v1vl), (sides.v0vr, sides.vrv1)]
-            .into_iter()
-            .enumerate()
+        for (k, (bit, x, r)) in [
+            (FACE_LEFT, sides.vlv0, sides.v1vl),
+            (FACE_RIGHT, sides.v0vr, sides.vrv1),
+        ]
+        .into_iter()
+        .enumerate()
         {
-            if x != NONE {
+            if x != NONE && step.changed & bit != 0 {
                 let y = x ^ 1;
                 let g = self.he.get(y as usize)?.face;
-                if g != NONE && self.face_conn.get(g as usize) == Some(&r) {
-                    face_halfedges[k] = [g, y, r];
-                }
+                face_halfedges[k] = [g, y, r];
             }
         }
         let now = |v: u32| self.vertex_conn.get(v as usize).copied();
@@ -976,47 +991,52 @@ impl Mesh {
 
     /// The second stage of [`prefetch_step`](Self::prefetch_step), a few steps later
     /// (it reads the collapsed edge's halfedges): the other halfedges of the two
-    /// triangles and their slot states, the two faces' slot states and the faces beyond
-    /// the two removed edges. `links`: also the halfedges the rewritten links name (read
-    /// from the removed edges' halfedges, which must have been prefetched by an earlier
-    /// call without `links`).
+    /// triangles and their slot states, and the two faces' slot states.
     #[inline]
-    pub(crate) fn prefetch_sides(&self, step: &Step, links: bool) {
+    pub(crate) fn prefetch_sides(&self, step: &Step) {
         use crate::prefetch::prefetch;
         if self.he.get((step.v0v1 | 1) as usize).is_none() {
             return;
         }
         let s = self.sides(step.v0v1);
-        if !links {
-            for x in [s.vlv0, s.v0vr] {
-                if x != NONE {
-                    prefetch(&self.he, x as usize);
-                    prefetch(&self.he, (x ^ 1) as usize);
-                    self.halfedge_slots_.prefetch_state(x as usize);
-                }
+        for x in [s.vlv0, s.v0vr] {
+            if x != NONE {
+                prefetch(&self.he, x as usize);
+                prefetch(&self.he, (x ^ 1) as usize);
+                self.halfedge_slots_.prefetch_state(x as usize);
             }
-            for x in [s.v1vl, s.vrv1] {
-                if x != NONE {
-                    prefetch(&self.he, x as usize);
-                }
+        }
+        for x in [s.v1vl, s.vrv1] {
+            if x != NONE {
+                prefetch(&self.he, x as usize);
             }
-            for f in [s.fl, s.fr] {
-                if f != NONE {
-                    self.face_slots_.prefetch_state(f as usize);
-                }
+        }
+        for f in [s.fl, s.fr] {
+            if f != NONE {
+                self.face_slots_.prefetch_state(f as usize);
             }
+        }
+    }
+
+    /// The third stage, a few steps after [`prefetch_sides`](Self::prefetch_sides) (it
+    /// reads the removed edges' halfedges): the neighbours of `v0 → vl` and `vr → v0` in
+    /// their outer faces, whose links a collapse or a split rewrites (those of the other
+    /// removed halfedges are in the two triangles), and those outer faces' halfedges: for
+    /// a collapse (`collapse`), which compares them, both; for a split, those it restores.
+    #[inline]
+    pub(crate) fn prefetch_links(&self, step: &Step, collapse: bool) {
+        use crate::prefetch::prefetch;
+        if self.he.get((step.v0v1 | 1) as usize).is_none() {
             return;
         }
-        if let Some((links, n)) = self.links_of(step.v0v1, &s) {
-            for &[x, _, new] in &links[..n] {
-                prefetch(&self.he, x as usize);
-                prefetch(&self.he, new as usize);
-            }
-        }
-        // The faces beyond the two removed edges, whose halfedge may be re-chosen.
-        for x in [s.vlv0, s.v0vr] {
+        let s = self.sides(step.v0v1);
+        for (bit, x) in [(FACE_LEFT, s.vlv0), (FACE_RIGHT, s.v0vr)] {
             if let Some(rec) = self.he.get((x ^ 1) as usize) {
-                prefetch(&self.face_conn, rec.face as usize);
+                prefetch(&self.he, rec.prev as usize);
+                prefetch(&self.he, rec.next as usize);
+                if collapse || step.changed & bit != 0 {
+                    prefetch(&self.face_conn, rec.face as usize);
+                }
             }
         }
     }
@@ -1080,9 +1100,7 @@ impl Mesh {
     pub(crate) fn vertex_split_unchecked(&mut self, step: &Step) {
         self.touch_topology();
         let h = step.v0v1;
-        let o = h ^ 1;
         let s = self.sides(h);
-        let (links, n_links) = self.links_of(h, &s).unwrap_or(([[NONE; 3]; 4], 0));
         // `v1 → vl`, or on the boundary the next boundary halfedge.
         let start = self.he[h as usize].next;
         self.vertex_slots_.revive(step.v0 as usize);
@@ -1105,40 +1123,32 @@ impl Mesh {
             k = (self.he[k].prev ^ 1) as usize;
             self.he[k ^ 1].to = v0;
         }
-        for &[x, old, _] in &links[..n_links] {
-            self.set_next_ix(x, old);
+        // The removed halfedges kept their `next` and `prev` as tombstones, and every
+        // link the collapse rewrote (the `links_of` the collapse) was a `next` or a
+        // `prev` that named one of them: pointing their neighbours back at them restores
+        // every link.
+        for x in s.removed(h) {
+            for k in [x, x ^ 1] {
+                let HalfedgeRec { next, prev, .. } = self.he[k as usize];
+                self.he[prev as usize].next = k;
+                self.he[next as usize].prev = k;
+            }
         }
-        // The kept halfedges return to their faces; the removed cycles are intact tombstones.
+        // The kept halfedges return to their faces.
         if s.fl != NONE {
             self.he[s.v1vl as usize].face = s.fl;
-            self.set_next_ix(h, s.v1vl);
-            self.set_next_ix(s.v1vl, s.vlv0);
-            self.set_next_ix(s.vlv0, h);
         }
         if s.fr != NONE {
             self.he[s.vrv1 as usize].face = s.fr;
-            self.set_next_ix(o, s.v0vr);
-            self.set_next_ix(s.v0vr, s.vrv1);
-            self.set_next_ix(s.vrv1, o);
-        }
-        // Tombstones kept their `next`, but the collapse re-pointed the `prev` of their
-        // successors: make `prev` agree with `next` again around every revived halfedge.
-        for x in s.removed(h) {
-            for k in [x, x ^ 1] {
-                let n = self.he[k as usize].next;
-                self.he[n as usize].prev = k;
-            }
         }
         // A face beyond a removed edge whose halfedge the collapse re-chose (from the
-        // removed `v0 → vl` to the kept `v1 → vl`, or from `vr → v0` to `vr → v1`: a
-        // halfedge that was in another face before) gets the removed one back.
-        for (x, r) in [(s.vlv0, s.v1vl), (s.v0vr, s.vrv1)] {
-            if x != NONE {
+        // removed `v0 → vl` to the kept `v1 → vl`, or from `vr → v0` to `vr → v1`) gets
+        // the removed one back.
+        for (bit, x) in [(FACE_LEFT, s.vlv0), (FACE_RIGHT, s.v0vr)] {
+            if step.changed & bit != 0 {
                 let y = x ^ 1;
                 let g = self.he[y as usize].face;
-                if g != NONE && self.face_conn[g as usize] == r {
-                    self.face_conn[g as usize] = y;
-                }
+                self.face_conn[g as usize] = y;
             }
         }
         for (v, before, changed) in step.restored_vertices() {

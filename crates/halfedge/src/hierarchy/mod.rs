@@ -73,16 +73,17 @@ use detail::{Collapsed, Details, Placement};
 /// will split (see [`crate::prefetch`]): first the collapsed edge, the positions and the
 /// vertex halfedges the record names, then the halfedges and faces the collapsed edge's
 /// tombstones name, then the links the removed edges' tombstones name.
-const SPLIT_PREFETCH_DISTANCE: usize = 10;
-const SIDES_PREFETCH_DISTANCE: usize = 7;
-const LINKS_PREFETCH_DISTANCE: usize = 4;
+const SPLIT_PREFETCH_DISTANCE: usize = 16;
+const SIDES_PREFETCH_DISTANCE: usize = 11;
+const LINKS_PREFETCH_DISTANCE: usize = 6;
 /// How many splits ahead [`Hierarchy::split_next`] prefetches the positions a record's
 /// detail coefficients read.
 const DETAIL_PREFETCH_DISTANCE: usize = 8;
 /// As [`SPLIT_PREFETCH_DISTANCE`] and [`SIDES_PREFETCH_DISTANCE`], for
 /// [`Hierarchy::collapse_next`].
-const COLLAPSE_PREFETCH_DISTANCE: usize = 10;
-const COLLAPSE_SIDES_PREFETCH_DISTANCE: usize = 8;
+const COLLAPSE_PREFETCH_DISTANCE: usize = 16;
+const COLLAPSE_SIDES_PREFETCH_DISTANCE: usize = 11;
+const COLLAPSE_LINKS_PREFETCH_DISTANCE: usize = 7;
 /// How many splits ahead [`Hierarchy::split_next`] prefetches the record's neighbour list
 /// and coefficients (which the prefetch of the neighbours' positions reads, later).
 const LIST_PREFETCH_DISTANCE: usize = 20;
@@ -948,7 +949,10 @@ impl Hierarchy {
             self.mesh.prefetch_step(ahead, true);
         }
         if let Some(ahead) = self.records.get(r + COLLAPSE_SIDES_PREFETCH_DISTANCE) {
-            self.mesh.prefetch_sides(ahead, false);
+            self.mesh.prefetch_sides(ahead);
+        }
+        if let Some(ahead) = self.records.get(r + COLLAPSE_LINKS_PREFETCH_DISTANCE) {
+            self.mesh.prefetch_links(ahead, true);
         }
         for (step, distance) in RING_PREFETCH_DISTANCES.into_iter().enumerate() {
             if let Some(ahead) = self.records.get(r + distance) {
@@ -1074,10 +1078,10 @@ impl Hierarchy {
             self.mesh.prefetch_step(&self.records[ahead], false);
         }
         if let Some(ahead) = r.checked_sub(SIDES_PREFETCH_DISTANCE) {
-            self.mesh.prefetch_sides(&self.records[ahead], false);
+            self.mesh.prefetch_sides(&self.records[ahead]);
         }
         if let Some(ahead) = r.checked_sub(LINKS_PREFETCH_DISTANCE) {
-            self.mesh.prefetch_sides(&self.records[ahead], true);
+            self.mesh.prefetch_links(&self.records[ahead], false);
         }
         if let Some(ahead) = r.checked_sub(DETAIL_PREFETCH_DISTANCE) {
             if !clean {
