@@ -1098,14 +1098,6 @@ impl Mesh {
     /// [`vertex_split`](Self::vertex_split) once it checked). The two triangles and the
     /// rewritten links are read back from the tombstones of the removed halfedges.
     pub(crate) fn vertex_split_unchecked(&mut self, step: &Step) {
-        self.vertex_split_topology(step);
-        self.positions[step.v0 as usize] = step.p0;
-        self.positions[step.v1 as usize] = step.p1;
-    }
-
-    /// [`vertex_split_unchecked`](Self::vertex_split_unchecked) without the positions
-    /// (the caller places both vertices).
-    pub(crate) fn vertex_split_topology(&mut self, step: &Step) {
         self.touch_topology();
         let h = step.v0v1;
         let s = self.sides(h);
@@ -1165,5 +1157,7 @@ impl Mesh {
                 self.vertex_conn[v as usize] = before;
             }
         }
+        self.positions[step.v0 as usize] = step.p0;
+        self.positions[step.v1 as usize] = step.p1;
     }
 }

@@ -271,10 +271,6 @@ pub(crate) struct Details {
     lists: Vec<u32>,
     /// Where `v1`'s list starts in `lists`.
     split: usize,
-    /// Walks around survivors a few splits ahead, one rotation per split, prefetching
-    /// the neighbours' positions that those splits' lists will name (see
-    /// [`Details::prefetch_rings`]): `(halfedge reached, first halfedge, steps left)`.
-    walks: Vec<(u32, u32, u32)>,
     /// Local frames: `[d0, d1]`, the offsets of `p0` and `p1` from the placed survivor in
     /// the record's frame (or in world axes when `framed` is false).
     /// Translation: `[C_i(v0), C_i(v1)]`.
@@ -634,7 +630,6 @@ impl Details {
             mode,
             lists: Vec::with_capacity(64),
             split: 0,
-            walks: Vec::with_capacity(32),
             coefficients: Vec::with_capacity(records),
             framed: Vec::with_capacity(if mode == DetailMode::LocalFrame {
                 records
@@ -880,42 +875,6 @@ impl Details {
         }
         if let Some(centres) = self.centres.get_mut(range) {
             centres.copy_from_slice(&saved.centres);
-        }
-    }
-
-    /// Advances every walk in flight by one rotation around its survivor, prefetching
-    /// the next halfedge and the position of the neighbour the current one points to,
-    /// and starts a walk around the survivor of the collapsed halfedge `ahead` (slot
-    /// index, a record some splits ahead; its halfedge pair should be in cache). The
-    /// lists of a split are the survivor's ring before it (both endpoints' neighbours),
-    /// a chain of dependent loads that this spreads over the splits before it. The mesh
-    /// may not yet be as that split will find it, so a walk may go astray: that only
-    /// costs useless prefetches.
-    #[inline]
-    pub(crate) fn prefetch_rings(
-        &mut self,
-        he: &[crate::mesh::HalfedgeRec],
-        positions: &[DVec3],
-        ahead: Option<u32>,
-    ) {
-        use crate::prefetch::prefetch;
-        self.walks.retain_mut(|(k, first, left)| {
-            let Some(rec) = he.get(*k as usize) else {
-                return false;
-            };
-            prefetch(positions, rec.to as usize);
-            let next = rec.prev ^ 1;
-            *k = next;
-            *left = left.saturating_sub(1);
-            if next == *first || *left == 0 {
-                return false;
-            }
-            prefetch(he, next as usize);
-            true
-        });
-        if let Some(first) = ahead.and_then(|h| he.get(h as usize)).map(|rec| rec.next) {
-            prefetch(he, first as usize);
-            self.walks.push((first, first, 24));
         }
     }
 

@@ -84,11 +84,8 @@ const DETAIL_PREFETCH_DISTANCE: usize = 8;
 const COLLAPSE_PREFETCH_DISTANCE: usize = 16;
 const COLLAPSE_SIDES_PREFETCH_DISTANCE: usize = 11;
 const COLLAPSE_LINKS_PREFETCH_DISTANCE: usize = 7;
-/// How many splits ahead [`Hierarchy::split_next`] starts walking around a record's
-/// survivor to prefetch its neighbours' positions, one rotation per split (see
-/// `Details::prefetch_rings`).
-const RING_WALK_DISTANCE: usize = 8;
-/// How many splits ahead [`Hierarchy::split_next`] prefetches the record's coefficients.
+/// How many splits ahead [`Hierarchy::split_next`] prefetches the record's neighbour list
+/// and coefficients (which the prefetch of the neighbours' positions reads, later).
 const LIST_PREFETCH_DISTANCE: usize = 20;
 /// How many splits ahead [`Hierarchy::split_next`] prefetches the first, second and third
 /// halfedge of the walk around `v1` of the record it will split.
@@ -976,10 +973,10 @@ impl Hierarchy {
         }
         if !clean {
             // The neighbour lists of the coefficients: the rings of v0 and v1 now.
-            let he = &self.mesh.he;
+            let mesh = &self.mesh;
             self.details.load_lists(
-                crate::iter::vertex_walk(he, old.v0v1).map(|(_, rec)| rec.to),
-                crate::iter::vertex_walk(he, old.v0v1 ^ 1).map(|(_, rec)| rec.to),
+                mesh.adjacent_vertices(v0).map(|w| mesh.vertex_index(w) as u32),
+                mesh.adjacent_vertices(v1).map(|w| mesh.vertex_index(w) as u32),
                 [old.v0, old.v1],
             );
         }
@@ -1099,12 +1096,6 @@ impl Hierarchy {
             }
         }
         if !clean {
-            let ahead = r.checked_sub(RING_WALK_DISTANCE);
-            self.details.prefetch_rings(
-                &self.mesh.he,
-                &self.mesh.positions,
-                ahead.map(|a| self.records[a].v0v1),
-            );
             if let Some(far) = r.checked_sub(LIST_PREFETCH_DISTANCE) {
                 self.details.prefetch_record(far);
                 crate::prefetch::prefetch(&self.placements, far);
@@ -1136,16 +1127,15 @@ impl Hierarchy {
                 ));
             }
         }
-        // What the split changes beyond the connectivity, for undoing it (below): the
-        // trusted split leaves the positions to this step, a checked one writes them.
+        // What the split overwrites, for undoing it (below).
         let before = (
-            (!trusted).then(|| self.mesh.positions.get(i0).copied()).flatten(),
-            (!trusted).then(|| self.mesh.positions.get(i1).copied()).flatten(),
+            self.mesh.positions.get(i0).copied(),
+            self.mesh.positions.get(i1).copied(),
             self.mesh.stamp_count,
             self.mesh.level_tag,
         );
         if trusted {
-            self.mesh.vertex_split_topology(&record);
+            self.mesh.vertex_split_unchecked(&record);
         } else {
             let fingerprint = self.records.fingerprints[r];
             let Some(public) = self.mesh.public_record(&record, fingerprint, self.origin())
@@ -1160,19 +1150,15 @@ impl Hierarchy {
         }
         if let Some((anchor, in_region)) = by_details {
             // The rings of v0 and v1 are back as they were when the edge collapsed: the
-            // neighbour lists the coefficients were computed from (from v0v1 and v1v0,
-            // which the split has just touched; the lists do not depend on the start).
-            let he = &self.mesh.he;
-            let h = record.v0v1;
+            // neighbour lists the coefficients were computed from.
+            let (v0, v1) = (self.mesh.vh(record.v0), self.mesh.vh(record.v1));
             self.details.load_lists(
-                crate::iter::vertex_walk(he, h).map(|(_, rec)| {
-                    crate::prefetch::prefetch(&self.mesh.positions, rec.to as usize);
-                    rec.to
-                }),
-                crate::iter::vertex_walk(he, h ^ 1).map(|(_, rec)| {
-                    crate::prefetch::prefetch(&self.mesh.positions, rec.to as usize);
-                    rec.to
-                }),
+                self.mesh
+                    .adjacent_vertices(v0)
+                    .map(|w| self.mesh.vertex_index(w) as u32),
+                self.mesh
+                    .adjacent_vertices(v1)
+                    .map(|w| self.mesh.vertex_index(w) as u32),
                 [record.v0, record.v1],
             );
             placement = self.place(r, anchor, at, in_region);
@@ -1203,12 +1189,11 @@ impl Hierarchy {
                 }
             }
         }
-        let [q0, q1] = match placement {
-            Placement::At(both) => both,
-            _ => [record.p0, record.p1],
-        };
-        self.mesh.positions[i0] = q0;
-        self.mesh.positions[i1] = q1;
+        // The split put v0 and v1 back at p0 and p1.
+        if let Placement::At([q0, q1]) = placement {
+            self.mesh.positions[i0] = q0;
+            self.mesh.positions[i1] = q1;
+        }
         if !self.marks.is_empty() {
             self.marks.set(i0, mark);
             self.marks.set(i1, mark);
