@@ -264,13 +264,11 @@ impl Frame {
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Details {
     mode: DetailMode,
-    /// The neighbour lists of the record being refreshed or placed, `v0`'s then `v1`'s
-    /// ([`Details::load_lists`]): they are not stored, but read from the mesh, where the
-    /// rings of `v0` and `v1` are the same whenever the record is collapsed again or has
-    /// just been split.
-    lists: Vec<u32>,
-    /// Where `v1`'s list starts in `lists`.
-    split: usize,
+    /// Neighbour vertex indices of all records, `v0`'s list then `v1`'s list per record.
+    neighbours: Vec<u32>,
+    /// `offsets[2 r]..offsets[2 r + 1]` is `v0`'s list of record `r`,
+    /// `offsets[2 r + 1]..offsets[2 r + 2]` is `v1`'s; starts with 0.
+    offsets: Vec<u32>,
     /// Local frames: `[d0, d1]`, the offsets of `p0` and `p1` from the placed survivor in
     /// the record's frame (or in world axes when `framed` is false).
     /// Translation: `[C_i(v0), C_i(v1)]`.
@@ -626,10 +624,12 @@ pub(crate) struct Collapsed {
 impl Details {
     /// Room for about `records` records, in `mode`.
     pub(crate) fn with_capacity(mode: DetailMode, records: usize) -> Self {
+        let mut offsets = Vec::with_capacity(2 * records + 1);
+        offsets.push(0);
         Self {
             mode,
-            lists: Vec::with_capacity(64),
-            split: 0,
+            neighbours: Vec::with_capacity(12 * records),
+            offsets,
             coefficients: Vec::with_capacity(records),
             framed: Vec::with_capacity(if mode == DetailMode::LocalFrame {
                 records
@@ -650,18 +650,24 @@ impl Details {
     }
 
     /// Appends the record of the next collapse: the neighbours of `v0` (without `v1`) and
-    /// of `v1` (without `v0`) given as vertex indices by the two iterators (their
-    /// one-rings, see [`load_lists`](Self::load_lists)), and computes its coefficients
-    /// from `positions` (of the neighbours) and `at`.
+    /// of `v1` (without `v0`) given as vertex indices by the two iterators, and computes
+    /// its coefficients from `positions` (of the neighbours) and `at`.
     pub(crate) fn push(
         &mut self,
         positions: &[DVec3],
         v0_ring: impl Iterator<Item = u32>,
         v1_ring: impl Iterator<Item = u32>,
-        ends: [u32; 2],
+        [i0, i1]: [u32; 2],
         at: Collapsed,
     ) {
-        self.load_lists(v0_ring, v1_ring, ends);
+        let start0 = self.neighbours.len();
+        self.push_ring(v0_ring, i1);
+        let start1 = self.neighbours.len();
+        self.push_ring(v1_ring, i0);
+        let end = self.neighbours.len();
+        debug_assert!(start0 <= start1);
+        self.offsets.push(start1 as u32);
+        self.offsets.push(end as u32);
         self.coefficients.push([DVec3::ZERO; 2]);
         if self.mode == DetailMode::LocalFrame {
             self.framed.push(NO_RING);
@@ -670,59 +676,57 @@ impl Details {
         self.refresh(self.coefficients.len() - 1, positions, at);
     }
 
-    /// Loads the neighbour lists of the record that [`refresh`](Self::refresh) or
-    /// [`placement`](Self::placement) will use next, from the one-rings of its endpoints
-    /// `[i0, i1]` (vertex indices, in rotation order, from any start) as the mesh has them
-    /// when the edge collapses or has just been split: `v0`'s ring without `v1`, starting
-    /// right after `v1`, then `v1`'s without `v0`, starting right after `v0`, so that the
-    /// two lists walk once around the collapsed edge (its link), in the same order
-    /// whichever halfedge a ring starts from.
-    pub(crate) fn load_lists(
-        &mut self,
-        v0_ring: impl Iterator<Item = u32>,
-        v1_ring: impl Iterator<Item = u32>,
-        [i0, i1]: [u32; 2],
-    ) {
-        self.lists.clear();
-        Self::push_ring(&mut self.lists, v0_ring, i1);
-        self.split = self.lists.len();
-        Self::push_ring(&mut self.lists, v1_ring, i0);
-    }
-
-    /// Appends the one-ring `ring` of one endpoint without the other endpoint `other`,
-    /// starting right after `other`.
-    fn push_ring(lists: &mut Vec<u32>, ring: impl Iterator<Item = u32>, other: u32) {
-        let start = lists.len();
-        lists.extend(ring);
-        let list = &mut lists[start..];
+    /// Appends the one-ring `ring` (in rotation order) of one endpoint without the other
+    /// endpoint `other`, starting right after `other`: so `v0`'s list then `v1`'s list
+    /// walk once around the collapsed edge (its link).
+    fn push_ring(&mut self, ring: impl Iterator<Item = u32>, other: u32) {
+        let start = self.neighbours.len();
+        self.neighbours.extend(ring);
+        let list = &mut self.neighbours[start..];
         if let Some(k) = list.iter().position(|&i| i == other) {
             list.rotate_left(k + 1);
-            lists.pop();
+            self.neighbours.pop();
         }
     }
 
-    /// The loaded neighbour lists: `(v0's, v1's)`.
+    /// The neighbour lists of record `r`: `(v0's, v1's)`.
     #[inline]
-    pub(crate) fn lists(&self) -> (&[u32], &[u32]) {
-        self.lists.split_at(self.split.min(self.lists.len()))
+    pub(crate) fn lists(&self, r: usize) -> (&[u32], &[u32]) {
+        let a = self.offsets[2 * r] as usize;
+        let b = self.offsets[2 * r + 1] as usize;
+        let c = self.offsets[2 * r + 2] as usize;
+        (&self.neighbours[a..b], &self.neighbours[b..c])
     }
 
-    /// The loaded [`Lists`].
+    /// True when every neighbour of record `r` is an index into `positions` of length
+    /// `len`: always so on the hierarchy's own mesh, checked before using a mesh the
+    /// hierarchy cannot vouch for.
+    pub(crate) fn in_bounds(&self, r: usize, len: usize) -> bool {
+        self.all_neighbours(r).iter().all(|&i| (i as usize) < len)
+    }
+
+    /// The [`Lists`] of record `r`.
     #[inline]
-    fn record_lists(&self) -> Lists<'_> {
-        let (l0, l1) = self.lists();
+    fn record_lists(&self, r: usize) -> Lists<'_> {
+        let (l0, l1) = self.lists(r);
         Lists {
             l0,
             l1,
-            link: &self.lists,
+            link: self.all_neighbours(r),
         }
+    }
+
+    /// Both neighbour lists of record `r`, one after the other.
+    #[inline]
+    fn all_neighbours(&self, r: usize) -> &[u32] {
+        &self.neighbours[self.offsets[2 * r] as usize..self.offsets[2 * r + 2] as usize]
     }
 
     /// Recomputes the coefficients of record `r` from the neighbours' current positions
     /// and the collapse `at` (when the record is collapsed again after an edit at a finer
     /// level).
     pub(crate) fn refresh(&mut self, r: usize, positions: &[DVec3], at: Collapsed) {
-        let (l0, l1) = self.lists();
+        let (l0, l1) = self.lists(r);
         match self.mode {
             DetailMode::Translation => {
                 let c = [centroid(positions, l0), centroid(positions, l1)];
@@ -730,7 +734,7 @@ impl Details {
             }
             DetailMode::LocalFrame => {
                 let offsets = [at.p0 - at.placed, at.p1 - at.placed];
-                let lists = self.record_lists();
+                let lists = self.record_lists(r);
                 let framed = Frame::choose(positions, lists).and_then(|(ring, f)| {
                     let centre = centroid(positions, lists.ring(ring)) - at.placed;
                     Some((
@@ -764,7 +768,7 @@ impl Details {
         in_region: bool,
         before_on_request: bool,
     ) -> Placement {
-        let (l0, l1) = self.lists();
+        let (l0, l1) = self.lists(r);
         let [a, b] = self.coefficients[r];
         match self.mode {
             DetailMode::Translation => {
@@ -780,7 +784,7 @@ impl Details {
                 if ring == NO_RING {
                     return Placement::At([anchor + a, anchor + b]);
                 }
-                let lists = self.record_lists();
+                let lists = self.record_lists(r);
                 match Frame::of_ring_with_centroid(positions, lists, ring) {
                     Some((f, centre)) => {
                         let carried = [anchor + f.world(a), anchor + f.world(b)];
@@ -820,7 +824,7 @@ impl Details {
                     }
                     // Coordinates so large that the frame overflows: the caller refuses
                     // the non-finite placement.
-                    None if Frame::overflows(positions, self.record_lists(), ring) => {
+                    None if Frame::overflows(positions, self.record_lists(r), ring) => {
                         Placement::At([DVec3::INFINITY; 2])
                     }
                     // The edit flattened the neighbourhood to a line or a point: its
@@ -848,6 +852,15 @@ impl Details {
             .max(t.translation.abs().max_element());
         ((anchor - expected).abs().max_element() <= 1e-10 * scale.max(f64::MIN_POSITIVE))
             .then(|| [t.transform_point3(at.p0), t.transform_point3(at.p1)])
+    }
+
+    /// Prefetches the current positions of record `r`'s neighbours, which
+    /// [`placement`](Self::placement) will read (see [`crate::prefetch`]).
+    #[inline]
+    pub(crate) fn prefetch(&self, r: usize, positions: &[DVec3]) {
+        for &i in self.all_neighbours(r) {
+            crate::prefetch::prefetch(positions, i as usize);
+        }
     }
 
     /// The coefficients of the records in `range`, to [`restore`](Self::restore) them.
@@ -878,16 +891,24 @@ impl Details {
         }
     }
 
-    /// Prefetches record `r`'s own memory: its coefficients.
+    /// Prefetches record `r`'s own memory: its neighbour list (the indices that
+    /// [`prefetch`](Self::prefetch) will follow a few records later) and coefficients.
     #[inline]
     pub(crate) fn prefetch_record(&self, r: usize) {
+        if let Some(&start) = self.offsets.get(2 * r) {
+            let start = start as usize;
+            crate::prefetch::prefetch(&self.neighbours, start);
+            // A list of ~12 indices may straddle two cache lines.
+            crate::prefetch::prefetch(&self.neighbours, start + 15);
+        }
         crate::prefetch::prefetch(&self.coefficients, r);
         crate::prefetch::prefetch(&self.centres, r);
     }
 
     /// Bytes used (for reports).
     pub(crate) fn heap_bytes(&self) -> usize {
-        self.lists.capacity() * 4
+        self.neighbours.capacity() * 4
+            + self.offsets.capacity() * 4
             + self.coefficients.capacity() * std::mem::size_of::<[DVec3; 2]>()
             + self.framed.capacity()
             + self.centres.capacity() * std::mem::size_of::<DVec3>()
@@ -935,7 +956,7 @@ mod tests {
             d.placement(0, &positions, None, DVec3::Z, at, false, false),
             Placement::At([at.p0, at.p1])
         );
-        let (a, b) = d.lists();
+        let (a, b) = d.lists(0);
         assert_eq!((a, b), (&[0u32, 1, 2][..], &[2u32][..]));
     }
 

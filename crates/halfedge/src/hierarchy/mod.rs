@@ -932,7 +932,9 @@ impl Hierarchy {
             && mesh.he.get(hi).map(|rec| rec.to) == Some(old.v1)
             && mesh.vertex_slots_.is_live_index(i0)
             && mesh.vertex_slots_.is_live_index(i1);
-        if !joins {
+        if !joins
+            || (self.stamp.is_none() && !self.details.in_bounds(r, self.mesh.positions().len()))
+        {
             return Err(Error::CollapseRefused {
                 halfedge: if hi < mesh.he.len() {
                     mesh.hh(old.v0v1)
@@ -971,15 +973,6 @@ impl Hierarchy {
                 "collapsing {v0} → {v1} would put {v1} at {p} (positions {p0} and {p1})"
             )));
         }
-        if !clean {
-            // The neighbour lists of the coefficients: the rings of v0 and v1 now.
-            let mesh = &self.mesh;
-            self.details.load_lists(
-                mesh.adjacent_vertices(v0).map(|w| mesh.vertex_index(w) as u32),
-                mesh.adjacent_vertices(v1).map(|w| mesh.vertex_index(w) as u32),
-                [old.v0, old.v1],
-            );
-        }
         // While the hierarchy trusts its mesh, the topology is exactly the one the build
         // collapsed this record in (every step since was its own, and splits are exact
         // inverses), so the collapse is as legal as it was then.
@@ -996,7 +989,6 @@ impl Hierarchy {
                 p1: record.p1,
                 placed: p,
             };
-            // The neighbours' positions are those before the collapse (it moves none).
             self.details.refresh(r, self.mesh.positions(), at);
         }
         self.mesh.positions[i1] = p;
@@ -1045,6 +1037,13 @@ impl Hierarchy {
         let trusted = self.stamp == Some(self.mesh.topology_stamp());
         if !trusted {
             self.distrust();
+            if !self.details.in_bounds(r, self.mesh.positions().len()) {
+                return Err(Error::SplitRefused(format!(
+                    "a neighbour recorded for the split of vertex {} from {} is not a \
+                     vertex of this mesh",
+                    self.records[r].v0, self.records[r].v1
+                )));
+            }
         }
         let clean = self.positions_are_clean();
         let record = &self.records[r];
@@ -1055,27 +1054,26 @@ impl Hierarchy {
         };
         let (i0, i1) = (record.v0 as usize, record.v1 as usize);
         let mut mark = UNMARKED;
-        // Where the split puts its vertices: decided here when the survivor did not move
-        // or its affine mark fits; by the detail coefficients (`Some(anchor, in_region)`)
-        // once the split has given back the rings they are read from.
-        let mut placement = Placement::Recorded;
-        let mut by_details = None;
-        if let (Some(&anchor), false) = (self.mesh.positions.get(i1), clean) {
-            mark = self.marks.of(i1);
-            let affine = (mark < IN_REGION)
-                .then(|| Details::affine_placement(&self.marks.maps[mark as usize], anchor, at))
-                .flatten();
-            match affine {
-                Some(both) => placement = Placement::At(both),
-                None => {
-                    // An affine mark that does not fit still says "in the region".
-                    if mark != UNMARKED {
-                        mark = IN_REGION;
+        let placement = match self.mesh.positions.get(i1) {
+            Some(&anchor) if !clean => {
+                mark = self.marks.of(i1);
+                let affine = (mark < IN_REGION)
+                    .then(|| Details::affine_placement(&self.marks.maps[mark as usize], anchor, at))
+                    .flatten();
+                match affine {
+                    Some(both) => Placement::At(both),
+                    None => {
+                        // An affine mark that does not fit still says "in the region".
+                        if mark != UNMARKED {
+                            mark = IN_REGION;
+                        }
+                        let free = mark == IN_REGION;
+                        self.place(r, anchor, at, free)
                     }
-                    by_details = Some((anchor, mark == IN_REGION));
                 }
             }
-        }
+            _ => Placement::Recorded,
+        };
         if let Some(ahead) = r.checked_sub(SPLIT_PREFETCH_DISTANCE) {
             self.mesh.prefetch_step(&self.records[ahead], false);
         }
@@ -1087,6 +1085,7 @@ impl Hierarchy {
         }
         if let Some(ahead) = r.checked_sub(DETAIL_PREFETCH_DISTANCE) {
             if !clean {
+                self.details.prefetch(ahead, self.mesh.positions());
                 if let Some(rest) = self.rests.last().filter(|rest| rest.active) {
                     let record = &self.records[ahead];
                     for v in [record.v0, record.v1] {
@@ -1127,13 +1126,6 @@ impl Hierarchy {
                 ));
             }
         }
-        // What the split overwrites, for undoing it (below).
-        let before = (
-            self.mesh.positions.get(i0).copied(),
-            self.mesh.positions.get(i1).copied(),
-            self.mesh.stamp_count,
-            self.mesh.level_tag,
-        );
         if trusted {
             self.mesh.vertex_split_unchecked(&record);
         } else {
@@ -1147,47 +1139,6 @@ impl Hierarchy {
                 )));
             };
             self.mesh.vertex_split(&public)?;
-        }
-        if let Some((anchor, in_region)) = by_details {
-            // The rings of v0 and v1 are back as they were when the edge collapsed: the
-            // neighbour lists the coefficients were computed from.
-            let (v0, v1) = (self.mesh.vh(record.v0), self.mesh.vh(record.v1));
-            self.details.load_lists(
-                self.mesh
-                    .adjacent_vertices(v0)
-                    .map(|w| self.mesh.vertex_index(w) as u32),
-                self.mesh
-                    .adjacent_vertices(v1)
-                    .map(|w| self.mesh.vertex_index(w) as u32),
-                [record.v0, record.v1],
-            );
-            placement = self.place(r, anchor, at, in_region);
-            if let Placement::At([q0, q1]) = placement {
-                if !(q0.is_finite() && q1.is_finite()) {
-                    // Nothing may change when the step cannot complete: collapse again
-                    // (the exact inverse of the split), put the positions back, and with
-                    // them the connectivity's change count (the connectivity is the one
-                    // that count names again).
-                    let h = self.mesh.hh(record.v0v1);
-                    if trusted {
-                        let fingerprint = self.records.fingerprints[r];
-                        self.mesh.recollapse_unchecked(&record, fingerprint);
-                    } else {
-                        self.mesh.collapse(h)?;
-                    }
-                    let (p0, p1, count, tag) = before;
-                    if let (Some(p0), Some(p1)) = (p0, p1) {
-                        self.mesh.positions[i0] = p0;
-                        self.mesh.positions[i1] = p1;
-                    }
-                    self.mesh.stamp_count = count;
-                    self.mesh.level_tag = tag;
-                    return Err(Error::Overflow(format!(
-                        "splitting vertex {} from {} would put them at {q0} and {q1}",
-                        record.v0, record.v1
-                    )));
-                }
-            }
         }
         // The split put v0 and v1 back at p0 and p1.
         if let Placement::At([q0, q1]) = placement {
