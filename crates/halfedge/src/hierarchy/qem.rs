@@ -405,6 +405,7 @@ pub(crate) fn build(
     if h.built_levels() < options.max_levels {
         h.close_level();
     }
+    h.details.shrink_to_fit();
     Ok(())
 }
 
