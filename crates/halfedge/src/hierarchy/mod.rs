@@ -63,8 +63,8 @@ use std::ops::ControlFlow;
 use glam::{DAffine3, DVec3};
 
 use crate::attributes::Attribute;
-use crate::labels::{self, Label};
 use crate::collapse::Step;
+use crate::labels::{self, Label};
 use crate::{CollapseRecord, Error, HalfedgeId, Mesh, Result, VertexId};
 pub use detail::DetailMode;
 use detail::{Collapsed, Details, Placement};
@@ -763,9 +763,7 @@ impl Hierarchy {
             .steps
             .iter()
             .zip(&self.records.fingerprints)
-            .filter_map(|(step, &fingerprint)| {
-                self.mesh.public_record(step, fingerprint, origin)
-            })
+            .filter_map(|(step, &fingerprint)| self.mesh.public_record(step, fingerprint, origin))
             .collect()
     }
     /// Number of collapse records (the collapses from the input to the coarsest level).
@@ -978,7 +976,10 @@ impl Hierarchy {
         // inverses), so the collapse is as legal as it was then.
         let (record, fingerprint) = if self.stamp.is_some() {
             let fingerprint = self.records.fingerprints[r];
-            (self.mesh.recollapse_unchecked(&old, fingerprint), fingerprint)
+            (
+                self.mesh.recollapse_unchecked(&old, fingerprint),
+                fingerprint,
+            )
         } else {
             let record = self.mesh.collapse(h)?;
             (*record.step(), record.fingerprint())
@@ -1130,8 +1131,7 @@ impl Hierarchy {
             self.mesh.vertex_split_unchecked(&record);
         } else {
             let fingerprint = self.records.fingerprints[r];
-            let Some(public) = self.mesh.public_record(&record, fingerprint, self.origin())
-            else {
+            let Some(public) = self.mesh.public_record(&record, fingerprint, self.origin()) else {
                 return Err(Error::SplitRefused(format!(
                     "the record of vertex {} split from {} names elements this mesh does \
                      not have",
@@ -1667,6 +1667,27 @@ impl Hierarchy {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_public_records_fit_their_own_mesh_and_no_other() {
+        // The hierarchy keeps compact records; the public ones it makes on demand split
+        // like the kernel's: on a clone of its mesh the last record splits and gives back
+        // its vertex where it was, on another hierarchy's mesh (same input) it is refused.
+        let options = HierarchyOptions::rounds().with_target_faces(60);
+        let h = Hierarchy::build(crate::generators::icosphere(3), &options).unwrap();
+        let other = Hierarchy::build(crate::generators::icosphere(3), &options).unwrap();
+        let records = h.records();
+        assert_eq!(records.len(), h.n_records());
+        let last = records.last().unwrap();
+        let mut mesh = h.mesh().clone();
+        mesh.vertex_split(last).unwrap();
+        mesh.check().unwrap();
+        assert_eq!(mesh.position(last.v0), last.p0);
+        assert!(mesh.vertex_split(last).is_err(), "split twice");
+        let mut foreign = other.mesh().clone();
+        let e = foreign.vertex_split(last).unwrap_err();
+        assert!(e.to_string().contains("another mesh"), "{e}");
+    }
 
     #[test]
     fn replacing_a_mark_again_and_again_keeps_the_maps_bounded() {
