@@ -72,10 +72,11 @@ fn bench(c: &mut Criterion) {
     for (name, options) in [("rounds", rounds_options()), ("qem", qem_options())] {
         let built = Hierarchy::build(mesh.clone(), &options).unwrap();
         eprintln!(
-            "{name}: levels {:?}, {} records, {} MB of records",
+            "{name}: levels {:?}, {} records, {} MB of records ({:.1} bytes per collapse)",
             built.level_face_counts(),
-            built.records().len(),
-            built.record_bytes() >> 20
+            built.n_records(),
+            built.record_bytes() >> 20,
+            built.record_bytes() as f64 / built.n_records().max(1) as f64
         );
         group.bench_function(format!("{name}_coarsen_to_2000"), |b| {
             b.iter_batched(

@@ -944,6 +944,16 @@ impl Details {
         crate::prefetch::prefetch(&self.centres, r);
     }
 
+    /// Gives back the room reserved for records that were not made (the neighbour
+    /// lists are reserved for about twelve indices per record).
+    pub(crate) fn shrink_to_fit(&mut self) {
+        self.neighbours.shrink_to_fit();
+        self.offsets.shrink_to_fit();
+        self.coefficients.shrink_to_fit();
+        self.framed.shrink_to_fit();
+        self.centres.shrink_to_fit();
+    }
+
     /// Bytes used (for reports).
     pub(crate) fn heap_bytes(&self) -> usize {
         self.neighbours.capacity() * 4

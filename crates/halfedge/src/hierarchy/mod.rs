@@ -64,14 +64,27 @@ use std::ops::ControlFlow;
 use glam::{DAffine3, DVec3};
 
 use crate::attributes::Attribute;
+use crate::collapse::Step;
 use crate::labels::{self, Label};
 use crate::{CollapseRecord, Error, HalfedgeId, Mesh, Result, VertexId};
 pub use detail::DetailMode;
 use detail::{Collapsed, Details, Placement};
 
 /// How many splits ahead [`Hierarchy::split_next`] prefetches the memory of the record it
-/// will split (see [`crate::prefetch`]).
-const SPLIT_PREFETCH_DISTANCE: usize = 8;
+/// will split (see [`crate::prefetch`]): first the collapsed edge, the positions and the
+/// vertex halfedges the record names, then the halfedges and faces the collapsed edge's
+/// tombstones name, then the links the removed edges' tombstones name.
+const SPLIT_PREFETCH_DISTANCE: usize = 16;
+const SIDES_PREFETCH_DISTANCE: usize = 11;
+const LINKS_PREFETCH_DISTANCE: usize = 6;
+/// How many splits ahead [`Hierarchy::split_next`] prefetches the positions a record's
+/// detail coefficients read.
+const DETAIL_PREFETCH_DISTANCE: usize = 8;
+/// As [`SPLIT_PREFETCH_DISTANCE`] and [`SIDES_PREFETCH_DISTANCE`], for
+/// [`Hierarchy::collapse_next`].
+const COLLAPSE_PREFETCH_DISTANCE: usize = 16;
+const COLLAPSE_SIDES_PREFETCH_DISTANCE: usize = 11;
+const COLLAPSE_LINKS_PREFETCH_DISTANCE: usize = 7;
 /// How many splits ahead [`Hierarchy::split_next`] prefetches the record's neighbour list
 /// and coefficients (which the prefetch of the neighbours' positions reads, later).
 const LIST_PREFETCH_DISTANCE: usize = 20;
@@ -347,7 +360,7 @@ struct LabelBinding {
 /// fail with an error, never silently).
 pub struct Hierarchy {
     mesh: Mesh,
-    records: Vec<CollapseRecord>,
+    records: Records,
     /// Survivor position after the record's last collapse and its parameter `t` along
     /// the edge (`p1 + t (p0 − p1)` plus a residual), for collapsing again after an edit
     /// and for knowing, when splitting, whether the survivor moved since.
@@ -387,6 +400,69 @@ pub struct Hierarchy {
     /// This hierarchy's number, for the level tags of its mesh (see
     /// [`crate::MeshBinding`]).
     id: u64,
+}
+
+/// The collapse records of a hierarchy: the compact records the walks use, and apart
+/// (cold) what only a checked split compares: each record's fingerprint, and once for all
+/// records the mesh instance they were made on.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Records {
+    steps: Vec<Step>,
+    fingerprints: Vec<u64>,
+    /// The mesh's [`Mesh::topology_stamp`] after the hierarchy's last step while it
+    /// trusted its mesh: every record was made on that mesh instance (or one it was
+    /// cloned from) at or before that change count, which is what
+    /// `Mesh::is_own_history` needs to vouch for a record's indices.
+    origin: u128,
+}
+
+impl Records {
+    /// Number of records.
+    #[inline]
+    pub(crate) fn len(&self) -> usize {
+        self.steps.len()
+    }
+    /// Record `r`.
+    #[inline]
+    pub(crate) fn get(&self, r: usize) -> Option<&Step> {
+        self.steps.get(r)
+    }
+    /// The last record.
+    #[inline]
+    pub(crate) fn last(&self) -> Option<&Step> {
+        self.steps.last()
+    }
+    /// Appends a record.
+    #[inline]
+    fn push(&mut self, step: Step, fingerprint: u64) {
+        self.steps.push(step);
+        self.fingerprints.push(fingerprint);
+    }
+    /// Empties the records, keeping their memory, with room for `n`.
+    pub(crate) fn recycle(&mut self, n: usize) {
+        self.steps.clear();
+        self.steps.reserve(n);
+        self.fingerprints.clear();
+        self.fingerprints.reserve(n);
+        self.origin = 0;
+    }
+    /// Gives back unused capacity.
+    pub(crate) fn shrink_to_fit(&mut self) {
+        self.steps.shrink_to_fit();
+        self.fingerprints.shrink_to_fit();
+    }
+    /// Heap bytes.
+    fn heap_bytes(&self) -> usize {
+        self.steps.capacity() * std::mem::size_of::<Step>() + self.fingerprints.capacity() * 8
+    }
+}
+
+impl std::ops::Index<usize> for Records {
+    type Output = Step;
+    #[inline]
+    fn index(&self, r: usize) -> &Step {
+        &self.steps[r]
+    }
 }
 
 /// A new hierarchy number.
@@ -565,8 +641,7 @@ impl Hierarchy {
             mut placements,
             details,
         } = storage;
-        records.clear();
-        records.reserve(expected_records);
+        records.recycle(expected_records);
         placements.clear();
         placements.reserve(expected_records);
         Self {
@@ -628,10 +703,10 @@ impl Hierarchy {
             at,
         );
         // The methods have just checked `is_collapse_ok` through the legality layer.
-        let record = self.mesh.collapse_unchecked(h);
+        let (record, fingerprint) = self.mesh.collapse_unchecked(h);
         let i1 = self.mesh.vertex_index(v1);
         self.mesh.positions[i1] = p;
-        self.records.push(record);
+        self.records.push(record, fingerprint);
         self.placements.push((p, t));
         self.applied += 1;
     }
@@ -643,12 +718,12 @@ impl Hierarchy {
     pub(crate) fn replay_collapse(&mut self, source: &Hierarchy, r: usize) {
         debug_assert_eq!(self.applied, self.records.len());
         let old = &source.records[r];
-        let record = self.mesh.recollapse_unchecked(old);
+        let fingerprint = source.records.fingerprints[r];
+        let record = self.mesh.recollapse_unchecked(old, fingerprint);
         let (p, t) = source.placements[r];
-        let i1 = self.mesh.vertex_index(old.v1);
-        self.mesh.positions[i1] = p;
+        self.mesh.positions[old.v1 as usize] = p;
         self.details.push_copy(&source.details, r);
-        self.records.push(record);
+        self.records.push(record, fingerprint);
         self.placements.push((p, t));
         self.applied += 1;
     }
@@ -740,9 +815,22 @@ impl Hierarchy {
     pub fn level_ends(&self) -> &[usize] {
         &self.level_ends
     }
-    /// All collapse records, in collapse order.
-    pub fn records(&self) -> &[CollapseRecord] {
-        &self.records
+    /// All collapse records, in collapse order, made on demand from the compact records
+    /// the hierarchy keeps (a record that is collapsed now fits
+    /// [`Mesh::vertex_split`] of the hierarchy's mesh, or of a clone of it, like the
+    /// record [`Mesh::collapse`] gives).
+    pub fn records(&self) -> Vec<CollapseRecord> {
+        let origin = self.origin();
+        self.records
+            .steps
+            .iter()
+            .zip(&self.records.fingerprints)
+            .filter_map(|(step, &fingerprint)| self.mesh.public_record(step, fingerprint, origin))
+            .collect()
+    }
+    /// Number of collapse records (the collapses from the input to the coarsest level).
+    pub fn n_records(&self) -> usize {
+        self.records.len()
     }
     /// Number of records currently collapsed: the position in the sequence.
     pub fn applied(&self) -> usize {
@@ -758,9 +846,24 @@ impl Hierarchy {
     }
     /// Bytes of memory held by the records and detail coefficients.
     pub fn record_bytes(&self) -> usize {
-        self.records.capacity() * std::mem::size_of::<CollapseRecord>()
+        self.records.heap_bytes()
             + self.placements.capacity() * std::mem::size_of::<(DVec3, f64)>()
             + self.details.heap_bytes()
+    }
+
+    /// The mesh instance and change count every record was made at or before (see
+    /// [`Records::origin`]).
+    fn origin(&self) -> (u64, u64) {
+        let stamp = self.stamp.unwrap_or(self.records.origin);
+        ((stamp >> 64) as u64, stamp as u64)
+    }
+
+    /// Stops trusting the mesh (somebody else changed its connectivity): every later step
+    /// is checked.
+    fn distrust(&mut self) {
+        if let Some(stamp) = self.stamp.take() {
+            self.records.origin = stamp;
+        }
     }
 
     fn check_level(&self, level: usize) -> Result<usize> {
@@ -874,33 +977,50 @@ impl Hierarchy {
                 self.sync_rest(k, r);
             }
         }
-        let Some(old) = self.records.get(r) else {
+        let Some(&old) = self.records.get(r) else {
             return Ok(false);
         };
-        let (v0, v1, h) = (old.v0, old.v1, old.v0v1);
         if self.stamp != Some(self.mesh.topology_stamp()) {
-            self.stamp = None;
+            self.distrust();
         }
-        if !self.mesh.is_valid_halfedge(h)
-            || self.mesh.from_vertex(h) != v0
-            || self.mesh.to_vertex(h) != v1
+        // The edge must still join the record's two vertices (checked on the slot indices,
+        // which may be out of range on a mesh the hierarchy cannot vouch for).
+        let (i0, i1, hi) = (old.v0 as usize, old.v1 as usize, old.v0v1 as usize);
+        let mesh = &self.mesh;
+        let joins = mesh.halfedge_slots_.is_live_index(hi)
+            && mesh.he.get(hi ^ 1).map(|rec| rec.to) == Some(old.v0)
+            && mesh.he.get(hi).map(|rec| rec.to) == Some(old.v1)
+            && mesh.vertex_slots_.is_live_index(i0)
+            && mesh.vertex_slots_.is_live_index(i1);
+        if !joins
             || (self.stamp.is_none() && !self.details.in_bounds(r, self.mesh.positions().len()))
         {
             return Err(Error::CollapseRefused {
-                halfedge: h,
+                halfedge: if hi < mesh.he.len() {
+                    mesh.hh(old.v0v1)
+                } else {
+                    HalfedgeId::default()
+                },
                 reason: crate::CollapseVeto::EdgeDeleted,
             });
         }
-        if let Some(ahead) = self.records.get(r + SPLIT_PREFETCH_DISTANCE) {
-            self.mesh.prefetch_collapse(ahead);
+        let (v0, v1, h) = (mesh.vh(old.v0), mesh.vh(old.v1), mesh.hh(old.v0v1));
+        if let Some(ahead) = self.records.get(r + COLLAPSE_PREFETCH_DISTANCE) {
+            self.mesh.prefetch_step(ahead, true);
+        }
+        if let Some(ahead) = self.records.get(r + COLLAPSE_SIDES_PREFETCH_DISTANCE) {
+            self.mesh.prefetch_sides(ahead);
+        }
+        if let Some(ahead) = self.records.get(r + COLLAPSE_LINKS_PREFETCH_DISTANCE) {
+            self.mesh.prefetch_links(ahead, true);
         }
         for (step, distance) in RING_PREFETCH_DISTANCES.into_iter().enumerate() {
             if let Some(ahead) = self.records.get(r + distance) {
                 self.mesh.prefetch_collapse_ring(ahead, step as u32);
             }
         }
-        let p0 = self.mesh.position(v0);
-        let p1 = self.mesh.position(v1);
+        let p0 = self.mesh.positions[i0];
+        let p1 = self.mesh.positions[i1];
         let (placed, t) = self.placements[r];
         let p = if p0 == old.p0 && p1 == old.p1 {
             placed
@@ -916,10 +1036,15 @@ impl Hierarchy {
         // While the hierarchy trusts its mesh, the topology is exactly the one the build
         // collapsed this record in (every step since was its own, and splits are exact
         // inverses), so the collapse is as legal as it was then.
-        let record = if self.stamp.is_some() {
-            self.mesh.recollapse_unchecked(old)
+        let (record, fingerprint) = if self.stamp.is_some() {
+            let fingerprint = self.records.fingerprints[r];
+            (
+                self.mesh.recollapse_unchecked(&old, fingerprint),
+                fingerprint,
+            )
         } else {
-            self.mesh.collapse(h)?
+            let record = self.mesh.collapse(h)?;
+            (*record.step(), record.fingerprint())
         };
         if !clean {
             let at = Collapsed {
@@ -929,10 +1054,10 @@ impl Hierarchy {
             };
             self.details.refresh(r, self.mesh.positions(), at);
         }
-        let i1 = self.mesh.vertex_index(v1);
         self.mesh.positions[i1] = p;
         self.placements[r].0 = p;
-        self.records[r] = record;
+        self.records.steps[r] = record;
+        self.records.fingerprints[r] = fingerprint;
         self.applied += 1;
         // Marks describe motion relative to the records below the current position; a
         // record collapsed again now holds the moved positions.
@@ -974,10 +1099,11 @@ impl Hierarchy {
         let r = self.applied - 1;
         let trusted = self.stamp == Some(self.mesh.topology_stamp());
         if !trusted {
-            self.stamp = None;
+            self.distrust();
             if !self.details.in_bounds(r, self.mesh.positions().len()) {
                 return Err(Error::SplitRefused(format!(
-                    "a neighbour recorded for {} → {} is not a vertex of this mesh",
+                    "a neighbour recorded for the split of vertex {} from {} is not a \
+                     vertex of this mesh",
                     self.records[r].v0, self.records[r].v1
                 )));
             }
@@ -989,10 +1115,7 @@ impl Hierarchy {
             p1: record.p1,
             placed: self.placements[r].0,
         };
-        let (i0, i1) = (
-            self.mesh.vertex_index(record.v0),
-            self.mesh.vertex_index(record.v1),
-        );
+        let (i0, i1) = (record.v0 as usize, record.v1 as usize);
         let mut mark = UNMARKED;
         let placement = match self.mesh.positions.get(i1) {
             Some(&anchor) if !clean => {
@@ -1015,13 +1138,21 @@ impl Hierarchy {
             _ => Placement::Recorded,
         };
         if let Some(ahead) = r.checked_sub(SPLIT_PREFETCH_DISTANCE) {
-            self.mesh.prefetch_split(&self.records[ahead]);
+            self.mesh.prefetch_step(&self.records[ahead], false);
+        }
+        if let Some(ahead) = r.checked_sub(SIDES_PREFETCH_DISTANCE) {
+            self.mesh.prefetch_sides(&self.records[ahead]);
+        }
+        if let Some(ahead) = r.checked_sub(LINKS_PREFETCH_DISTANCE) {
+            self.mesh.prefetch_links(&self.records[ahead], false);
+        }
+        if let Some(ahead) = r.checked_sub(DETAIL_PREFETCH_DISTANCE) {
             if !clean {
                 self.details.prefetch(ahead, self.mesh.positions());
                 if let Some(rest) = self.rests.last().filter(|rest| rest.active) {
                     let record = &self.records[ahead];
                     for v in [record.v0, record.v1] {
-                        crate::prefetch::prefetch(&rest.positions, self.mesh.vertex_index(v));
+                        crate::prefetch::prefetch(&rest.positions, v as usize);
                     }
                 }
             }
@@ -1038,12 +1169,12 @@ impl Hierarchy {
                 self.mesh.prefetch_moved(&self.records[ahead], step as u32);
             }
         }
-        let record = &self.records[r];
+        let record = self.records[r];
         // Checked before the split: nothing may change if the step cannot complete.
         if let Placement::At([q0, q1]) = placement {
             if !(q0.is_finite() && q1.is_finite()) {
                 return Err(Error::Overflow(format!(
-                    "splitting {} → {} would put them at {q0} and {q1}",
+                    "splitting vertex {} from {} would put them at {q0} and {q1}",
                     record.v0, record.v1
                 )));
             }
@@ -1059,9 +1190,17 @@ impl Hierarchy {
             }
         }
         if trusted {
-            self.mesh.vertex_split_unchecked(record);
+            self.mesh.vertex_split_unchecked(&record);
         } else {
-            self.mesh.vertex_split(record)?;
+            let fingerprint = self.records.fingerprints[r];
+            let Some(public) = self.mesh.public_record(&record, fingerprint, self.origin()) else {
+                return Err(Error::SplitRefused(format!(
+                    "the record of vertex {} split from {} names elements this mesh does \
+                     not have",
+                    record.v0, record.v1
+                )));
+            };
+            self.mesh.vertex_split(&public)?;
         }
         // The split put v0 and v1 back at p0 and p1.
         if let Placement::At([q0, q1]) = placement {
@@ -1085,7 +1224,8 @@ impl Hierarchy {
         }
         self.consistent_from = self.consistent_from.min(r);
         if let Some(binding) = classify {
-            labels::classify_split(&mut self.mesh, binding.attribute, record.v0);
+            let v0 = self.mesh.vh(record.v0);
+            labels::classify_split(&mut self.mesh, binding.attribute, v0);
         }
         self.applied = r;
         self.stamp = self.stamp.map(|_| self.mesh.topology_stamp());
@@ -1166,11 +1306,8 @@ impl Hierarchy {
         if rest.synced <= down_to {
             return;
         }
-        for record in self.records[down_to..rest.synced].iter().rev() {
-            let (i0, i1) = (
-                self.mesh.vertex_index(record.v0),
-                self.mesh.vertex_index(record.v1),
-            );
+        for record in self.records.steps[down_to..rest.synced].iter().rev() {
+            let (i0, i1) = (record.v0 as usize, record.v1 as usize);
             if let (Some(_), Some(_)) = (rest.positions.get(i0), rest.positions.get(i1)) {
                 rest.positions[i0] = record.p0.to_array();
                 rest.positions[i1] = record.p1.to_array();
@@ -1361,7 +1498,7 @@ impl Hierarchy {
 /// set of buffers instead of two and faults in no fresh pages.
 #[derive(Default)]
 pub(crate) struct Storage {
-    records: Vec<CollapseRecord>,
+    records: Records,
     placements: Vec<(DVec3, f64)>,
     details: Option<Details>,
 }
@@ -1386,7 +1523,8 @@ impl Storage {
 struct Saved {
     mesh: Mesh,
     range: std::ops::Range<usize>,
-    records: Vec<CollapseRecord>,
+    records: Vec<Step>,
+    fingerprints: Vec<u64>,
     placements: Vec<(DVec3, f64)>,
     details: detail::SavedRange,
     marks: Marks,
@@ -1401,7 +1539,8 @@ impl Saved {
         let range = h.applied.min(applied)..h.applied.max(applied);
         Self {
             mesh: h.mesh.clone(),
-            records: h.records[range.clone()].to_vec(),
+            records: h.records.steps[range.clone()].to_vec(),
+            fingerprints: h.records.fingerprints[range.clone()].to_vec(),
             placements: h.placements[range.clone()].to_vec(),
             details: h.details.save(range.clone()),
             range,
@@ -1420,7 +1559,8 @@ impl Saved {
         h.mesh = self.mesh;
         h.mesh.stamp_id = id;
         h.mesh.stamp_count = count + 1;
-        h.records[self.range.clone()].clone_from_slice(&self.records);
+        h.records.steps[self.range.clone()].copy_from_slice(&self.records);
+        h.records.fingerprints[self.range.clone()].copy_from_slice(&self.fingerprints);
         h.placements[self.range.clone()].copy_from_slice(&self.placements);
         h.details.restore(self.range, self.details);
         h.marks = self.marks;
@@ -1428,7 +1568,7 @@ impl Saved {
         h.consistent_from = self.consistent_from;
         h.applied = self.applied;
         h.clean_positions = self.clean_positions;
-        h.stamp = None;
+        h.distrust();
     }
 }
 
@@ -1638,9 +1778,8 @@ impl Hierarchy {
     pub fn ancestors(&self, level: usize) -> Result<Vec<u32>> {
         let end = self.check_level(level)?;
         let mut map: Vec<u32> = (0..self.mesh.vertex_slots() as u32).collect();
-        for record in self.records[..end].iter().rev() {
-            let i0 = self.mesh.vertex_index(record.v0);
-            let i1 = self.mesh.vertex_index(record.v1);
+        for record in self.records.steps[..end].iter().rev() {
+            let (i0, i1) = (record.v0 as usize, record.v1 as usize);
             if let (true, Some(&a)) = (i0 < map.len(), map.get(i1)) {
                 map[i0] = a;
             }
@@ -1652,6 +1791,27 @@ impl Hierarchy {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_public_records_fit_their_own_mesh_and_no_other() {
+        // The hierarchy keeps compact records; the public ones it makes on demand split
+        // like the kernel's: on a clone of its mesh the last record splits and gives back
+        // its vertex where it was, on another hierarchy's mesh (same input) it is refused.
+        let options = HierarchyOptions::rounds().with_target_faces(60);
+        let h = Hierarchy::build(crate::generators::icosphere(3), &options).unwrap();
+        let other = Hierarchy::build(crate::generators::icosphere(3), &options).unwrap();
+        let records = h.records();
+        assert_eq!(records.len(), h.n_records());
+        let last = records.last().unwrap();
+        let mut mesh = h.mesh().clone();
+        mesh.vertex_split(last).unwrap();
+        mesh.check().unwrap();
+        assert_eq!(mesh.position(last.v0), last.p0);
+        assert!(mesh.vertex_split(last).is_err(), "split twice");
+        let mut foreign = other.mesh().clone();
+        let e = foreign.vertex_split(last).unwrap_err();
+        assert!(e.to_string().contains("another mesh"), "{e}");
+    }
 
     #[test]
     fn replacing_a_mark_again_and_again_keeps_the_maps_bounded() {

@@ -361,15 +361,10 @@ pub(crate) fn build(
         h.record_collapse(g, p, t);
         let mesh = &h.mesh;
         // The collapse removed v0v1 and, with the faces, vl–v0 and v0–vr.
-        let record = h.records.last().expect("just recorded");
-        for x in [Some(record.v0v1), record.vlv0, record.v0vr]
-            .into_iter()
-            .flatten()
-        {
-            let edge = mesh
-                .halfedge_index(x)
-                .min(mesh.halfedge_index(mesh.opposite(x)));
-            state.set(edge, DEAD);
+        if let Some(record) = h.records.last() {
+            for x in mesh.sides(record.v0v1).removed(record.v0v1) {
+                state.set((x & !1) as usize, DEAD);
+            }
         }
         let (i0, i1) = (mesh.vertex_index(v0), mesh.vertex_index(v1));
         quadrics[i1] = q;
@@ -410,6 +405,7 @@ pub(crate) fn build(
     if h.built_levels() < options.max_levels {
         h.close_level();
     }
+    h.details.shrink_to_fit();
     Ok(())
 }
 

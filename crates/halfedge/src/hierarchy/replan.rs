@@ -35,8 +35,9 @@ use glam::{DVec3, Vec3};
 use super::legality::{self, Collapse, NewNormals, Placement};
 use super::rounds::{choose_direction, star_planarity, star_plane_distance};
 use super::{
-    check_positions, outcome, Hierarchy, HierarchyOptions, Storage, RING_PREFETCH_DISTANCES,
-    SPLIT_PREFETCH_DISTANCE,
+    check_positions, outcome, Hierarchy, HierarchyOptions, Storage,
+    COLLAPSE_LINKS_PREFETCH_DISTANCE, COLLAPSE_PREFETCH_DISTANCE, COLLAPSE_SIDES_PREFETCH_DISTANCE,
+    RING_PREFETCH_DISTANCES,
 };
 use crate::prefetch::prefetch;
 use crate::{Attribute, Error, Label, Mesh, Result, VertexId};
@@ -81,10 +82,16 @@ pub(crate) fn respecting_labels(
             }
             // The records' elements are scattered over arrays far larger than the caches:
             // ask for them a few records ahead, as `Hierarchy::collapse_next` does.
-            if let Some(ahead) = source.records.get(r + SPLIT_PREFETCH_DISTANCE) {
-                h.mesh.prefetch_collapse(ahead);
-                prefetch(&band.near, h.mesh.vertex_index(ahead.v0));
-                prefetch(&band.near, h.mesh.vertex_index(ahead.v1));
+            if let Some(ahead) = source.records.get(r + COLLAPSE_PREFETCH_DISTANCE) {
+                h.mesh.prefetch_step(ahead, true);
+                prefetch(&band.near, ahead.v0 as usize);
+                prefetch(&band.near, ahead.v1 as usize);
+            }
+            if let Some(ahead) = source.records.get(r + COLLAPSE_SIDES_PREFETCH_DISTANCE) {
+                h.mesh.prefetch_sides(ahead);
+            }
+            if let Some(ahead) = source.records.get(r + COLLAPSE_LINKS_PREFETCH_DISTANCE) {
+                h.mesh.prefetch_links(ahead, true);
             }
             for (step, distance) in RING_PREFETCH_DISTANCES.into_iter().enumerate() {
                 if let Some(ahead) = source.records.get(r + distance) {
@@ -148,15 +155,15 @@ fn replay(
     clean: bool,
 ) -> Result<()> {
     let record = &source.records[r];
-    let (v0, v1, e) = (record.v0, record.v1, record.v0v1);
     let mesh = &h.mesh;
-    if !mesh.is_valid_vertex(v0) || !mesh.is_valid_vertex(v1) {
+    let (i0, i1) = (record.v0 as usize, record.v1 as usize);
+    let (Some(v0), Some(v1)) = (mesh.vertex_at(i0), mesh.vertex_at(i1)) else {
         return Ok(());
-    }
-    let (i0, i1) = (mesh.vertex_index(v0), mesh.vertex_index(v1));
+    };
     let same = band.labels.is_empty() || band.labels.get(i0) == band.labels.get(i1);
-    let edge =
-        same && mesh.is_valid_halfedge(e) && mesh.from_vertex(e) == v0 && mesh.to_vertex(e) == v1;
+    let e = mesh.halfedge_at(record.v0v1 as usize);
+    let edge = same && e.is_some_and(|e| mesh.from_vertex(e) == v0 && mesh.to_vertex(e) == v1);
+    let e = e.unwrap_or_default();
     let place = |mesh: &Mesh| -> Result<(DVec3, f64)> {
         // Where `Hierarchy::collapse_next` would put the survivor.
         let (p0, p1) = (mesh.position(v0), mesh.position(v1));

@@ -204,6 +204,7 @@ pub(crate) fn build(
         }
     }
     outcome::finish(h, options, Some(refusals));
+    h.details.shrink_to_fit();
     Ok(())
 }
 
