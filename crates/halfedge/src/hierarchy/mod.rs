@@ -79,7 +79,7 @@ const SIDES_PREFETCH_DISTANCE: usize = 11;
 const LINKS_PREFETCH_DISTANCE: usize = 6;
 /// How many splits ahead [`Hierarchy::split_next`] prefetches the positions a record's
 /// detail coefficients read.
-const DETAIL_PREFETCH_DISTANCE: usize = 8;
+const DETAIL_PREFETCH_DISTANCE: usize = 5;
 /// As [`SPLIT_PREFETCH_DISTANCE`] and [`SIDES_PREFETCH_DISTANCE`], for
 /// [`Hierarchy::collapse_next`].
 const COLLAPSE_PREFETCH_DISTANCE: usize = 16;
