@@ -1357,10 +1357,11 @@ impl Hierarchy {
     ///
     /// The records are replayed from the input (on a copy; the labels reach the vertices
     /// re-inserted since they were defined by the paper's Fig. 4 rule): a record whose
-    /// ends carry different labels is dropped, and so is every record whose neighbourhood
-    /// such a drop may have changed; every other record is collapsed again exactly as
-    /// built, with its detail coefficients. The band along the frontier where records
-    /// were dropped is simplified again, level by level, by the seed paper's rounds
+    /// ends carry different labels is dropped; a record whose neighbourhood such a drop
+    /// may have changed is tested again where it now is (topology, flips, error bound)
+    /// and made or dropped; every other record is collapsed again exactly as built, with
+    /// its detail coefficients. The band along the frontier where records were dropped
+    /// is simplified again, level by level, by the seed paper's rounds
     /// (collapsing only edges whose ends carry the same label), so the levels keep about
     /// their face counts (see the `replan` module). Costs well under one build: most
     /// records are only collapsed again. Then the hierarchy goes back to the level it was
