@@ -303,3 +303,29 @@ fn labels_hold_at_every_level_after_replanning_on_the_shared_meshes() {
         }
     }
 }
+
+#[test]
+fn one_label_everywhere_keeps_every_record_and_a_refused_replay_changes_nothing() {
+    let options = HierarchyOptions::rounds().with_target_faces(300);
+    let mut h = Hierarchy::build(bumpy_capsule(), &options).unwrap();
+    h.go_to_level(0).unwrap();
+    // One label on every vertex: no record joins two labels, so the replay keeps them all.
+    let attribute = h.mesh_mut().label_attribute().unwrap();
+    for value in h.mesh_mut().attribute_values_mut(attribute) {
+        *value = 9;
+    }
+    h.attach_labels(attribute);
+    let before = h.clone();
+    h.constrain_to_labels().unwrap();
+    assert_eq!(h.level_face_counts(), before.level_face_counts());
+    assert_eq!(record_keys(&h), record_keys(&before));
+    // A non-finite position at the input: refused, and the hierarchy is as it was.
+    let v = h.mesh().vertices().next().unwrap();
+    h.mesh_mut().set_position(v, DVec3::new(f64::NAN, 0.0, 0.0));
+    let state = (bits(h.mesh()), h.level_face_counts().to_vec(), h.applied());
+    assert!(h.constrain_to_labels().is_err());
+    assert_eq!(
+        (bits(h.mesh()), h.level_face_counts().to_vec(), h.applied()),
+        state
+    );
+}
