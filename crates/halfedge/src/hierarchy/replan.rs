@@ -230,12 +230,10 @@ fn replay(
 }
 
 /// The planarity and flip bounds of the level being replayed (the build's, widened where
-/// the build widened them).
+/// the build widened them), as cosines.
 struct Bounds {
     cos_planar: f64,
     cos_flip: f64,
-    deviation: f64,
-    flip: f64,
 }
 
 impl Bounds {
@@ -243,11 +241,10 @@ impl Bounds {
         Self {
             cos_planar: options.max_normal_deviation.cos(),
             cos_flip: options.max_flip_angle.cos(),
-            deviation: options.max_normal_deviation,
-            flip: options.max_flip_angle,
         }
     }
 
+    /// The bounds of `level`: the last widening the build made at or below it.
     fn at_level(&mut self, source: &Hierarchy, level: usize) {
         if let Some(r) = source
             .outcome
@@ -256,10 +253,8 @@ impl Bounds {
             .rev()
             .find(|r| r.level <= level)
         {
-            self.deviation = r.max_normal_deviation;
-            self.flip = r.max_flip_angle;
-            self.cos_planar = self.deviation.cos();
-            self.cos_flip = self.flip.cos();
+            self.cos_planar = r.max_normal_deviation.cos();
+            self.cos_flip = r.max_flip_angle.cos();
         }
     }
 }
