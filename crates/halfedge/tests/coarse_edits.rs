@@ -3,20 +3,11 @@
 //! that land exactly ([`DetailMode::LocalFrame`], the default). On generated meshes, so
 //! they run anywhere.
 
-use glam::{DAffine3, DQuat, DVec3};
-use halfedge::{generators, DetailMode, Hierarchy, HierarchyOptions, Mesh, VertexId};
+mod common;
 
-/// An elongated bumpy sphere: an "arm" along x with fine detail everywhere.
-fn bumpy_capsule() -> Mesh {
-    let mut mesh = generators::icosphere(5);
-    for p in mesh.positions_mut() {
-        let bump = 1.0
-            + 0.04 * (11.0 * p.x).sin() * (9.0 * p.y).sin() * (13.0 * p.z).cos()
-            + 0.01 * (37.0 * p.x + 23.0 * p.y).sin();
-        *p = DVec3::new(3.0 * p.x, p.y, p.z) * bump;
-    }
-    mesh
-}
+use common::{bumpy_capsule, crossing_edges};
+use glam::{DAffine3, DQuat, DVec3};
+use halfedge::{DetailMode, Hierarchy, HierarchyOptions, Mesh, VertexId};
 
 fn diagonal(mesh: &Mesh) -> f64 {
     let (lo, hi) = mesh.bounding_box().unwrap();
@@ -344,21 +335,6 @@ fn a_refused_walk_leaves_everything_where_it_started() {
         assert!(h.go_to_level(h.coarsest_level()).is_err());
         assert!(state(&h) == before);
     }
-}
-
-/// Edges joining two vertices of different sub-meshes (neither on the frontier).
-fn crossing_edges(mesh: &Mesh) -> usize {
-    let a = mesh
-        .find_attribute::<VertexId, u32>(halfedge::labels::LABEL_ATTRIBUTE)
-        .unwrap();
-    let labels = mesh.attribute_values(a);
-    mesh.halfedges()
-        .filter(|&e| {
-            let l = |v| labels[mesh.vertex_index(v)];
-            let (x, y) = (l(mesh.from_vertex(e)), l(mesh.to_vertex(e)));
-            x != y && x != halfedge::FRONTIER && y != halfedge::FRONTIER
-        })
-        .count()
 }
 
 #[test]

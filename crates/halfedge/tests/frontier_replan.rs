@@ -6,37 +6,12 @@
 
 mod common;
 
+use common::{bumpy_capsule, crossing_edges};
+
 use std::collections::HashSet;
 
 use glam::DVec3;
-use halfedge::{generators, Hierarchy, HierarchyOptions, Mesh, VertexId, FRONTIER};
-
-/// A bumpy, elongated sphere (closed, genus 0, fine detail everywhere).
-fn bumpy_capsule() -> Mesh {
-    let mut mesh = generators::icosphere(5);
-    for p in mesh.positions_mut() {
-        let bump = 1.0
-            + 0.04 * (11.0 * p.x).sin() * (9.0 * p.y).sin() * (13.0 * p.z).cos()
-            + 0.01 * (37.0 * p.x + 23.0 * p.y).sin();
-        *p = DVec3::new(3.0 * p.x, p.y, p.z) * bump;
-    }
-    mesh
-}
-
-/// Edges joining two different labels, neither of them the frontier's.
-fn crossing_edges(mesh: &Mesh) -> usize {
-    let a = mesh
-        .find_attribute::<VertexId, u32>(halfedge::labels::LABEL_ATTRIBUTE)
-        .unwrap();
-    let labels = mesh.attribute_values(a);
-    mesh.halfedges()
-        .filter(|&e| {
-            let l = |v| labels[mesh.vertex_index(v)];
-            let (x, y) = (l(mesh.from_vertex(e)), l(mesh.to_vertex(e)));
-            x != y && x != FRONTIER && y != FRONTIER
-        })
-        .count()
-}
+use halfedge::{Hierarchy, HierarchyOptions, Mesh, VertexId};
 
 /// Positions as bits, for exact comparisons.
 fn bits(mesh: &Mesh) -> Vec<[u64; 3]> {

@@ -1404,19 +1404,8 @@ impl Hierarchy {
             &walked
         };
         let input = source.mesh.clone();
-        let mut rebuilt = replan::respecting_labels(source, input, attribute, &options)?;
-        rebuilt.labels = Some(LabelBinding {
-            attribute,
-            defined_at: 0,
-        });
-        let target = level.min(rebuilt.coarsest_level());
-        let (id, count) = (self.mesh.stamp_id, self.mesh.stamp_count);
-        rebuilt.mesh.stamp_id = id;
-        rebuilt.mesh.stamp_count = count + 1;
-        rebuilt.stamp = Some(rebuilt.mesh.topology_stamp());
-        rebuilt.go_to_level(target)?;
-        *self = rebuilt;
-        Ok(())
+        let rebuilt = replan::respecting_labels(source, input, attribute, &options)?;
+        self.replace_with(rebuilt, Some(attribute), level)
     }
 
     /// Changes the topology of the hierarchy's mesh the only way a hierarchy can keep:
@@ -1469,15 +1458,29 @@ impl Hierarchy {
         // buffers at a time, and no fresh pages to fault in (on the 1.6 M-face bench mesh
         // 32 k page faults instead of 113 k; the time saved was within this host's noise).
         let storage = spare.unwrap_or_else(|| Storage::take(self));
-        let mut rebuilt = Hierarchy::build_validated(input, &self.options, storage, &mut |_| {
+        let rebuilt = Hierarchy::build_validated(input, &self.options, storage, &mut |_| {
             ControlFlow::Continue(())
         })?;
-        if let Some(b) = self.labels {
-            rebuilt.labels = Some(LabelBinding {
-                attribute: b.attribute,
-                defined_at: 0,
-            });
-        }
+        let labels = self.labels.map(|b| b.attribute);
+        self.replace_with(rebuilt, labels, level)?;
+        Ok(result)
+    }
+
+    /// Makes `rebuilt` (a hierarchy of this one's input, at level 0) this hierarchy: the
+    /// labels `labels` attached as defined at the input, the mesh keeping this mesh's
+    /// identity with a new connectivity stamp (nobody who saw the old one may trust it),
+    /// at `level` or the new coarsest if that is finer. On error (a refused walk) this
+    /// hierarchy is unchanged.
+    fn replace_with(
+        &mut self,
+        mut rebuilt: Hierarchy,
+        labels: Option<Attribute<VertexId, Label>>,
+        level: usize,
+    ) -> Result<()> {
+        rebuilt.labels = labels.map(|attribute| LabelBinding {
+            attribute,
+            defined_at: 0,
+        });
         let target = level.min(rebuilt.coarsest_level());
         let (id, count) = (self.mesh.stamp_id, self.mesh.stamp_count);
         rebuilt.mesh.stamp_id = id;
@@ -1485,7 +1488,7 @@ impl Hierarchy {
         rebuilt.stamp = Some(rebuilt.mesh.topology_stamp());
         rebuilt.go_to_level(target)?;
         *self = rebuilt;
-        Ok(result)
+        Ok(())
     }
 
     /// Stops propagating labels through splits.

@@ -33,7 +33,7 @@
 use glam::{DVec3, Vec3};
 
 use super::legality::{self, Collapse, NewNormals, Placement};
-use super::rounds::{choose_direction, star_planarity, star_plane_distance};
+use super::rounds::{star_plane_distance, test_edge, EdgeTest};
 use super::{
     check_positions, outcome, Hierarchy, HierarchyOptions, Storage,
     COLLAPSE_LINKS_PREFETCH_DISTANCE, COLLAPSE_PREFETCH_DISTANCE, COLLAPSE_SIDES_PREFETCH_DISTANCE,
@@ -372,7 +372,6 @@ impl Band {
         round: u32,
     ) -> Option<(crate::HalfedgeId, DVec3, f64)> {
         for e in mesh.outgoing_halfedges(v) {
-            let o = mesh.opposite(e);
             let w = mesh.to_vertex(e);
             if self.lock[mesh.vertex_index(w)] == round {
                 continue;
@@ -380,27 +379,15 @@ impl Band {
             // The tests read the normals of the faces around `v` and `w`.
             self.refresh_normals(mesh, v, normals);
             self.refresh_normals(mesh, w, normals);
-            if star_planarity(mesh, &Collapse::new(mesh, e), normals) < bounds.cos_planar {
-                continue;
-            }
-            let Some((g, placement)) = choose_direction(mesh, e, o, &self.labels) else {
-                continue;
+            let test = EdgeTest {
+                cos_planar: bounds.cos_planar,
+                cos_flip: bounds.cos_flip,
+                max_error: self.max_error,
+                labels: &self.labels,
             };
-            let c = Collapse::new(mesh, g);
-            let p1 = mesh.position(c.v1);
-            let (p, t) = match placement {
-                Placement::Free => (0.5 * (mesh.position(c.v0) + p1), 0.5),
-                Placement::AtV1 => (p1, 0.0),
-            };
-            if self.max_error.is_finite()
-                && star_plane_distance(mesh, &c, p, normals) > self.max_error
-            {
-                continue;
+            if let Ok(planned) = test_edge(mesh, e, &test, normals, new_normals) {
+                return Some(planned);
             }
-            if !legality::geometry(mesh, &c, p, normals, bounds.cos_flip, new_normals) {
-                continue;
-            }
-            return Some((g, p, t));
         }
         None
     }

@@ -30,7 +30,7 @@ use glam::{DVec3, Vec3};
 use super::legality::{self, Collapse, NewNormals, Placement};
 use super::outcome::{self, Refusals, Relaxation};
 use super::{report, BuildProgress, Hierarchy, HierarchyOptions};
-use crate::{HalfedgeId, Mesh, Result};
+use crate::{HalfedgeId, Label, Mesh, Result};
 
 /// Minimum over the star of `v0v1` of the cosine between a face normal and the star's
 /// average normal (1 for a planar star). `fl` and `fr` are counted once.
@@ -132,37 +132,24 @@ pub(crate) fn build(
                 let Some(e) = mesh.halfedge_at(i as usize) else {
                     continue;
                 };
-                let o = mesh.opposite(e);
                 let (a, b) = (mesh.from_vertex(e), mesh.to_vertex(e));
                 if lock[mesh.vertex_index(a)] == round || lock[mesh.vertex_index(b)] == round {
                     refusals.locked += 1;
                     continue;
                 }
-                if star_planarity(mesh, &Collapse::new(mesh, e), &normals) < cos_planar {
-                    refusals.planarity += 1;
-                    continue;
-                }
-                let Some((g, placement)) = choose_direction(mesh, e, o, &labels) else {
-                    refusals.topology += 1;
-                    continue;
+                let test = EdgeTest {
+                    cos_planar,
+                    cos_flip,
+                    max_error: options.max_error,
+                    labels: &labels,
                 };
-                let c = Collapse::new(mesh, g);
-                let p1 = mesh.position(c.v1);
-                let (p, t) = match placement {
-                    Placement::Free => (0.5 * (mesh.position(c.v0) + p1), 0.5),
-                    Placement::AtV1 => (p1, 0.0),
-                };
-                if options.max_error.is_finite()
-                    && star_plane_distance(mesh, &c, p, &normals) > options.max_error
-                {
-                    refusals.error_bound += 1;
-                    continue;
+                match test_edge(mesh, e, &test, &normals, &mut new_normals) {
+                    Ok(planned) => planned,
+                    Err(refused) => {
+                        refusals.count(refused);
+                        continue;
+                    }
                 }
-                if !legality::geometry(mesh, &c, p, &normals, cos_flip, &mut new_normals) {
-                    refusals.geometry += 1;
-                    continue;
-                }
-                (g, p, t)
             };
             let v1 = h.mesh.to_vertex(g);
             h.record_collapse(g, p, t);
@@ -206,6 +193,71 @@ pub(crate) fn build(
     outcome::finish(h, options, Some(refusals));
     h.details.shrink_to_fit();
     Ok(())
+}
+
+/// What a round tests an edge against: the level's planarity and flip bounds (cosines),
+/// the error bound, and the sub-mesh labels by vertex index (empty for none).
+pub(crate) struct EdgeTest<'a> {
+    pub(crate) cos_planar: f64,
+    pub(crate) cos_flip: f64,
+    pub(crate) max_error: f64,
+    pub(crate) labels: &'a [Label],
+}
+
+/// Which of the rounds' tests refused an edge (see [`test_edge`]).
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Refused {
+    Planarity,
+    Topology,
+    ErrorBound,
+    Geometry,
+}
+
+impl Refusals {
+    /// Counts one refusal.
+    #[inline]
+    pub(crate) fn count(&mut self, refused: Refused) {
+        match refused {
+            Refused::Planarity => self.planarity += 1,
+            Refused::Topology => self.topology += 1,
+            Refused::ErrorBound => self.error_bound += 1,
+            Refused::Geometry => self.geometry += 1,
+        }
+    }
+}
+
+/// The seed paper's tests of edge `e` (locks aside, see the module docs): the star's
+/// planarity, the direction that is topologically legal (and keeps the labels), the
+/// survivor's place (the midpoint, or `v1` on a boundary), the error bound, no flip nor
+/// degenerate face. Returns the halfedge to collapse, the survivor's place and its
+/// parameter along the edge; the new normals of the faces around the survivor are left
+/// in `new_normals`. `normals` holds the current unit face normals by face index.
+#[inline]
+pub(crate) fn test_edge(
+    mesh: &Mesh,
+    e: HalfedgeId,
+    test: &EdgeTest<'_>,
+    normals: &[Vec3],
+    new_normals: &mut NewNormals,
+) -> std::result::Result<(HalfedgeId, DVec3, f64), Refused> {
+    if star_planarity(mesh, &Collapse::new(mesh, e), normals) < test.cos_planar {
+        return Err(Refused::Planarity);
+    }
+    let o = mesh.opposite(e);
+    let (g, placement) = choose_direction(mesh, e, o, test.labels).ok_or(Refused::Topology)?;
+    let c = Collapse::new(mesh, g);
+    let p1 = mesh.position(c.v1);
+    let (p, t) = match placement {
+        Placement::Free => (0.5 * (mesh.position(c.v0) + p1), 0.5),
+        Placement::AtV1 => (p1, 0.0),
+    };
+    if test.max_error.is_finite() && star_plane_distance(mesh, &c, p, normals) > test.max_error {
+        return Err(Refused::ErrorBound);
+    }
+    if !legality::geometry(mesh, &c, p, normals, test.cos_flip, new_normals) {
+        return Err(Refused::Geometry);
+    }
+    Ok((g, p, t))
 }
 
 /// The step by which [`widen`] opens a bound: 15°.

@@ -253,3 +253,31 @@ pub fn snapshot(mesh: &Mesh) -> Snapshot {
 pub fn euler(mesh: &Mesh) -> i64 {
     mesh.n_vertices() as i64 - mesh.n_edges() as i64 + mesh.n_faces() as i64
 }
+
+/// An elongated bumpy sphere: an "arm" along x with fine detail everywhere (closed,
+/// genus 0), for the hierarchy tests.
+pub fn bumpy_capsule() -> Mesh {
+    let mut mesh = halfedge::generators::icosphere(5);
+    for p in mesh.positions_mut() {
+        let bump = 1.0
+            + 0.04 * (11.0 * p.x).sin() * (9.0 * p.y).sin() * (13.0 * p.z).cos()
+            + 0.01 * (37.0 * p.x + 23.0 * p.y).sin();
+        *p = glam::DVec3::new(3.0 * p.x, p.y, p.z) * bump;
+    }
+    mesh
+}
+
+/// Edges joining two vertices of different sub-meshes (neither on the frontier).
+pub fn crossing_edges(mesh: &Mesh) -> usize {
+    let a = mesh
+        .find_attribute::<VertexId, u32>(halfedge::labels::LABEL_ATTRIBUTE)
+        .unwrap();
+    let labels = mesh.attribute_values(a);
+    mesh.halfedges()
+        .filter(|&e| {
+            let l = |v| labels[mesh.vertex_index(v)];
+            let (x, y) = (l(mesh.from_vertex(e)), l(mesh.to_vertex(e)));
+            x != y && x != halfedge::FRONTIER && y != halfedge::FRONTIER
+        })
+        .count()
+}
