@@ -30,6 +30,7 @@ pub mod mba;
 pub mod blend;
 pub mod distance;
 pub mod image_edit;
+pub mod marks;
 pub mod matrix;
 pub mod polyline;
 pub mod regions;

@@ -49,12 +49,13 @@
 //! written. The dense lattice has `(2^{l−1} + 3)²` control points; `l ≤`
 //! [`MAX_SESSION_LEVELS`] keeps a drag under about 250 MB.
 
-use glam::{DVec2, DVec3};
+use glam::{DAffine3, DVec2, DVec3};
 use halfedge::{Mesh, VertexId};
 use rayon::prelude::*;
 
 use super::fit::{self, CellIndex, FitPlan, FitState, FIRST_LEVEL};
 use super::{EditingArea, Embedding, EmbeddingOptions, FrameKind, LocalFrames};
+use crate::marks::HierarchyMarks;
 use crate::mba::{level_size, LatticeBasis, MAX_LEVELS};
 use crate::selection::{check_finite_positions, scatter};
 use crate::{EditError, Result};
@@ -455,6 +456,32 @@ impl EditingSession {
     pub fn apply(&mut self, mesh: &mut Mesh) -> Result<()> {
         self.ready(mesh)?;
         self.update(mesh)
+    }
+
+    /// What the edit as last applied ([`drag`](Self::drag) or [`apply`](Self::apply)
+    /// since the rest positions were taken) means for a
+    /// [`Hierarchy`](halfedge::Hierarchy) whose current level `mesh` is: the region is
+    /// the area's interior (its boundary stays, Lee 1999 §5.3), and every primitive
+    /// vertex is translated by its displacement, so that refined back the fine vertices
+    /// collapsed into the primitive land on the dragged target exactly. Give the marks
+    /// once per edit ([`HierarchyMarks::mark`], which composes with earlier edits), for
+    /// example when a drag ends.
+    ///
+    /// # Errors
+    /// [`EditError::Stale`] when `mesh` is not the one the session was made on.
+    pub fn hierarchy_marks(&self, mesh: &Mesh) -> Result<HierarchyMarks> {
+        self.area.check_mesh(mesh)?;
+        let vertices = self.area.vertices();
+        let mut affine: Vec<(Vec<VertexId>, DAffine3)> = Vec::new();
+        for (c, &i) in self.primitive.iter().enumerate() {
+            let d = self.displacements[c];
+            let v = vertices[i as usize];
+            match affine.iter_mut().find(|(_, map)| map.translation == d) {
+                Some((group, _)) => group.push(v),
+                None => affine.push((vec![v], DAffine3::from_translation(d))),
+            }
+        }
+        HierarchyMarks::new(mesh, self.area.interior().to_vec(), affine)
     }
 
     fn ready(&self, mesh: &Mesh) -> Result<()> {

@@ -38,6 +38,7 @@ use halfedge::Mesh;
 use rayon::prelude::*;
 
 use crate::barr::{Bend, Deformer, Profile, Twist};
+use crate::marks::HierarchyMarks;
 use crate::selection::{check_finite_positions, finite, finite_point, unit_direction, Vertices};
 use crate::{EditError, Result};
 
@@ -586,6 +587,26 @@ impl Ffd {
             Patches::new(self.shape.degree(), self.shape.count(), &shape),
             Patches::new(self.height.degree(), self.height.count(), &height),
         )
+    }
+
+    /// What [`deform`](Self::deform) means for a [`Hierarchy`](halfedge::Hierarchy)
+    /// whose current level `mesh` is: its region is the attached vertices (the
+    /// deformation's footprint), so that refined back only their fine vertices move; the
+    /// deformation has no affine part.
+    ///
+    /// # Errors
+    /// [`EditError::Stale`] for another mesh (or this one at another hierarchy level or
+    /// with other connectivity).
+    pub fn hierarchy_marks(&self, mesh: &Mesh) -> Result<HierarchyMarks> {
+        self.binding.check(mesh, "the FFD attachment")?;
+        let region = self
+            .params
+            .iter()
+            .enumerate()
+            .filter(|(_, p)| !p[0].is_nan())
+            .filter_map(|(i, _)| mesh.vertex_at(i))
+            .collect();
+        HierarchyMarks::new(mesh, region, Vec::new())
     }
 
     /// Moves every attached vertex to `S_new(u, v) + H_new,y(u, v) · h · n_new(u, v)`

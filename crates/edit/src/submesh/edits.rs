@@ -1,12 +1,13 @@
 //! The sub-mesh edits of *Interactive editing of multiresolution meshes* §4.3 with the
 //! propagation levels of §4.2 (see the [module docs](super)).
 
-use glam::DVec3;
+use glam::{DAffine3, DMat3, DQuat, DVec3};
 use halfedge::{Mesh, VertexId};
 use rayon::prelude::*;
 
 use super::{Plane, SubMesh};
 use crate::barr::twist::rotation_displacement;
+use crate::marks::HierarchyMarks;
 use crate::selection::{
     check_finite_positions, finite, finite_point, scatter, unit_direction, Snapshot,
 };
@@ -192,6 +193,14 @@ pub enum Edit {
 }
 
 impl Edit {
+    /// The variation of a taper or twist, `None` for the other edits.
+    pub fn variation(&self) -> Option<Variation> {
+        match *self {
+            Edit::Taper { variation, .. } | Edit::Twist { variation, .. } => Some(variation),
+            _ => None,
+        }
+    }
+
     /// True when the edit moves nothing (zero offset or angle, factor 1).
     pub fn is_identity(&self) -> bool {
         match *self {
@@ -267,6 +276,30 @@ fn power(factor: f64, tau: f64) -> f64 {
 }
 
 impl Map {
+    /// The map at full strength (`τ = 1`) as an affine map: `p ↦ p + displacement(p, 1)`.
+    fn full_strength(&self) -> DAffine3 {
+        let about = |point: DVec3, linear: DAffine3| {
+            DAffine3::from_translation(point) * linear * DAffine3::from_translation(-point)
+        };
+        match *self {
+            Map::Pull(offset) => DAffine3::from_translation(offset),
+            Map::Scale { centre, factor } => {
+                about(centre, DAffine3::from_scale(DVec3::splat(factor)))
+            }
+            Map::Rotate { axis, angle } | Map::Twist { axis, angle } => about(
+                axis.point,
+                DAffine3::from_quat(DQuat::from_axis_angle(axis.direction, angle)),
+            ),
+            Map::Taper { axis, factor } => {
+                // q ↦ (q·d) d + factor (q − (q·d) d)
+                let d = axis.direction;
+                let outer = DMat3::from_cols(d * d.x, d * d.y, d * d.z);
+                let linear = DMat3::from_diagonal(DVec3::splat(factor)) + (1.0 - factor) * outer;
+                about(axis.point, DAffine3::from_mat3(linear))
+            }
+        }
+    }
+
     /// The displacement of `p` at strength `tau`; exactly zero for identity parameters.
     #[inline]
     fn displacement(&self, p: DVec3, tau: f64) -> DVec3 {
@@ -307,6 +340,18 @@ fn check_variation(v: &Variation) -> Result<()> {
     Ok(())
 }
 
+/// What an edit does, worked out on the mesh before it moves: the map, every vertex it
+/// reaches with its strength `τ > 0` (sorted by slot), the re-seating translation of a
+/// scale without propagation and the plane a bounded rotation keeps to.
+struct Plan {
+    map: Map,
+    targets: Vec<(u32, f64)>,
+    reseat: DVec3,
+    bound: Option<Plane>,
+    /// Nothing moves (identity parameters or no vertex reached).
+    idle: bool,
+}
+
 impl SubMesh {
     /// Applies `edit` with `propagation` and returns the positions it changed, to undo it
     /// exactly with [`Snapshot::restore`]. On error nothing is changed: for parameters
@@ -319,6 +364,109 @@ impl SubMesh {
         propagation: Propagation,
     ) -> Result<Snapshot> {
         self.check_mesh(mesh)?;
+        let plan = self.plan(mesh, edit, propagation)?;
+        let indices: Vec<u32> = plan.targets.iter().map(|&(i, _)| i).collect();
+        let snapshot = Snapshot::of_indices(mesh, indices);
+        if plan.idle {
+            return Ok(snapshot);
+        }
+        let positions = mesh.positions();
+        let new: Vec<DVec3> = plan
+            .targets
+            .par_iter()
+            .with_min_len(1024)
+            .map(|&(i, tau)| {
+                let p = positions[i as usize];
+                let mut d = plan.map.displacement(p, tau);
+                if self.inside[i as usize] {
+                    d += plan.reseat;
+                }
+                let mut q = if d == DVec3::ZERO { p } else { p + d };
+                if let Some(plane) = plan.bound {
+                    q = keep_side(&plane, p, q);
+                }
+                q
+            })
+            .collect();
+        let indices = snapshot.indices().to_vec();
+        check_finite_positions("the sub-mesh edit", &indices, &new)?;
+        scatter(mesh.positions_mut(), &indices, &new);
+        Ok(snapshot)
+    }
+
+    /// What [`apply`](Self::apply) of `edit` with `propagation` to `mesh` (before the
+    /// edit) means for a [`Hierarchy`](halfedge::Hierarchy) whose current level `mesh`
+    /// is: the region is the sub-mesh and its `n` propagation collars (all of them, moved
+    /// or not: the edit's transition is spread over their fine vertices), and the
+    /// vertices at full strength (`τ = 1`: the whole sub-mesh without a variation, the
+    /// part of a taper or twist beyond its ramp) form one affine part, moved by the
+    /// edit's map at full strength (a translation, a scale about the centre with the
+    /// re-seating translation, a rotation about the axis, Barr's taper or twist at its
+    /// full factor or angle). A bounded rotation's vertices stopped on the frontier plane
+    /// are not at the map's image: the hierarchy finds that and carries them by their
+    /// local frame. Call it before [`apply`](Self::apply), then give the marks to the
+    /// hierarchy after it ([`HierarchyMarks::mark`]); [`apply_in_hierarchy`](Self::apply_in_hierarchy)
+    /// does both.
+    ///
+    /// # Errors
+    /// As [`apply`](Self::apply) (nothing is changed by this call).
+    pub fn hierarchy_marks(
+        &self,
+        mesh: &Mesh,
+        edit: &Edit,
+        propagation: Propagation,
+    ) -> Result<HierarchyMarks> {
+        self.check_mesh(mesh)?;
+        let plan = self.plan(mesh, edit, propagation)?;
+        let live = |i: u32| mesh.vertex_at(i as usize);
+        let mut region: Vec<u32> = self.vertices.clone();
+        if !matches!(edit.variation(), Some(Variation::Levels(_))) && propagation.levels > 0 {
+            region.extend(self.collars(mesh, propagation.levels)?.concat());
+        }
+        region.sort_unstable();
+        region.dedup();
+        let region: Vec<VertexId> = region.into_iter().filter_map(live).collect();
+        let full: Vec<VertexId> = plan
+            .targets
+            .iter()
+            .filter(|&&(i, tau)| tau == 1.0 && self.inside[i as usize])
+            .filter_map(|&(i, _)| live(i))
+            .collect();
+        let affine = if plan.idle || full.is_empty() {
+            Vec::new()
+        } else {
+            vec![(
+                full,
+                DAffine3::from_translation(plan.reseat) * plan.map.full_strength(),
+            )]
+        };
+        HierarchyMarks::new(mesh, region, affine)
+    }
+
+    /// [`apply`](Self::apply) to the mesh of `hierarchy` at its current level (the
+    /// sub-mesh was made on it), then the [`hierarchy_marks`](Self::hierarchy_marks) of
+    /// the edit given to the hierarchy ([`HierarchyMarks::mark`]): refined back, the
+    /// sub-mesh's part at full strength is, at full resolution, the exact image of its
+    /// original fine vertices, and nothing outside the sub-mesh and its collars moves.
+    /// With the paper's translations ([`halfedge::DetailMode::Translation`]) nothing is
+    /// marked.
+    ///
+    /// # Errors
+    /// As [`apply`](Self::apply); nothing is changed then.
+    pub fn apply_in_hierarchy(
+        &self,
+        hierarchy: &mut halfedge::Hierarchy,
+        edit: &Edit,
+        propagation: Propagation,
+    ) -> Result<Snapshot> {
+        let marks = self.hierarchy_marks(hierarchy.mesh(), edit, propagation)?;
+        let snapshot = self.apply(hierarchy.mesh_mut(), edit, propagation)?;
+        marks.mark(hierarchy)?;
+        Ok(snapshot)
+    }
+
+    /// The plan of `edit` with `propagation` on `mesh` as it is (see [`Plan`]).
+    fn plan(&self, mesh: &Mesh, edit: &Edit, propagation: Propagation) -> Result<Plan> {
         let (map, variation) = self.resolve(mesh, edit)?;
         let positions = mesh.positions();
 
@@ -362,10 +510,15 @@ impl SubMesh {
         }
         targets.retain(|&(_, tau)| tau > 0.0);
         targets.sort_unstable_by_key(|&(i, _)| i);
-        let indices: Vec<u32> = targets.iter().map(|&(i, _)| i).collect();
-        let snapshot = Snapshot::of_indices(mesh, indices);
-        if edit.is_identity() || targets.is_empty() {
-            return Ok(snapshot);
+        let idle = edit.is_identity() || targets.is_empty();
+        if idle {
+            return Ok(Plan {
+                map,
+                targets,
+                reseat: DVec3::ZERO,
+                bound: None,
+                idle,
+            });
         }
 
         // geometry needed before moving: the frontier plane
@@ -379,27 +532,13 @@ impl SubMesh {
             Edit::Rotate { bounded: true, .. } => Some(self.frontier_plane(mesh)?),
             _ => None,
         };
-
-        let new: Vec<DVec3> = targets
-            .par_iter()
-            .with_min_len(1024)
-            .map(|&(i, tau)| {
-                let p = positions[i as usize];
-                let mut d = map.displacement(p, tau);
-                if self.inside[i as usize] {
-                    d += reseat;
-                }
-                let mut q = if d == DVec3::ZERO { p } else { p + d };
-                if let Some(plane) = bound {
-                    q = keep_side(&plane, p, q);
-                }
-                q
-            })
-            .collect();
-        let indices = snapshot.indices().to_vec();
-        check_finite_positions("the sub-mesh edit", &indices, &new)?;
-        scatter(mesh.positions_mut(), &indices, &new);
-        Ok(snapshot)
+        Ok(Plan {
+            map,
+            targets,
+            reseat,
+            bound,
+            idle,
+        })
     }
 
     /// The edit's map with its axis resolved, and the taper/twist variation.

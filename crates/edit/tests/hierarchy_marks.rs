@@ -1,0 +1,333 @@
+//! Edits made at a coarse level of a hierarchy with the marks each method gives
+//! (`SubMesh::apply_in_hierarchy`, `EditingSession::hierarchy_marks`,
+//! `Ffd::hierarchy_marks`), refined back to the input: the part moved at full strength
+//! is the exact image of its original fine vertices, and nothing outside the edit's
+//! region moves (issue 12, items 2, 3 and 6), on a generated bumpy sphere.
+
+use edit::area::{EditingArea, EditingSession, SessionOptions};
+use edit::ffd::{AttachOptions, Ffd, Frame};
+use edit::selection::Vertices;
+use edit::submesh::{Axis, Edit, Propagation, SubMesh, Variation};
+use edit::EditError;
+use glam::{DAffine3, DQuat, DVec3};
+use halfedge::{generators, DetailMode, Hierarchy, HierarchyOptions, Mesh, VertexId};
+
+const LEVEL: usize = 3;
+
+/// An icosphere with smooth bumps, so that its detail coefficients are not radial.
+fn bumpy_sphere() -> Mesh {
+    let mut mesh = generators::icosphere(5);
+    for p in mesh.positions_mut() {
+        let bump = 1.0 + 0.06 * (5.0 * p.x).sin() * (4.0 * p.y).sin() * (3.0 * p.z + 0.5).sin();
+        *p *= bump;
+    }
+    mesh
+}
+
+fn hierarchy(mode: DetailMode) -> (Mesh, Hierarchy) {
+    let original = bumpy_sphere();
+    let options = HierarchyOptions::rounds().with_detail_mode(mode);
+    let mut h = Hierarchy::build(original.clone(), &options).unwrap();
+    h.go_to_level(LEVEL).unwrap();
+    (original, h)
+}
+
+/// The coarse vertices above `height` (a cap).
+fn cap(mesh: &Mesh, height: f64) -> Vec<VertexId> {
+    mesh.vertices()
+        .filter(|&v| mesh.position(v).z > height)
+        .collect()
+}
+
+fn diagonal(mesh: &Mesh) -> f64 {
+    let (lo, hi) = mesh
+        .positions()
+        .iter()
+        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &p| {
+            (lo.min(p), hi.max(p))
+        });
+    (hi - lo).length()
+}
+
+/// Refines `h` to the input and returns, over the input vertices whose ancestor at
+/// `LEVEL` is in `part`, the largest distance from `map` of their original position
+/// (over the diagonal), and the number of input vertices whose ancestor is not in
+/// `region` that moved at all.
+fn refine_and_measure(
+    original: &Mesh,
+    mut h: Hierarchy,
+    part: &[bool],
+    map: DAffine3,
+    region: &[bool],
+) -> (f64, usize, Mesh) {
+    let ancestors = h.ancestors(LEVEL).unwrap();
+    h.go_to_level(0).unwrap();
+    let fine = h.into_mesh();
+    fine.check().unwrap();
+    let diagonal = diagonal(original);
+    let (mut worst, mut outside_moved) = (0.0f64, 0usize);
+    for v in original.vertices() {
+        let i = original.vertex_index(v);
+        let a = ancestors[i] as usize;
+        let (before, after) = (original.position(v), fine.position(v));
+        if part[a] {
+            worst = worst.max(after.distance(map.transform_point3(before)) / diagonal);
+        }
+        if !region[a] && after.to_array().map(f64::to_bits) != before.to_array().map(f64::to_bits) {
+            outside_moved += 1;
+        }
+    }
+    (worst, outside_moved, fine)
+}
+
+fn mask(mesh: &Mesh, vertices: impl IntoIterator<Item = u32>) -> Vec<bool> {
+    let mut m = vec![false; mesh.vertex_slots()];
+    for i in vertices {
+        m[i as usize] = true;
+    }
+    m
+}
+
+fn rotation_about(point: DVec3, axis: DVec3, angle: f64) -> DAffine3 {
+    DAffine3::from_translation(point)
+        * DAffine3::from_quat(DQuat::from_axis_angle(axis, angle))
+        * DAffine3::from_translation(-point)
+}
+
+#[test]
+fn a_submesh_rotated_at_a_coarse_level_lands_exactly_and_nothing_else_moves() {
+    let (original, mut h) = hierarchy(DetailMode::LocalFrame);
+    let sub = SubMesh::from_vertices(h.mesh(), &cap(h.mesh(), 0.55)).unwrap();
+    let inside = sub.mask().to_vec();
+    let (point, angle) = (DVec3::new(0.0, 0.0, 0.55), 0.5);
+    let edit = Edit::Rotate {
+        axis: Axis::new(point, DVec3::X).unwrap(),
+        angle,
+        bounded: false,
+    };
+    let unmarked = {
+        let mut h = h.clone();
+        sub.apply(h.mesh_mut(), &edit, Propagation::NONE).unwrap();
+        h
+    };
+    sub.apply_in_hierarchy(&mut h, &edit, Propagation::NONE)
+        .unwrap();
+    let map = rotation_about(point, DVec3::X, angle);
+    let (worst, outside_moved, _) = refine_and_measure(&original, h, &inside, map, &inside);
+    assert!(
+        worst <= 1e-9,
+        "the rotated cap missed its image by {worst:e}"
+    );
+    assert_eq!(outside_moved, 0, "vertices outside the sub-mesh moved");
+    // Without the marks the local frames only follow the rotation approximately.
+    let (loose, _, _) = refine_and_measure(&original, unmarked, &inside, map, &inside);
+    assert!(loose > 1e-6, "unmarked rotation landed too ({loose:e})");
+}
+
+#[test]
+fn a_coarse_scale_lands_with_its_reseating_and_a_pull_lands_exactly() {
+    for edit in [
+        Edit::Scale {
+            centre: DVec3::new(0.1, 0.0, 0.8),
+            factor: 0.7,
+        },
+        Edit::Pull {
+            offset: DVec3::new(0.05, -0.1, 0.2),
+        },
+    ] {
+        let (original, mut h) = hierarchy(DetailMode::LocalFrame);
+        let sub = SubMesh::from_vertices(h.mesh(), &cap(h.mesh(), 0.6)).unwrap();
+        let inside = sub.mask().to_vec();
+        let before = h.mesh().positions().to_vec();
+        let marks = sub
+            .hierarchy_marks(h.mesh(), &edit, Propagation::NONE)
+            .unwrap();
+        assert_eq!(marks.affine_parts().len(), 1);
+        assert_eq!(marks.affine_parts()[0].0.len(), sub.len());
+        let map = marks.affine_parts()[0].1;
+        sub.apply_in_hierarchy(&mut h, &edit, Propagation::NONE)
+            .unwrap();
+        // The map given to the hierarchy is what the edit did at the coarse level.
+        for &i in sub.vertex_indices() {
+            let (p, q) = (before[i as usize], h.mesh().positions()[i as usize]);
+            assert!(q.distance(map.transform_point3(p)) < 1e-12, "{edit:?}");
+        }
+        let (worst, outside_moved, _) = refine_and_measure(&original, h, &inside, map, &inside);
+        assert!(worst <= 1e-9, "{edit:?} missed its image by {worst:e}");
+        assert_eq!(
+            outside_moved, 0,
+            "{edit:?} moved vertices outside the sub-mesh"
+        );
+    }
+}
+
+#[test]
+fn a_coarse_twist_with_collars_keeps_everything_beyond_them_and_lands_its_end() {
+    let (original, mut h) = hierarchy(DetailMode::LocalFrame);
+    let sub = SubMesh::from_vertices(h.mesh(), &cap(h.mesh(), 0.3)).unwrap();
+    let axis = Axis::new(DVec3::ZERO, DVec3::Z).unwrap();
+    let (start, end, angle) = (0.3, 0.7, 1.0);
+    let edit = Edit::Twist {
+        axis: Some(axis),
+        angle,
+        variation: Variation::Along { start, end },
+    };
+    let propagation = Propagation::linear(2);
+    let collars = sub.collars(h.mesh(), 2).unwrap().concat();
+    let region = mask(
+        h.mesh(),
+        sub.vertex_indices().iter().copied().chain(collars),
+    );
+    let rigid = mask(
+        h.mesh(),
+        sub.vertex_indices()
+            .iter()
+            .copied()
+            .filter(|&i| axis.coordinate(h.mesh().positions()[i as usize]) >= end),
+    );
+    assert!(rigid.iter().any(|&r| r));
+    sub.apply_in_hierarchy(&mut h, &edit, propagation).unwrap();
+    let map = rotation_about(DVec3::ZERO, DVec3::Z, angle);
+    let (worst, outside_moved, fine) = refine_and_measure(&original, h, &rigid, map, &region);
+    assert!(
+        worst <= 1e-9,
+        "the twist's end missed its image by {worst:e}"
+    );
+    assert_eq!(outside_moved, 0, "vertices beyond the collars moved");
+    // The collars did carry the fading twist down to the fine level.
+    let moved = original
+        .vertices()
+        .filter(|&v| fine.position(v) != original.position(v))
+        .count();
+    assert!(moved > 0);
+}
+
+#[test]
+fn a_coarse_lee_drag_lands_its_primitive_and_keeps_the_outside() {
+    let (original, mut h) = hierarchy(DetailMode::LocalFrame);
+    let coarse = h.mesh();
+    let top = coarse
+        .vertices()
+        .max_by(|&a, &b| coarse.position(a).z.total_cmp(&coarse.position(b).z))
+        .unwrap();
+    let area = EditingArea::disk_around(coarse, top, 60).unwrap();
+    let interior = mask(
+        coarse,
+        area.interior()
+            .iter()
+            .map(|&v| coarse.vertex_index(v) as u32),
+    );
+    let mut session = EditingSession::new(coarse, area, &SessionOptions::default()).unwrap();
+    session.set_primitive(coarse, &[top]).unwrap();
+    let drag = DVec3::new(0.05, 0.0, 0.25);
+    session.drag(h.mesh_mut(), drag).unwrap();
+    let marks = session.hierarchy_marks(h.mesh()).unwrap();
+    assert_eq!(
+        marks.region().len(),
+        interior.iter().filter(|&&x| x).count()
+    );
+    marks.mark(&mut h).unwrap();
+    let primitive = mask(h.mesh(), [h.mesh().vertex_index(top) as u32]);
+    let (worst, outside_moved, _) = refine_and_measure(
+        &original,
+        h,
+        &primitive,
+        DAffine3::from_translation(drag),
+        &interior,
+    );
+    assert!(
+        worst <= 1e-9,
+        "the primitive missed its target by {worst:e}"
+    );
+    assert_eq!(outside_moved, 0, "vertices outside the area moved");
+}
+
+#[test]
+fn a_coarse_ffd_moves_only_the_fine_vertices_of_its_footprint() {
+    let (original, mut h) = hierarchy(DetailMode::LocalFrame);
+    let coarse = h.mesh();
+    let footprint: Vec<VertexId> = cap(coarse, 0.4);
+    let frame = Frame::new(DVec3::new(0.0, 0.0, 0.4), DVec3::X, DVec3::Z).unwrap();
+    let mut ffd = Ffd::covering(
+        coarse,
+        Vertices::List(&footprint),
+        frame,
+        ([3, 3], [6, 6]),
+        ([3, 3], [6, 6]),
+        0.05,
+        AttachOptions::default(),
+    )
+    .unwrap();
+    ffd.bend(0.6).unwrap();
+    ffd.deform(h.mesh_mut()).unwrap();
+    let marks = ffd.hierarchy_marks(h.mesh()).unwrap();
+    assert!(marks.affine_parts().is_empty());
+    let region: Vec<bool> = (0..h.mesh().vertex_slots())
+        .map(|i| ffd.parameters(i).is_some())
+        .collect();
+    assert_eq!(marks.region().len(), ffd.attached());
+    marks.mark(&mut h).unwrap();
+    let (_, outside_moved, fine) =
+        refine_and_measure(&original, h, &region, DAffine3::IDENTITY, &region);
+    assert_eq!(outside_moved, 0, "vertices outside the footprint moved");
+    assert!(fine.positions() != original.positions());
+}
+
+#[test]
+fn marks_are_refused_on_another_level_and_ignored_with_translations() {
+    let (_, mut h) = hierarchy(DetailMode::LocalFrame);
+    let sub = SubMesh::from_vertices(h.mesh(), &cap(h.mesh(), 0.6)).unwrap();
+    let edit = Edit::Pull {
+        offset: DVec3::new(0.0, 0.0, 0.1),
+    };
+    let marks = sub
+        .hierarchy_marks(h.mesh(), &edit, Propagation::NONE)
+        .unwrap();
+    h.go_to_level(LEVEL + 1).unwrap();
+    assert!(matches!(marks.mark(&mut h), Err(EditError::Stale(_))));
+    assert!(matches!(
+        sub.apply_in_hierarchy(&mut h, &edit, Propagation::NONE),
+        Err(EditError::Stale(_))
+    ));
+
+    // The paper's translations: the edit is made, no mark is given, the refinement is
+    // the one of the plain edit, bit for bit.
+    let (_, mut h) = hierarchy(DetailMode::Translation);
+    let sub = SubMesh::from_vertices(h.mesh(), &cap(h.mesh(), 0.6)).unwrap();
+    let mut plain = h.clone();
+    sub.apply(plain.mesh_mut(), &edit, Propagation::NONE)
+        .unwrap();
+    sub.apply_in_hierarchy(&mut h, &edit, Propagation::NONE)
+        .unwrap();
+    plain.go_to_level(0).unwrap();
+    h.go_to_level(0).unwrap();
+    assert_eq!(h.mesh().positions(), plain.mesh().positions());
+}
+
+#[test]
+fn the_taper_map_given_to_the_hierarchy_is_the_edit_at_full_strength() {
+    let (_, h) = hierarchy(DetailMode::LocalFrame);
+    let sub = SubMesh::from_vertices(h.mesh(), &cap(h.mesh(), 0.2)).unwrap();
+    let axis = Axis::new(DVec3::new(0.1, 0.0, 0.0), DVec3::new(0.2, 0.1, 1.0)).unwrap();
+    let factor = 0.5;
+    let edit = Edit::Taper {
+        axis: Some(axis),
+        factor,
+        variation: Variation::Along {
+            start: 0.4,
+            end: 0.6,
+        },
+    };
+    let marks = sub
+        .hierarchy_marks(h.mesh(), &edit, Propagation::NONE)
+        .unwrap();
+    let (part, map) = &marks.affine_parts()[0];
+    let d = axis.direction();
+    for &v in part {
+        let p = h.mesh().position(v);
+        assert!(axis.coordinate(p) >= 0.6);
+        let q = p - axis.point();
+        let expected = axis.point() + q.dot(d) * d + factor * (q - q.dot(d) * d);
+        assert!(map.transform_point3(p).distance(expected) < 1e-12);
+    }
+}
