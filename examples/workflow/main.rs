@@ -257,7 +257,7 @@ fn run(args: Args) -> Result<(), BoxError> {
         rows.push(skipped("Lee drag", "left out (--skip lee)"));
     } else {
         let clock = Instant::now();
-        match lee_drag(hierarchy.mesh_mut(), diagonal, large) {
+        match lee_drag(&mut hierarchy, diagonal, large) {
             Ok((detail, note)) => {
                 notes.extend(note);
                 rows.push(Row {
@@ -302,6 +302,7 @@ fn run(args: Args) -> Result<(), BoxError> {
     }
 
     // --- sub-mesh taper above the plane -----------------------------------------
+    let before_taper = hierarchy.mesh().positions().to_vec();
     if let Some(sub) = &sub {
         let clock = Instant::now();
         let taper = Edit::Taper {
@@ -309,7 +310,9 @@ fn run(args: Args) -> Result<(), BoxError> {
             factor: 0.6,
             variation: Variation::Levels(None),
         };
-        match sub.apply(hierarchy.mesh_mut(), &taper, Propagation::linear(2)) {
+        // Marked in the hierarchy: its region (the sub-mesh) and the part at full
+        // strength, which lands exactly when refined.
+        match sub.apply_in_hierarchy(&mut hierarchy, &taper, Propagation::linear(2)) {
             Ok(_) => rows.push(Row {
                 step: "taper",
                 detail: "sub-mesh tapered to 0.6, 2 propagation levels".to_string(),
@@ -326,6 +329,15 @@ fn run(args: Args) -> Result<(), BoxError> {
     }
     hierarchy.mesh().check()?;
     let coarse_after = hierarchy.mesh().clone();
+    // Handle vertices the taper moved too: their fine vertices are the taper's image of
+    // the handle's, not the handle's alone.
+    let handle_tapered = landing.as_ref().map_or(0, |landing| {
+        landing
+            .handle
+            .iter()
+            .filter(|&&i| before_taper[i as usize] != coarse_after.positions()[i as usize])
+            .count()
+    });
 
     // --- refine back with detail coefficients -----------------------------------
     let clock = Instant::now();
@@ -376,7 +388,15 @@ fn run(args: Args) -> Result<(), BoxError> {
             result.n_vertices() - moved,
             landed.map_or(String::new(), |(count, worst)| format!(
                 "; the B&K handle's {count} vertices are its rigid image within {worst:.1e} \
-                 of the diagonal"
+                 of the diagonal{}",
+                if handle_tapered > 0 {
+                    format!(
+                        " ({handle_tapered} of its coarse vertices were tapered afterwards: \
+                         --skip taper leaves them as the rotation put them)"
+                    )
+                } else {
+                    String::new()
+                }
             ))
         ),
         seconds: clock.elapsed().as_secs_f64(),
@@ -557,10 +577,11 @@ fn label_submesh(mesh: &mut Mesh, axis: DVec3, fraction: f64) -> Result<Labelled
 /// The Lee rule of the module docs: an editing area around a front vertex, dragged along
 /// its normal. Returns the table's detail and a note when the rule had to adapt.
 fn lee_drag(
-    mesh: &mut Mesh,
+    hierarchy: &mut Hierarchy,
     diagonal: f64,
     large: bool,
 ) -> Result<(String, Option<String>), String> {
+    let mesh = hierarchy.mesh();
     let mut centres: Vec<(VertexId, String)> = Vec::new();
     for (d, name) in [
         (DVec3::Z, "+z"),
@@ -583,6 +604,7 @@ fn lee_drag(
     for (attempt, (centre, what)) in centres.iter().enumerate() {
         let mut size = first_size;
         while size >= MIN_AREA {
+            let mesh = hierarchy.mesh();
             let tried = EditingArea::disk_around(mesh, *centre, size).and_then(|area| {
                 let options = SessionOptions {
                     scale: 0.6,
@@ -595,11 +617,17 @@ fn lee_drag(
             match tried {
                 Ok(mut session) => {
                     let pull = mesh.vertex_normal(*centre) * 0.15 * diagonal;
+                    // The drag tells the hierarchy its area and the primitive's
+                    // translation: refined back, the primitive lands on its target and
+                    // nothing outside the area moves.
                     session
-                        .set_primitive(mesh, &[*centre])
-                        .and_then(|()| session.drag(mesh, pull))
-                        .and_then(|()| session.commit(mesh))
+                        .set_primitive(hierarchy.mesh(), &[*centre])
+                        .and_then(|()| session.drag(hierarchy.mesh_mut(), pull))
+                        .and_then(|()| session.hierarchy_marks(hierarchy.mesh()))
+                        .and_then(|marks| marks.mark(hierarchy))
+                        .and_then(|()| session.commit(hierarchy.mesh()))
                         .map_err(|e| e.to_string())?;
+                    let mesh = hierarchy.mesh();
                     let detail = format!(
                         "area of {} vertices around v{} ({what}), pulled by {:.3} along its \
                          normal at s = 0.6",

@@ -55,6 +55,14 @@ impl HierarchyMarks {
         })
     }
 
+    /// The same marks, checked against `binding` (the one of the value that made them:
+    /// a sub-mesh, an area, an attachment) instead of the mesh they were computed on,
+    /// which may be a clone of the hierarchy's mesh.
+    pub(crate) fn bound_to(mut self, binding: MeshBinding) -> Self {
+        self.binding = binding;
+        self
+    }
+
     /// The vertices the edit may move.
     pub fn region(&self) -> &[VertexId] {
         &self.region

@@ -283,6 +283,13 @@ fn marks_are_refused_on_another_level_and_ignored_with_translations() {
     let marks = sub
         .hierarchy_marks(h.mesh(), &edit, Propagation::NONE)
         .unwrap();
+    // Made on a clone of the hierarchy's mesh (an interactive application's scratch
+    // copy), they fit the hierarchy.
+    let scratch = h.mesh().clone();
+    let from_scratch = sub
+        .hierarchy_marks(&scratch, &edit, Propagation::NONE)
+        .unwrap();
+    from_scratch.mark(&mut h.clone()).unwrap();
     h.go_to_level(LEVEL + 1).unwrap();
     assert!(matches!(marks.mark(&mut h), Err(EditError::Stale(_))));
     assert!(matches!(

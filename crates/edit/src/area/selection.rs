@@ -405,6 +405,11 @@ impl EditingArea {
         Ok(self.binding.check(mesh, "the editing area")?)
     }
 
+    /// What the area was made for.
+    pub(crate) fn binding(&self) -> halfedge::MeshBinding {
+        self.binding
+    }
+
     /// Local triangles (three local indices each, in face orientation).
     pub(crate) fn local_triangles(&self, mesh: &Mesh) -> Vec<[u32; 3]> {
         self.faces

@@ -481,7 +481,10 @@ impl EditingSession {
                 None => affine.push((vec![v], DAffine3::from_translation(d))),
             }
         }
-        HierarchyMarks::new(mesh, self.area.interior().to_vec(), affine)
+        Ok(
+            HierarchyMarks::new(mesh, self.area.interior().to_vec(), affine)?
+                .bound_to(self.area.binding()),
+        )
     }
 
     fn ready(&self, mesh: &Mesh) -> Result<()> {

@@ -606,7 +606,7 @@ impl Ffd {
             .filter(|(_, p)| !p[0].is_nan())
             .filter_map(|(i, _)| mesh.vertex_at(i))
             .collect();
-        HierarchyMarks::new(mesh, region, Vec::new())
+        Ok(HierarchyMarks::new(mesh, region, Vec::new())?.bound_to(self.binding))
     }
 
     /// Moves every attached vertex to `S_new(u, v) + H_new,y(u, v) · h · n_new(u, v)`

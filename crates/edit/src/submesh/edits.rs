@@ -440,7 +440,7 @@ impl SubMesh {
                 DAffine3::from_translation(plan.reseat) * plan.map.full_strength(),
             )]
         };
-        HierarchyMarks::new(mesh, region, affine)
+        Ok(HierarchyMarks::new(mesh, region, affine)?.bound_to(self.binding))
     }
 
     /// [`apply`](Self::apply) to the mesh of `hierarchy` at its current level (the

@@ -1016,47 +1016,8 @@ impl BendelsKlein {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::document::Document;
-    use crate::tools::{Headless, Status};
-    use halfedge::{generators, Hierarchy, HierarchyOptions};
-
-    /// A document holding a hierarchy of an icosphere at `level`, and the rest of what a
-    /// tool context borrows.
-    struct Fixture {
-        tools: Headless,
-        input: Mesh,
-    }
-
-    impl Fixture {
-        fn at_level(level: usize) -> Self {
-            let input = generators::icosphere(4);
-            let h = Hierarchy::build(
-                input.clone(),
-                &HierarchyOptions::rounds().with_target_faces(150),
-            )
-            .unwrap();
-            assert!(h.coarsest_level() >= 2, "{:?}", h.level_face_counts());
-            let mut doc = Document::new(input.clone(), None, None);
-            doc.set_hierarchy(h, "build");
-            doc.go_to_level(level, "level").unwrap();
-            doc.end_edit();
-            Self {
-                tools: Headless::new(doc),
-                input,
-            }
-        }
-
-        fn ctx(&mut self) -> ToolContext<'_> {
-            self.tools.ctx()
-        }
-    }
-
-    fn bits(positions: &[DVec3]) -> Vec<[u64; 3]> {
-        positions
-            .iter()
-            .map(|p| p.to_array().map(f64::to_bits))
-            .collect()
-    }
+    use crate::tools::fixture::{bits, Fixture};
+    use crate::tools::Status;
 
     /// The number in "… refine: N new vertices …" of the status line.
     fn new_vertices(status: &Status) -> usize {

@@ -276,6 +276,10 @@ impl FfdTool {
             }
             positions[i] = p;
         }
+        // At a coarse level of a hierarchy the footprint is the edit's region: refining
+        // moves its fine vertices with it and nothing else.
+        ctx.doc
+            .mark_hierarchy(|h| st.ffd.hierarchy_marks(h.mesh())?.mark(h))?;
         Ok(moved)
     }
 

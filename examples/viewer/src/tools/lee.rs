@@ -589,6 +589,11 @@ impl Tool for LeeAreaEdit {
                         self.edit_active = true;
                     }
                     if drag.phase == DragPhase::End && self.edit_active {
+                        // At a coarse level of a hierarchy the drag is one edit: its area
+                        // and the primitive's translation are marked, so that refining
+                        // lands the primitive and keeps the outside still.
+                        ctx.doc
+                            .mark_hierarchy(|h| session.hierarchy_marks(h.mesh())?.mark(h))?;
                         let (n, total) = self.drag_updates;
                         ctx.info(format!(
                             "Lee drag: primitive of {} vertices moved by {:.4} over {} \

@@ -521,3 +521,50 @@ pub trait Tool {
         Background::Idle
     }
 }
+
+/// What the tools' tests share: a document holding a hierarchy at a coarse level.
+#[cfg(test)]
+pub(crate) mod fixture {
+    use super::{Headless, ToolContext};
+    use crate::document::Document;
+    use glam::DVec3;
+    use halfedge::{generators, Hierarchy, HierarchyOptions, Mesh};
+
+    /// A document holding a hierarchy of an icosphere at `level`, and the rest of what a
+    /// tool context borrows.
+    pub struct Fixture {
+        tools: Headless,
+        pub input: Mesh,
+    }
+
+    impl Fixture {
+        pub fn at_level(level: usize) -> Self {
+            let input = generators::icosphere(4);
+            let h = Hierarchy::build(
+                input.clone(),
+                &HierarchyOptions::rounds().with_target_faces(150),
+            )
+            .unwrap();
+            assert!(h.coarsest_level() >= 2, "{:?}", h.level_face_counts());
+            let mut doc = Document::new(input.clone(), None, None);
+            doc.set_hierarchy(h, "build");
+            doc.go_to_level(level, "level").unwrap();
+            doc.end_edit();
+            Self {
+                tools: Headless::new(doc),
+                input,
+            }
+        }
+
+        pub fn ctx(&mut self) -> ToolContext<'_> {
+            self.tools.ctx()
+        }
+    }
+
+    pub fn bits(positions: &[DVec3]) -> Vec<[u64; 3]> {
+        positions
+            .iter()
+            .map(|p| p.to_array().map(f64::to_bits))
+            .collect()
+    }
+}

@@ -260,6 +260,9 @@ impl SubMeshEdit {
         let mesh = ctx.mesh();
         let op = choice_name(&OPERATIONS, self.operation);
         let mut work = mesh.clone();
+        // What the edit tells a hierarchy (its region and the part moved at full
+        // strength), so that refining lands it as made.
+        let mut marks = None;
         let (sub_len, what) = match self.operation {
             Operation::Pull => {
                 return Err(ToolError::new(
@@ -302,6 +305,7 @@ impl SubMeshEdit {
             _ => {
                 let sub = self.submesh(mesh)?;
                 let edit = self.edit(mesh, &sub)?;
+                marks = Some(sub.hierarchy_marks(mesh, &edit, self.propagation())?);
                 sub.apply(&mut work, &edit, self.propagation())?;
                 (sub.len(), format!("{op}, n = {}", self.levels))
             }
@@ -318,6 +322,9 @@ impl SubMeshEdit {
             positions[i] = work.positions()[i];
         }
         ctx.doc.end_edit();
+        if let Some(marks) = marks {
+            ctx.doc.mark_hierarchy(|h| marks.mark(h))?;
+        }
         ctx.info(format!(
             "Sub-mesh {what}: {} vertices moved (sub-mesh {} vertices)",
             group(changed.len()),
@@ -642,6 +649,9 @@ impl Tool for SubMeshEdit {
                 let edit = Edit::Pull {
                     offset: drag.delta(),
                 };
+                // The whole drag is one edit: its marks are given once, at its end.
+                let marks = (drag.phase == DragPhase::End)
+                    .then(|| d.sub.hierarchy_marks(&d.work, &edit, propagation));
                 match d.sub.apply(&mut d.work, &edit, propagation) {
                     Ok(snapshot) => {
                         d.touched.extend_from_slice(snapshot.indices());
@@ -654,7 +664,11 @@ impl Tool for SubMeshEdit {
                     }
                     Err(e) => ctx.error(format!("Sub-mesh pull: {e}")),
                 }
-                if drag.phase == DragPhase::End {
+                let marked = marks.map(|m| m.and_then(|m| ctx.doc.mark_hierarchy(|h| m.mark(h))));
+                if let Some(Err(e)) = marked {
+                    self.drag = None;
+                    ctx.error(format!("Sub-mesh pull: {e}"));
+                } else if drag.phase == DragPhase::End {
                     let d = self.drag.take().expect("checked");
                     ctx.info(format!(
                         "Sub-mesh pull: {} vertices moved (sub-mesh {}, n = {}), |d| = {:.4}",
@@ -713,6 +727,7 @@ impl Tool for SubMeshEdit {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::tools::fixture::{bits, Fixture};
     use halfedge::generators;
 
     #[test]
@@ -746,5 +761,105 @@ mod tests {
             }
         }
         assert_ne!(mesh.positions(), work.positions());
+    }
+
+    /// At level 2 of the fixture, a tool on the two rings around the top vertex with
+    /// no propagation.
+    fn top_rings(ctx: &ToolContext<'_>, operation: Operation) -> SubMeshEdit {
+        let mesh = ctx.mesh();
+        let mut tool = SubMeshEdit::new();
+        tool.source = Source::Ring;
+        tool.rings = 2;
+        tool.centre = mesh
+            .vertices()
+            .max_by(|&a, &b| mesh.position(a).z.total_cmp(&mesh.position(b).z));
+        tool.levels = 0;
+        tool.operation = operation;
+        tool
+    }
+
+    /// Refines the fixture's document to the input and returns the largest distance of
+    /// an input vertex whose ancestor at `level` is in `sub` from `map` of its input
+    /// position, checking that every other input vertex stayed bit for bit.
+    fn refine_and_measure(
+        ctx: &mut ToolContext<'_>,
+        input: &Mesh,
+        level: usize,
+        sub: &SubMesh,
+        map: glam::DAffine3,
+    ) -> f64 {
+        let ancestors = ctx.doc.hierarchy().unwrap().ancestors(level).unwrap();
+        ctx.doc.go_to_level(0, "levels").unwrap();
+        let fine = ctx.mesh();
+        let (mut inside, mut worst) = (0, 0.0f64);
+        for v in input.vertices() {
+            let (p, q) = (input.position(v), fine.position(v));
+            if sub.contains_index(ancestors[input.vertex_index(v)] as usize) {
+                inside += 1;
+                worst = worst.max(q.distance(map.transform_point3(p)));
+            } else {
+                assert_eq!(bits(&[q]), bits(&[p]), "vertex {v} outside moved");
+            }
+        }
+        assert!(inside > 20, "{inside} vertices inside");
+        worst
+    }
+
+    #[test]
+    fn a_submesh_rotated_at_a_coarse_level_lands_exactly_at_full_resolution() {
+        // The tool marks the document's hierarchy with the rotation (the whole sub-mesh
+        // at full strength) and the sub-mesh as the region.
+        let level = 2;
+        let mut fixture = Fixture::at_level(level);
+        let input = fixture.input.clone();
+        let mut ctx = fixture.ctx();
+        let mut tool = top_rings(&ctx, Operation::Rotate);
+        tool.angle = 35.0;
+        let sub = tool.submesh(ctx.mesh()).unwrap();
+        let axis = sub.axis(ctx.mesh()).unwrap();
+        tool.run(&mut ctx).unwrap();
+        let map = glam::DAffine3::from_translation(axis.point())
+            * glam::DAffine3::from_axis_angle(axis.direction(), 35f64.to_radians())
+            * glam::DAffine3::from_translation(-axis.point());
+        let worst = refine_and_measure(&mut ctx, &input, level, &sub, map);
+        // The icosphere's diagonal is about 3.5.
+        assert!(
+            worst < 1e-9,
+            "a vertex is {worst:e} off its rotated position"
+        );
+    }
+
+    #[test]
+    fn a_submesh_pulled_by_a_drag_at_a_coarse_level_lands_exactly() {
+        let level = 2;
+        let mut fixture = Fixture::at_level(level);
+        let input = fixture.input.clone();
+        let mut ctx = fixture.ctx();
+        let mut tool = top_rings(&ctx, Operation::Pull);
+        let sub = tool.submesh(ctx.mesh()).unwrap();
+        let start = ctx.mesh().position(tool.centre.unwrap());
+        let offset = DVec3::new(0.1, -0.05, 0.3);
+        for (phase, fraction) in [
+            (DragPhase::Start, 0.0),
+            (DragPhase::Move, 0.5),
+            (DragPhase::Move, 0.8),
+            (DragPhase::End, 1.0),
+        ] {
+            let drag = Drag {
+                phase,
+                pick: None,
+                start,
+                current: start + fraction * offset,
+            };
+            tool.on_drag(&drag, &mut ctx);
+            assert!(!ctx.status.is_error, "{}", ctx.status.message);
+        }
+        ctx.doc.end_edit();
+        let map = glam::DAffine3::from_translation(offset);
+        let worst = refine_and_measure(&mut ctx, &input, level, &sub, map);
+        assert!(
+            worst < 1e-9,
+            "a vertex is {worst:e} off its pulled position"
+        );
     }
 }
