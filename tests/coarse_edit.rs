@@ -193,7 +193,7 @@ fn coarse_edits_keep_their_regions_land_their_handles_and_stay_close_on_generate
 }
 
 #[test]
-#[ignore = "known failure (issue 12): 17 of 192 runs (11 twists, whose rigid end's clusters reach down the ramp at levels 2-4, and 6 scales) flip a few more fine faces than the full-resolution edit (56 extra faces in all); cargo test --release -- --ignored known_failure"]
+#[ignore = "known failure (issue 12): 1 of 192 runs (a QEM twist at level 4 on two components) flips one more fine face than the full-resolution edit; cargo test --release -- --ignored known_failure"]
 fn known_failure_coarse_edits_end_like_full_resolution_edits_on_generated_meshes() {
     let reports = generated_reports();
     assert_all(
@@ -205,10 +205,10 @@ fn known_failure_coarse_edits_end_like_full_resolution_edits_on_generated_meshes
 
 #[test]
 fn coarse_edits_flip_few_more_faces_than_full_resolution_edits_on_generated_meshes() {
-    // Where the coarse path still flips more faces than the full-resolution edit (mostly
-    // twists, whose rigid end's clusters reach down their ramp), the splits that would
-    // fold their faces are drawn back: over the 192 runs the extra flipped faces add up
-    // to 56 (99 before) and no run has more than 12 (21 before).
+    // Over the 192 runs one coarse edit flips one fine face more than the same edit at
+    // full resolution (56 extra faces in 17 runs before a twist's or taper's rigid end
+    // kept only the clusters beyond its ramp and a scale was compared with the same
+    // re-seating at both resolutions; 99 before folding splits were drawn back).
     let reports = generated_reports();
     let extra: Vec<usize> = reports
         .iter()
@@ -216,7 +216,7 @@ fn coarse_edits_flip_few_more_faces_than_full_resolution_edits_on_generated_mesh
         .collect();
     let (total, largest) = (extra.iter().sum::<usize>(), extra.iter().max().copied());
     assert!(
-        total <= 64 && largest <= Some(14),
+        total <= 3 && largest <= Some(2),
         "{total} extra flipped faces in all, at most {largest:?} in one run"
     );
 }
@@ -338,7 +338,7 @@ fn coarse_edits_keep_their_regions_land_their_handles_and_stay_close_on_the_shar
 }
 
 #[test]
-#[ignore = "known failure (issue 12): 14 of 144 runs (9 twists or tapers, whose ramp kinks a coarse level puts on cluster boundaries; fandisk's QEM bk and teapot's rounds bk; two scales and a lee) flip a few more fine faces than the full-resolution edit; needs ../shared/meshes; cargo test --release -- --ignored known_failure"]
+#[ignore = "known failure (issue 12): 6 of 144 runs (fandisk's and nefertiti's rounds twists, teapot's rounds taper, whose ramp kinks a coarse level puts on cluster boundaries; fandisk's QEM bk and teapot's rounds bk; cow's rounds lee) flip 1 to 25 more fine faces than the full-resolution edit; needs ../shared/meshes; cargo test --release -- --ignored known_failure"]
 fn known_failure_coarse_edits_meet_the_targets_on_the_shared_meshes() {
     assert_all(&shared_reports(), "the targets", Report::meets_targets);
 }

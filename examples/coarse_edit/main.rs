@@ -36,8 +36,10 @@
 //! - `rotate`: by `30° A` about the line through `c` across the axis (perpendicular to `d`
 //!   and, where possible, to the region's mean normal), `n = 0`: a rigid motion.
 //! - `scale`: by `0.8^A` about `c`, `n = 0`, re-seated on the frontier's plane by the
-//!   library: affine. (Growing it instead folds the faces at the frontier over the host
-//!   at every resolution.)
+//!   library: affine. At level 0 the scaled region gets the level-`N` edit's re-seating
+//!   translation (the plane fitted to the frontier differs a little between
+//!   resolutions), so both sides make the same map. (Growing it instead folds the faces
+//!   at the frontier over the host at every resolution.)
 //! - `twist` / `taper`: by `60° A` / to `0.6^A` about the axis along which the region
 //!   reaches farthest beyond its frontier (towards the tip, or the normal of the plane
 //!   fitted to the frontier), with [`Variation::Along`](edit::submesh::Variation::Along)

@@ -891,10 +891,24 @@ fn submesh_edit(
             let (centre, d) = (axis_along.point(), axis_along.direction());
             let end = start + 0.7 * (top - start);
             let variation = Variation::Along { start, end };
+            // The rigid end: the coarse vertices beyond the ramp whose whole cluster of
+            // fine vertices is beyond it too (a cluster reaching down the ramp would
+            // take the full map where the full-resolution edit gives less).
+            let mut lowest = vec![f64::INFINITY; positions.len()];
+            if let Some(fine) = fine.as_deref() {
+                for v in fine.vertices() {
+                    let i = fine.vertex_index(v);
+                    let a = ancestors[i] as usize;
+                    let s = axis_along.coordinate(fine.positions()[i]);
+                    lowest[a] = lowest[a].min(s);
+                }
+            }
             let rigid: Vec<u32> = inside
                 .iter()
                 .copied()
-                .filter(|&i| axis_along.coordinate(positions[i as usize]) >= end)
+                .filter(|&i| {
+                    axis_along.coordinate(positions[i as usize]) >= end && lowest[i as usize] >= end
+                })
                 .collect();
             let to_axis = DAffine3::from_translation(-centre);
             let from_axis = DAffine3::from_translation(centre);
@@ -933,25 +947,37 @@ fn submesh_edit(
     let before = coarse.positions().to_vec();
     sub.apply(coarse, &edit, Propagation::NONE)
         .map_err(lib(hint))?;
+    // The library re-seats a scaled sub-mesh by a translation fitted to its frontier:
+    // the mean offset of the scaled vertices from the plain scale.
+    let reseat = |list: &[u32], before: &[DVec3], after: &[DVec3]| {
+        list.iter()
+            .map(|&i| after[i as usize] - map.transform_point3(before[i as usize]))
+            .sum::<DVec3>()
+            / list.len() as f64
+    };
+    let coarse_shift = reseat(&inside, &before, coarse.positions());
     let mut fine_region = 0;
     if let Some(fine) = fine {
         let fine_mask =
             VertexData::new(fine, fine_mask(fine, ancestors, &mask)).map_err(lib(hint))?;
         let fine_sub = SubMesh::from_mask(fine, &fine_mask).map_err(lib(hint))?;
+        let fine_before = fine.positions().to_vec();
         fine_sub
             .apply(fine, &edit, Propagation::NONE)
             .map_err(lib(hint))?;
+        if kind == EditKind::Scale {
+            // the same map at both resolutions: the coarse edit's re-seating (the fitted
+            // frontier plane differs a little between resolutions)
+            let fine_shift = reseat(fine_sub.vertex_indices(), &fine_before, fine.positions());
+            let offset = coarse_shift - fine_shift;
+            fine_sub
+                .apply(fine, &Edit::Pull { offset }, Propagation::NONE)
+                .map_err(lib(hint))?;
+        }
         fine_region = fine_sub.len();
     }
     let map = if kind == EditKind::Scale {
-        // the library re-seats the scaled sub-mesh by a translation: add it
-        let after = coarse.positions();
-        let shift = inside
-            .iter()
-            .map(|&i| after[i as usize] - map.transform_point3(before[i as usize]))
-            .sum::<DVec3>()
-            / inside.len() as f64;
-        DAffine3::from_translation(shift) * map
+        DAffine3::from_translation(coarse_shift) * map
     } else {
         map
     };

@@ -15,7 +15,7 @@
 //! [`BlendSession::mark_in_hierarchy`](crate::blend::BlendSession::mark_in_hierarchy)
 //! marks a Bendels & Klein edit directly.
 
-use glam::DAffine3;
+use glam::{DAffine3, DVec3};
 use halfedge::{DetailMode, Hierarchy, Mesh, MeshBinding, VertexId};
 
 use crate::{EditError, Result};
@@ -27,6 +27,10 @@ pub struct HierarchyMarks {
     binding: MeshBinding,
     region: Vec<VertexId>,
     affine: Vec<(Vec<VertexId>, DAffine3)>,
+    /// The affine parts hold only beyond this plane (`(p − point)·direction ≥ end`, a
+    /// taper's or twist's ramp end): a vertex whose cluster reaches below it keeps only
+    /// its region mark.
+    beyond: Option<(DVec3, DVec3, f64)>,
 }
 
 impl HierarchyMarks {
@@ -52,6 +56,7 @@ impl HierarchyMarks {
             binding: mesh.binding(),
             region,
             affine,
+            beyond: None,
         })
     }
 
@@ -60,6 +65,16 @@ impl HierarchyMarks {
     /// which may be a clone of the hierarchy's mesh.
     pub(crate) fn bound_to(mut self, binding: MeshBinding) -> Self {
         self.binding = binding;
+        self
+    }
+
+    /// The same marks whose affine parts hold only where `(p − point)·direction ≥ end` (the
+    /// edit is affine beyond a ramp at every resolution): given to a hierarchy, a vertex
+    /// of an affine part whose cluster ([`Hierarchy::cluster_members`]) reaches below
+    /// that plane in the input is only marked as region, so that its fine vertices in the
+    /// ramp are interpolated instead of taking the full map.
+    pub(crate) fn beyond(mut self, point: DVec3, direction: DVec3, end: f64) -> Self {
+        self.beyond = Some((point, direction, end));
         self
     }
 
@@ -102,9 +117,13 @@ impl HierarchyMarks {
         if hierarchy.detail_mode() != DetailMode::LocalFrame {
             return Ok(());
         }
+        let affine = match self.beyond {
+            Some(plane) => self.affine_beyond(hierarchy, plane),
+            None => self.affine.clone(),
+        };
         // Checked at construction and by the binding: the hierarchy cannot refuse now, so
         // nothing is half-marked.
-        for (vertices, map) in &self.affine {
+        for (vertices, map) in &affine {
             if compose {
                 hierarchy.mark_affine(vertices, *map)?;
             } else {
@@ -113,5 +132,36 @@ impl HierarchyMarks {
         }
         hierarchy.mark_region(&self.region)?;
         Ok(())
+    }
+
+    /// The affine parts without the vertices whose cluster reaches below `plane`.
+    fn affine_beyond(
+        &self,
+        hierarchy: &Hierarchy,
+        (point, direction, end): (DVec3, DVec3, f64),
+    ) -> Vec<(Vec<VertexId>, DAffine3)> {
+        let mesh = hierarchy.mesh();
+        let mut below = vec![false; mesh.vertex_slots()];
+        for (_, ancestor, p) in hierarchy.cluster_members() {
+            // (A coordinate that is not ≥ end, NaN included, is below.)
+            let beyond = (p - point).dot(direction) >= end;
+            if !beyond {
+                if let Some(b) = below.get_mut(ancestor as usize) {
+                    *b = true;
+                }
+            }
+        }
+        self.affine
+            .iter()
+            .map(|(vertices, map)| {
+                let kept = vertices
+                    .iter()
+                    .copied()
+                    .filter(|&v| !below[mesh.vertex_index(v)])
+                    .collect();
+                (kept, *map)
+            })
+            .filter(|(vertices, _): &(Vec<VertexId>, DAffine3)| !vertices.is_empty())
+            .collect()
     }
 }

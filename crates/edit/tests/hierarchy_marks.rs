@@ -178,14 +178,24 @@ fn a_coarse_twist_with_collars_keeps_everything_beyond_them_and_lands_its_end() 
         h.mesh(),
         sub.vertex_indices().iter().copied().chain(collars),
     );
-    let rigid = mask(
+    // The rigid end: beyond the ramp at this level, and every fine vertex of the
+    // cluster beyond it in the input.
+    let mut reaches_down = vec![false; h.mesh().vertex_slots()];
+    for (_, ancestor, p) in h.cluster_members() {
+        reaches_down[ancestor as usize] |= axis.coordinate(p) < end;
+    }
+    let at_full_strength = mask(
         h.mesh(),
         sub.vertex_indices()
             .iter()
             .copied()
             .filter(|&i| axis.coordinate(h.mesh().positions()[i as usize]) >= end),
     );
+    let rigid: Vec<bool> = (0..at_full_strength.len())
+        .map(|i| at_full_strength[i] && !reaches_down[i])
+        .collect();
     assert!(rigid.iter().any(|&r| r));
+    let ancestors = h.ancestors(LEVEL).unwrap();
     sub.apply_in_hierarchy(&mut h, &edit, propagation).unwrap();
     let map = rotation_about(DVec3::ZERO, DVec3::Z, angle);
     let (worst, outside_moved, fine) = refine_and_measure(&original, h, &rigid, map, &region);
@@ -194,6 +204,22 @@ fn a_coarse_twist_with_collars_keeps_everything_beyond_them_and_lands_its_end() 
         "the twist's end missed its image by {worst:e}"
     );
     assert_eq!(outside_moved, 0, "vertices beyond the collars moved");
+    // A fine vertex in the ramp whose coarse vertex is at full strength is interpolated,
+    // not turned by the full angle as its coarse vertex (the full-resolution twist turns
+    // it by less).
+    let (mut in_ramp, mut apart) = (0, 0.0f64);
+    for v in original.vertices() {
+        let a = ancestors[original.vertex_index(v)] as usize;
+        let p = original.position(v);
+        if at_full_strength[a] && axis.coordinate(p) < end {
+            in_ramp += 1;
+            apart = apart.max(fine.position(v).distance(map.transform_point3(p)));
+        }
+    }
+    assert!(
+        in_ramp > 0 && apart > 1e-3,
+        "{in_ramp} ramp vertices, {apart:e} apart"
+    );
     // The collars did carry the fading twist down to the fine level.
     let moved = original
         .vertices()

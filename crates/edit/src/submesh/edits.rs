@@ -402,7 +402,13 @@ impl SubMesh {
     /// part of a taper or twist beyond its ramp) form one affine part, moved by the
     /// edit's map at full strength (a translation, a scale about the centre with the
     /// re-seating translation, a rotation about the axis, Barr's taper or twist at its
-    /// full factor or angle). A bounded rotation's vertices stopped on the frontier plane
+    /// full factor or angle). Beyond the ramp of a taper or twist along its axis
+    /// ([`Variation::Along`]) a coarse vertex keeps its affine mark only when every fine
+    /// vertex collapsed into it is beyond the ramp's end in the input too
+    /// ([`Hierarchy::cluster_members`](halfedge::Hierarchy::cluster_members), looked up
+    /// when the marks are given): the others are in the region only, so their fine
+    /// vertices in the ramp are interpolated rather than turned or scaled by the full
+    /// amount. A bounded rotation's vertices stopped on the frontier plane
     /// are not at the map's image: the hierarchy finds that and carries them by their
     /// local frame. Call it before [`apply`](Self::apply), then give the marks to the
     /// hierarchy after it ([`HierarchyMarks::mark`]); [`apply_in_hierarchy`](Self::apply_in_hierarchy)
@@ -440,7 +446,16 @@ impl SubMesh {
                 DAffine3::from_translation(plan.reseat) * plan.map.full_strength(),
             )]
         };
-        Ok(HierarchyMarks::new(mesh, region, affine)?.bound_to(self.binding))
+        let marks = HierarchyMarks::new(mesh, region, affine)?.bound_to(self.binding);
+        // Beyond a taper's or twist's ramp the edit is affine at every resolution; a
+        // coarse vertex whose fine vertices reach down the ramp is not.
+        Ok(match (plan.map, edit.variation()) {
+            (
+                Map::Taper { axis, .. } | Map::Twist { axis, .. },
+                Some(Variation::Along { end, .. }),
+            ) => marks.beyond(axis.point, axis.direction, end),
+            _ => marks,
+        })
     }
 
     /// [`apply`](Self::apply) to the mesh of `hierarchy` at its current level (the

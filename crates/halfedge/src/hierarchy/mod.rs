@@ -1792,9 +1792,84 @@ impl Hierarchy {
     }
 }
 
+/// # Clusters
+impl Hierarchy {
+    /// Every vertex the collapses down to the current position took part in, as
+    /// `(index, ancestor, input position)`: its vertex index, the index of the vertex
+    /// live here it is collapsed into (itself for a survivor still live), and its
+    /// position in the input as the hierarchy holds it (what refining without an edit
+    /// restores). Together with the live vertices that took part in no collapse (they
+    /// are their own cluster, still where the input has them unless edited here), these
+    /// are the *clusters* of the vertices live here: what a mark of a live vertex
+    /// ([`mark_affine`](Self::mark_affine), [`mark_region`](Self::mark_region)) reaches at
+    /// full resolution. Costs one pass over the records made so far.
+    pub fn cluster_members(&self) -> Vec<(u32, u32, DVec3)> {
+        let steps = &self.records.steps[..self.applied];
+        let slots = self.mesh.vertex_slots();
+        let mut first: Vec<Option<DVec3>> = vec![None; slots];
+        for step in steps {
+            for (i, p) in [(step.v0, step.p0), (step.v1, step.p1)] {
+                if let Some(slot @ None) = first.get_mut(i as usize) {
+                    *slot = Some(p);
+                }
+            }
+        }
+        let mut ancestor: Vec<u32> = (0..slots as u32).collect();
+        for step in steps.iter().rev() {
+            let (i0, i1) = (step.v0 as usize, step.v1 as usize);
+            if let (true, Some(&a)) = (i0 < ancestor.len(), ancestor.get(i1)) {
+                ancestor[i0] = a;
+            }
+        }
+        first
+            .iter()
+            .enumerate()
+            .filter_map(|(i, p)| p.map(|p| (i as u32, ancestor[i], p)))
+            .collect()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn cluster_members_are_the_input_positions_of_each_live_vertex_cluster() {
+        // At every level of both methods: each member is at its input position bit for bit
+        // and has the ancestor `ancestors` gives; every vertex that is not a member is live
+        // there, its own ancestor, and still at its input position.
+        let mut input = crate::generators::icosphere(4);
+        for p in input.positions_mut() {
+            *p *= 1.0 + 0.1 * (7.0 * p.x).sin() * (5.0 * p.y + 0.3).sin();
+        }
+        for options in [HierarchyOptions::rounds(), HierarchyOptions::qem()] {
+            let mut h = Hierarchy::build(input.clone(), &options.with_target_faces(100)).unwrap();
+            for level in 0..h.n_levels() {
+                h.go_to_level(level).unwrap();
+                let ancestors = h.ancestors(level).unwrap();
+                let members = h.cluster_members();
+                let mut member = vec![false; input.vertex_slots()];
+                for &(i, a, p) in &members {
+                    let i = i as usize;
+                    member[i] = true;
+                    assert_eq!(a, ancestors[i], "level {level}");
+                    assert_eq!(
+                        p.to_array().map(f64::to_bits),
+                        input.positions()[i].to_array().map(f64::to_bits)
+                    );
+                }
+                for v in input.vertices() {
+                    let i = input.vertex_index(v);
+                    if !member[i] {
+                        assert_eq!(ancestors[i] as usize, i);
+                        assert!(h.mesh().is_valid_vertex(v));
+                        assert_eq!(h.mesh().position(v), input.position(v));
+                    }
+                }
+                assert_eq!(!members.is_empty(), level > 0);
+            }
+        }
+    }
 
     #[test]
     fn the_public_records_fit_their_own_mesh_and_no_other() {
