@@ -55,10 +55,9 @@ const PER_WORD: usize = 32;
 /// used, or freed by garbage collection), live, or a tombstone (removed by a collapse,
 /// revivable by a split) — is packed two bits a slot, so the states of a million-face
 /// mesh take a few hundred kilobytes and stay in cache while collapses and splits flip
-/// them. Generations (how often a slot was freed) live apart, are allocated only when
-/// garbage collection first frees a slot, and are read only once a freed slot has been
-/// reused: a mesh that never collected garbage (every mesh just read or built, and every
-/// hierarchy) has none, and neither have its clones.
+/// them. Generations (how often a slot was freed) live apart and are allocated only when
+/// garbage collection first frees a slot: a mesh that never collected garbage (every mesh
+/// just read or built, and every hierarchy) has none, and neither have its clones.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub(crate) struct Slots {
     states: Vec<u64>,
@@ -68,9 +67,6 @@ pub(crate) struct Slots {
     generations: Vec<u32>,
     /// Vacant slots, reused last-freed first.
     free: Vec<u32>,
-    /// True once a freed slot has been reused: only then can a live slot have a
-    /// generation other than 0, and handles need their generation looked up.
-    reused: bool,
 }
 
 impl Slots {
@@ -113,7 +109,10 @@ impl Slots {
     /// Generation of slot `i`.
     #[inline]
     fn generation_of(&self, i: usize) -> u32 {
-        if self.reused {
+        // The same test as `collected` (live slots that were never freed are at
+        // generation 0 in both branches): the accessors' checks and the keys the
+        // iterators make then share one flag, which the compiler keeps in a register.
+        if self.collected() {
             self.generations[i]
         } else {
             0
@@ -149,15 +148,16 @@ impl Slots {
     }
     /// The handle check of a mesh that collected garbage (see
     /// [`collected`](Self::collected)): panics unless `k` names a live element or a
-    /// tombstone. Out of line, so the accessors' fast path stays a load and a branch.
-    #[cold]
-    #[inline(never)]
+    /// tombstone. The test is inline and only the panic is out of line and never
+    /// returns: a call that could return would make a caller's loop (a `for` over a
+    /// circulator reading positions) keep its sums in memory across it.
+    ///
+    /// Only the generation is compared: freeing a slot moves it to the next generation,
+    /// so a handle that names a vacant slot is always of an older one.
+    #[inline]
     pub(crate) fn check_collected<K: Key + std::fmt::Display>(&self, k: K, kind: &str) {
-        if !self.contains(k) {
-            panic!(
-                "stale {kind} handle {k}: not an element of this mesh (removed by garbage \
-                 collection, or from another mesh)"
-            );
+        if self.generations.get(slot(k)) != Some(&generation(k)) {
+            stale_handle(k, kind);
         }
     }
     /// True when `k` names a live element or a tombstone.
@@ -198,7 +198,6 @@ impl Slots {
     /// arrays).
     pub(crate) fn allocate(&mut self) -> (u32, bool) {
         if let Some(i) = self.free.pop() {
-            self.reused = true;
             self.set_state(i as usize, LIVE);
             (i, true)
         } else {
@@ -209,7 +208,6 @@ impl Slots {
     /// free list of halfedges holds even indices only (edges are freed whole).
     pub(crate) fn allocate_pair(&mut self) -> (u32, bool) {
         if let Some(i) = self.free.pop() {
-            self.reused = true;
             self.set_state(i as usize, LIVE);
             self.set_state(i as usize + 1, LIVE);
             (i, true)
@@ -377,6 +375,16 @@ impl Iterator for LiveIndices<'_> {
 #[inline]
 pub(crate) fn slot<K: Key>(key: K) -> usize {
     (key.data().as_ffi() as u32).wrapping_sub(1) as usize
+}
+
+/// The panic of [`Slots::check_collected`], out of line and never returning.
+#[cold]
+#[inline(never)]
+fn stale_handle<K: std::fmt::Display>(k: K, kind: &str) -> ! {
+    panic!(
+        "stale {kind} handle {k}: not an element of this mesh (removed by garbage collection, \
+         or from another mesh)"
+    );
 }
 
 impl std::fmt::Display for VertexId {
