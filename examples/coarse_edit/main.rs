@@ -74,11 +74,16 @@
 //! sub-mesh edits without propagation fold the faces at the frontier at every resolution
 //! and keep their magnitudes.
 //!
-//! At level `N`, every rigid or affine part (the pulled, rotated or scaled sub-mesh, the
-//! rigid end of a twist or taper, the B&K handle, the Lee primitive) is declared with
-//! `Hierarchy::mark_affine` (with the map found from the edit's parameters and checked
-//! against the moved positions to 1e-12 of the diagonal), and the coarse vertices the edit
-//! may move (its region) with `Hierarchy::mark_region`, before refining back. At level
+//! At level `N`, the sub-mesh edits are marked in the hierarchy by the library
+//! (`SubMesh::hierarchy_marks`: the sub-mesh as region, a pull, rotation or scale as an
+//! affine map, a twist or taper along its axis as a field, `Hierarchy::mark_field`); for
+//! the other edits the example declares every rigid part (the B&K handle, the Lee
+//! primitive) with `Hierarchy::mark_affine` and the coarse vertices the edit may move (its
+//! region) with `Hierarchy::mark_region`, before refining back. Every rigid or affine
+//! part's map is also found from the edit's parameters and checked against the moved
+//! positions to 1e-12 of the diagonal; `handle_error` measures it at full resolution (for
+//! a twist or taper: on the coarse vertices beyond the ramp whose whole cluster is beyond
+//! it in the input). At level
 //! 0, the same edit acts on the *corresponding* region: the input vertices whose ancestor
 //! at level `N` (`Hierarchy::ancestors`) is in the coarse region (sub-mesh, Lee primitive,
 //! B&K handle and fixed area, FFD attachment ball; the Lee area is the input faces the

@@ -13,6 +13,7 @@ use std::time::Instant;
 use edit::area::{EditingArea, EditingSession, EmbeddingOptions, EmbeddingWeights, SessionOptions};
 use edit::blend::{BlendOptions, BlendSession};
 use edit::ffd::{AttachOptions, BSplineSurface, Ffd, Frame};
+use edit::marks::HierarchyMarks;
 use edit::regions::Regions;
 use edit::selection::Vertices;
 use edit::submesh::{Axis, Edit, Propagation, SubMesh, Variation};
@@ -537,6 +538,10 @@ struct Applied {
     fine_region: usize,
     /// Rigid or affine parts of the coarse edit.
     rigid: Vec<Rigid>,
+    /// What the library's method tells the hierarchy about the edit, where it says it
+    /// (sub-mesh edits: `SubMesh::hierarchy_marks`); `None`: the example marks `rigid`
+    /// and `movable` itself.
+    marks: Option<HierarchyMarks>,
 }
 
 /// Checks that `map` takes every listed vertex from `before` to `after` (to 1e-12 of
@@ -626,7 +631,13 @@ pub fn measure(prepared: &Prepared, options: &Options) -> Result<Measured, Failu
         verify(rigid, &before, hierarchy.mesh().positions(), diagonal)?;
     }
     let mut marks = 0;
-    if hierarchy.detail_mode() == DetailMode::LocalFrame {
+    if let (DetailMode::LocalFrame, Some(given)) = (hierarchy.detail_mode(), &applied.marks) {
+        // The library's own marks of the edit (region, affine parts, fields).
+        given
+            .mark(&mut hierarchy)
+            .map_err(lib("this is a bug of the library; report it"))?;
+        marks = given.affine_parts().len() + given.field_parts().len();
+    } else if hierarchy.detail_mode() == DetailMode::LocalFrame {
         for rigid in applied.rigid.iter().filter(|r| !r.vertices.is_empty()) {
             let list: Vec<VertexId> = rigid
                 .vertices
@@ -945,6 +956,9 @@ fn submesh_edit(
         _ => unreachable!("submesh_edit is called for sub-mesh edits only"),
     };
     let before = coarse.positions().to_vec();
+    let marks = sub
+        .hierarchy_marks(coarse, &edit, Propagation::NONE)
+        .map_err(lib(hint))?;
     sub.apply(coarse, &edit, Propagation::NONE)
         .map_err(lib(hint))?;
     // The library re-seats a scaled sub-mesh by a translation fitted to its frontier:
@@ -988,6 +1002,7 @@ fn submesh_edit(
             vertices: rigid_part,
             map,
         }],
+        marks: Some(marks),
     })
 }
 
@@ -1100,6 +1115,7 @@ fn lee_edit(
             vertices: vec![tip as u32],
             map: DAffine3::from_translation(drag),
         }],
+        marks: None,
     })
 }
 
@@ -1363,6 +1379,7 @@ fn bk_edit(
             vertices: handle_list,
             map: a,
         }],
+        marks: None,
     })
 }
 
@@ -1456,6 +1473,7 @@ fn ffd_edit(
         movable,
         fine_region,
         rigid: Vec::new(),
+        marks: None,
     })
 }
 

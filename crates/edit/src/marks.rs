@@ -15,22 +15,32 @@
 //! [`BlendSession::mark_in_hierarchy`](crate::blend::BlendSession::mark_in_hierarchy)
 //! marks a Bendels & Klein edit directly.
 
-use glam::{DAffine3, DVec3};
-use halfedge::{DetailMode, Hierarchy, Mesh, MeshBinding, VertexId};
+use glam::DAffine3;
+use halfedge::{DetailMode, Field, Hierarchy, Mesh, MeshBinding, VertexId};
 
 use crate::{EditError, Result};
 
 /// The region and affine parts of one edit, for the [`Hierarchy`] whose mesh it was made
 /// on (see the [module docs](self)).
-#[derive(Clone, Debug)]
+#[derive(Clone)]
 pub struct HierarchyMarks {
     binding: MeshBinding,
     region: Vec<VertexId>,
     affine: Vec<(Vec<VertexId>, DAffine3)>,
-    /// The affine parts hold only beyond this plane (`(p − point)·direction ≥ end`, a
-    /// taper's or twist's ramp end): a vertex whose cluster reaches below it keeps only
-    /// its region mark.
-    beyond: Option<(DVec3, DVec3, f64)>,
+    fields: Vec<(Vec<VertexId>, Field)>,
+}
+
+impl std::fmt::Debug for HierarchyMarks {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("HierarchyMarks")
+            .field("region", &self.region.len())
+            .field("affine", &self.affine)
+            .field(
+                "fields",
+                &self.fields.iter().map(|(v, _)| v.len()).collect::<Vec<_>>(),
+            )
+            .finish()
+    }
 }
 
 impl HierarchyMarks {
@@ -56,7 +66,7 @@ impl HierarchyMarks {
             binding: mesh.binding(),
             region,
             affine,
-            beyond: None,
+            fields: Vec::new(),
         })
     }
 
@@ -68,13 +78,16 @@ impl HierarchyMarks {
         self
     }
 
-    /// The same marks whose affine parts hold only where `(p − point)·direction ≥ end` (the
-    /// edit is affine beyond a ramp at every resolution): given to a hierarchy, a vertex
-    /// of an affine part whose cluster ([`Hierarchy::cluster_members`]) reaches below
-    /// that plane in the input is only marked as region, so that its fine vertices in the
-    /// ramp are interpolated instead of taking the full map.
-    pub(crate) fn beyond(mut self, point: DVec3, direction: DVec3, end: f64) -> Self {
-        self.beyond = Some((point, direction, end));
+    /// The same marks with `vertices` moved by the affine `map`.
+    pub(crate) fn with_affine(mut self, vertices: Vec<VertexId>, map: DAffine3) -> Self {
+        self.affine.push((vertices, map));
+        self
+    }
+
+    /// The same marks with `vertices` moved by `field`, a map of space
+    /// ([`Hierarchy::mark_field`]).
+    pub(crate) fn with_field(mut self, vertices: Vec<VertexId>, field: Field) -> Self {
+        self.fields.push((vertices, field));
         self
     }
 
@@ -86,6 +99,12 @@ impl HierarchyMarks {
     /// The groups of vertices moved by one affine map each.
     pub fn affine_parts(&self) -> &[(Vec<VertexId>, DAffine3)] {
         &self.affine
+    }
+
+    /// The groups of vertices moved by one map of space each (a deformation that is not
+    /// affine, given to the hierarchy with [`Hierarchy::mark_field`]).
+    pub fn field_parts(&self) -> &[(Vec<VertexId>, Field)] {
+        &self.fields
     }
 
     /// Tells `hierarchy` about the edit: [`Hierarchy::mark_affine`] for every affine part
@@ -117,51 +136,23 @@ impl HierarchyMarks {
         if hierarchy.detail_mode() != DetailMode::LocalFrame {
             return Ok(());
         }
-        let affine = match self.beyond {
-            Some(plane) => self.affine_beyond(hierarchy, plane),
-            None => self.affine.clone(),
-        };
         // Checked at construction and by the binding: the hierarchy cannot refuse now, so
         // nothing is half-marked.
-        for (vertices, map) in &affine {
+        for (vertices, map) in &self.affine {
             if compose {
                 hierarchy.mark_affine(vertices, *map)?;
             } else {
                 hierarchy.set_affine_mark(vertices, *map)?;
             }
         }
-        hierarchy.mark_region(&self.region)?;
-        Ok(())
-    }
-
-    /// The affine parts without the vertices whose cluster reaches below `plane`.
-    fn affine_beyond(
-        &self,
-        hierarchy: &Hierarchy,
-        (point, direction, end): (DVec3, DVec3, f64),
-    ) -> Vec<(Vec<VertexId>, DAffine3)> {
-        let mesh = hierarchy.mesh();
-        let mut below = vec![false; mesh.vertex_slots()];
-        for (_, ancestor, p) in hierarchy.cluster_members() {
-            // (A coordinate that is not ≥ end, NaN included, is below.)
-            let beyond = (p - point).dot(direction) >= end;
-            if !beyond {
-                if let Some(b) = below.get_mut(ancestor as usize) {
-                    *b = true;
-                }
+        for (vertices, field) in &self.fields {
+            if compose {
+                hierarchy.mark_shared_field(vertices, field.clone())?;
+            } else {
+                hierarchy.set_field_mark(vertices, field.clone())?;
             }
         }
-        self.affine
-            .iter()
-            .map(|(vertices, map)| {
-                let kept = vertices
-                    .iter()
-                    .copied()
-                    .filter(|&v| !below[mesh.vertex_index(v)])
-                    .collect();
-                (kept, *map)
-            })
-            .filter(|(vertices, _): &(Vec<VertexId>, DAffine3)| !vertices.is_empty())
-            .collect()
+        hierarchy.mark_region(&self.region)?;
+        Ok(())
     }
 }

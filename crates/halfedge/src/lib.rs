@@ -59,7 +59,7 @@ pub use collapse::{CollapseRecord, CollapseVeto};
 pub use error::{Error, Invariant, Result};
 pub use handle::{FaceId, HalfedgeId, VertexId};
 pub use hierarchy::outcome::BuildOutcome;
-pub use hierarchy::{BuildProgress, DetailMode, Hierarchy, HierarchyOptions, Method};
+pub use hierarchy::{BuildProgress, DetailMode, Field, Hierarchy, HierarchyOptions, Method};
 pub use labels::{Frontier, Label, SideCounts, FRONTIER};
 pub use mesh::Mesh;
 pub use selection::{Component, Selection};

@@ -402,13 +402,12 @@ impl SubMesh {
     /// part of a taper or twist beyond its ramp) form one affine part, moved by the
     /// edit's map at full strength (a translation, a scale about the centre with the
     /// re-seating translation, a rotation about the axis, Barr's taper or twist at its
-    /// full factor or angle). Beyond the ramp of a taper or twist along its axis
-    /// ([`Variation::Along`]) a coarse vertex keeps its affine mark only when every fine
-    /// vertex collapsed into it is beyond the ramp's end in the input too
-    /// ([`Hierarchy::cluster_members`](halfedge::Hierarchy::cluster_members), looked up
-    /// when the marks are given): the others are in the region only, so their fine
-    /// vertices in the ramp are interpolated rather than turned or scaled by the full
-    /// amount. A bounded rotation's vertices stopped on the frontier plane
+    /// full factor or angle). A taper or twist whose strength ramps along its axis
+    /// ([`Variation::Along`]) is a map of space: the whole sub-mesh is marked with it
+    /// ([`Hierarchy::mark_field`](halfedge::Hierarchy::mark_field)), so every fine vertex
+    /// collapsed into the sub-mesh gets its own strength from its own input position,
+    /// ramp and rigid end included, as the same edit made at full resolution.
+    /// A bounded rotation's vertices stopped on the frontier plane
     /// are not at the map's image: the hierarchy finds that and carries them by their
     /// local frame. Call it before [`apply`](Self::apply), then give the marks to the
     /// hierarchy after it ([`HierarchyMarks::mark`]); [`apply_in_hierarchy`](Self::apply_in_hierarchy)
@@ -432,30 +431,41 @@ impl SubMesh {
         region.sort_unstable();
         region.dedup();
         let region: Vec<VertexId> = region.into_iter().filter_map(live).collect();
+        let marks = HierarchyMarks::new(mesh, region, Vec::new())?.bound_to(self.binding);
+        if plan.idle {
+            return Ok(marks);
+        }
+        // A taper or twist whose strength ramps along its axis is a map of space: every
+        // fine vertex of the sub-mesh's clusters is moved by it from its own input
+        // position, as the same edit at full resolution moves it (the ramp and the rigid
+        // end included).
+        if let (
+            map @ (Map::Taper { .. } | Map::Twist { .. }),
+            Some(Variation::Along { start, end }),
+        ) = (plan.map, edit.variation())
+        {
+            let inside: Vec<VertexId> = self.vertices.iter().copied().filter_map(live).collect();
+            let field = move |p: DVec3| {
+                let d = map.displacement(p, along(&map, p, start, end));
+                if d == DVec3::ZERO {
+                    p
+                } else {
+                    p + d
+                }
+            };
+            return Ok(marks.with_field(inside, std::sync::Arc::new(field)));
+        }
         let full: Vec<VertexId> = plan
             .targets
             .iter()
             .filter(|&&(i, tau)| tau == 1.0 && self.inside[i as usize])
             .filter_map(|&(i, _)| live(i))
             .collect();
-        let affine = if plan.idle || full.is_empty() {
-            Vec::new()
-        } else {
-            vec![(
-                full,
-                DAffine3::from_translation(plan.reseat) * plan.map.full_strength(),
-            )]
-        };
-        let marks = HierarchyMarks::new(mesh, region, affine)?.bound_to(self.binding);
-        // Beyond a taper's or twist's ramp the edit is affine at every resolution; a
-        // coarse vertex whose fine vertices reach down the ramp is not.
-        Ok(match (plan.map, edit.variation()) {
-            (
-                Map::Taper { axis, .. } | Map::Twist { axis, .. },
-                Some(Variation::Along { end, .. }),
-            ) => marks.beyond(axis.point, axis.direction, end),
-            _ => marks,
-        })
+        if full.is_empty() {
+            return Ok(marks);
+        }
+        let map = DAffine3::from_translation(plan.reseat) * plan.map.full_strength();
+        Ok(marks.with_affine(full, map))
     }
 
     /// [`apply`](Self::apply) to the mesh of `hierarchy` at its current level (the

@@ -52,7 +52,9 @@
 //! which the triangle placement reads, are kept by the hierarchy (one copy of the edited
 //! level's vertices, taken by `Hierarchy::mesh_mut`).
 
-use glam::{DAffine3, DVec3};
+use glam::DVec3;
+
+use super::motion::Motion;
 
 /// How a split places its vertices after an edit at a coarser level (see the
 /// [module docs](self)).
@@ -874,23 +876,20 @@ impl Details {
         }
     }
 
-    /// Where splitting record `r` puts `v0` and `v1` when the survivor was moved by the
-    /// affine map `t` from where the hierarchy left it: `t` of their recorded positions,
-    /// or `None` when the survivor is not (within rounding) `t` of its placed position.
+    /// Where splitting record `r` puts `v0` and `v1` when the survivor was moved by
+    /// `motion` (an affine map or a field) from where the hierarchy left it: the motion of
+    /// their recorded positions, or `None` when the survivor is not (within rounding) the
+    /// motion of its placed position.
     #[inline]
-    pub(crate) fn affine_placement(
-        t: &DAffine3,
+    pub(crate) fn motion_placement(
+        motion: &Motion,
         anchor: DVec3,
         at: Collapsed,
     ) -> Option<[DVec3; 2]> {
-        let expected = t.transform_point3(at.placed);
-        let scale = expected
-            .abs()
-            .max_element()
-            .max(at.placed.abs().max_element())
-            .max(t.translation.abs().max_element());
+        let expected = motion.apply(at.placed);
+        let scale = motion.scale_at(at.placed, expected);
         ((anchor - expected).abs().max_element() <= 1e-10 * scale.max(f64::MIN_POSITIVE))
-            .then(|| [t.transform_point3(at.p0), t.transform_point3(at.p1)])
+            .then(|| [motion.apply(at.p0), motion.apply(at.p1)])
     }
 
     /// Prefetches the current positions of record `r`'s neighbours, which
@@ -967,6 +966,7 @@ impl Details {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::DAffine3;
 
     #[test]
     fn zero_translation_keeps_signed_zero() {
@@ -1162,10 +1162,12 @@ mod tests {
         };
         let t = DAffine3::from_rotation_z(0.7) * DAffine3::from_translation(DVec3::X);
         let anchor = t.transform_point3(at.placed);
-        let [q0, q1] = Details::affine_placement(&t, anchor, at).unwrap();
+        let [q0, q1] = Details::motion_placement(&Motion::Affine(t), anchor, at).unwrap();
         assert_eq!(q0, t.transform_point3(at.p0));
         assert_eq!(q1, t.transform_point3(at.p1));
-        assert!(Details::affine_placement(&t, anchor + DVec3::Y * 1e-6, at).is_none());
+        assert!(
+            Details::motion_placement(&Motion::Affine(t), anchor + DVec3::Y * 1e-6, at).is_none()
+        );
     }
 
     #[test]

@@ -54,6 +54,7 @@
 pub mod detail;
 pub mod heap;
 pub mod legality;
+pub mod motion;
 pub mod outcome;
 pub mod qem;
 mod replan;
@@ -69,6 +70,8 @@ use crate::labels::{self, Label};
 use crate::{CollapseRecord, Error, HalfedgeId, Mesh, Result, VertexId};
 pub use detail::DetailMode;
 use detail::{Collapsed, Details, Placement};
+pub use motion::Field;
+use motion::Motion;
 
 /// How many splits ahead [`Hierarchy::split_next`] prefetches the memory of the record it
 /// will split (see [`crate::prefetch`]): first the collapsed edge, the positions and the
@@ -1121,7 +1124,7 @@ impl Hierarchy {
             Some(&anchor) if !clean => {
                 mark = self.marks.of(i1);
                 let affine = (mark < IN_REGION)
-                    .then(|| Details::affine_placement(&self.marks.maps[mark as usize], anchor, at))
+                    .then(|| Details::motion_placement(&self.marks.maps[mark as usize], anchor, at))
                     .flatten();
                 match affine {
                     Some(both) => Placement::At(both),
@@ -1287,7 +1290,7 @@ impl Hierarchy {
                 p1: p,
                 placed: at_rest,
             };
-            Details::affine_placement(map, positions[i], at).map(|[q, _]| q - p)
+            Details::motion_placement(map, positions[i], at).map(|[q, _]| q - p)
         };
         let before = rest.map(|rest| {
             (
@@ -1588,7 +1591,7 @@ const IN_REGION: u32 = u32::MAX - 1;
 #[derive(Clone, Debug, Default)]
 struct Marks {
     of_vertex: Vec<u32>,
-    maps: Vec<DAffine3>,
+    maps: Vec<Motion>,
     /// Maps kept after the last [`Marks::compact`] (the next one runs when there are
     /// twice as many and 64 more).
     compacted: usize,
@@ -1624,7 +1627,7 @@ impl Marks {
                 let k = *m as usize;
                 if renumbered[k] == UNMARKED {
                     renumbered[k] = kept.len() as u32;
-                    kept.push(self.maps[k]);
+                    kept.push(self.maps[k].clone());
                 }
                 *m = renumbered[k];
             }
@@ -1658,7 +1661,12 @@ impl Hierarchy {
     /// [`Error::InvalidArgument`] in [`DetailMode::Translation`], for a map that is not
     /// finite, or for a vertex that is not live; nothing is marked then.
     pub fn mark_affine(&mut self, vertices: &[VertexId], transform: DAffine3) -> Result<()> {
-        self.mark(vertices, transform, true)
+        if !transform.is_finite() {
+            return Err(Error::InvalidArgument(format!(
+                "the affine map of mark_affine is not finite: {transform:?}"
+            )));
+        }
+        self.mark(vertices, Motion::Affine(transform), true)
     }
 
     /// [`mark_affine`](Self::mark_affine), replacing the marks the vertices had instead
@@ -1669,20 +1677,61 @@ impl Hierarchy {
     /// # Errors
     /// As [`mark_affine`](Self::mark_affine).
     pub fn set_affine_mark(&mut self, vertices: &[VertexId], transform: DAffine3) -> Result<()> {
-        self.mark(vertices, transform, false)
-    }
-
-    fn mark(&mut self, vertices: &[VertexId], transform: DAffine3, compose: bool) -> Result<()> {
-        if self.details.mode() != DetailMode::LocalFrame {
-            return Err(Error::InvalidArgument(
-                "affine marks need DetailMode::LocalFrame (the paper's translations ignore them)"
-                    .into(),
-            ));
-        }
         if !transform.is_finite() {
             return Err(Error::InvalidArgument(format!(
-                "the affine map of mark_affine is not finite: {transform:?}"
+                "the affine map of set_affine_mark is not finite: {transform:?}"
             )));
+        }
+        self.mark(vertices, Motion::Affine(transform), false)
+    }
+
+    /// [`mark_affine`](Self::mark_affine) for an edit that is a map of space but not an
+    /// affine one (a deformation defined at every point, such as a Barr twist or taper
+    /// whose strength ramps along its axis): `vertices` (live at the current position)
+    /// were just moved by `field`, and refinement puts every finer vertex collapsed into
+    /// one of them at `field` of its recorded position. The coarse edit then comes back
+    /// at full resolution exactly as the same deformation of the input would have made
+    /// it, over those vertices' clusters. A marked vertex that is not (within rounding)
+    /// at `field` of where the hierarchy left it falls back to its local frame, as for
+    /// affine marks; a field that gives a non-finite position makes the split that
+    /// meets it fail with [`Error::Overflow`] (nothing changed by that split). Marks
+    /// compose and are dropped when the hierarchy walks coarser.
+    ///
+    /// # Errors
+    /// [`Error::InvalidArgument`] in [`DetailMode::Translation`] or for a vertex that is
+    /// not live; nothing is marked then.
+    pub fn mark_field(
+        &mut self,
+        vertices: &[VertexId],
+        field: impl Fn(DVec3) -> DVec3 + Send + Sync + 'static,
+    ) -> Result<()> {
+        self.mark(vertices, Motion::Field(std::sync::Arc::new(field)), true)
+    }
+
+    /// [`mark_field`](Self::mark_field) with a field already shared.
+    ///
+    /// # Errors
+    /// As [`mark_field`](Self::mark_field).
+    pub fn mark_shared_field(&mut self, vertices: &[VertexId], field: Field) -> Result<()> {
+        self.mark(vertices, Motion::Field(field), true)
+    }
+
+    /// [`mark_shared_field`](Self::mark_shared_field), replacing the marks the vertices
+    /// had instead of composing with them (as [`set_affine_mark`](Self::set_affine_mark)).
+    ///
+    /// # Errors
+    /// As [`mark_field`](Self::mark_field).
+    pub fn set_field_mark(&mut self, vertices: &[VertexId], field: Field) -> Result<()> {
+        self.mark(vertices, Motion::Field(field), false)
+    }
+
+    fn mark(&mut self, vertices: &[VertexId], motion: Motion, compose: bool) -> Result<()> {
+        if self.details.mode() != DetailMode::LocalFrame {
+            return Err(Error::InvalidArgument(
+                "affine and field marks need DetailMode::LocalFrame (the paper's translations \
+                 ignore them)"
+                    .into(),
+            ));
         }
         if let Some(&v) = vertices.iter().find(|&&v| !self.mesh.is_valid_vertex(v)) {
             return Err(Error::InvalidArgument(format!(
@@ -1705,8 +1754,8 @@ impl Hierarchy {
                 Some(&(_, n)) => n,
                 None => {
                     let map = match old {
-                        UNMARKED => transform,
-                        o => transform * self.marks.maps[o as usize],
+                        UNMARKED => motion.clone(),
+                        o => self.marks.maps[o as usize].then(&motion),
                     };
                     let n = self.marks.maps.len() as u32;
                     self.marks.maps.push(map);
@@ -1832,6 +1881,64 @@ impl Hierarchy {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_field_mark_places_every_fine_vertex_of_its_clusters_at_the_field_of_its_input_position() {
+        // A twist whose angle ramps along z (not affine), then a translation: the fine
+        // vertices of the marked cap are exactly the composed deformation of the input,
+        // the rest did not move; a mark that does not fit falls back to the local frame.
+        let mut input = crate::generators::icosphere(4);
+        for p in input.positions_mut() {
+            *p *= 1.0 + 0.1 * (7.0 * p.x).sin() * (5.0 * p.y + 0.3).sin();
+        }
+        let twist = |p: DVec3| {
+            let angle = 1.5 * (p.z - 0.2).clamp(0.0, 1.0);
+            glam::DQuat::from_rotation_z(angle) * p
+        };
+        let shift = DVec3::new(0.05, -0.02, 0.1);
+        for options in [HierarchyOptions::rounds(), HierarchyOptions::qem()] {
+            let mut h = Hierarchy::build(input.clone(), &options.with_target_faces(100)).unwrap();
+            let level = 2;
+            h.go_to_level(level).unwrap();
+            let ancestors = h.ancestors(level).unwrap();
+            let cap: Vec<VertexId> = h
+                .mesh()
+                .vertices()
+                .filter(|&v| h.mesh().position(v).z > 0.1)
+                .collect();
+            let mut in_cap = vec![false; h.mesh().vertex_slots()];
+            for &v in &cap {
+                in_cap[h.mesh().vertex_index(v)] = true;
+                let p = h.mesh().position(v);
+                h.mesh_mut().set_position(v, twist(p) + shift);
+            }
+            h.mark_field(&cap, twist).unwrap();
+            h.mark_affine(&cap, DAffine3::from_translation(shift))
+                .unwrap();
+            h.go_to_level(0).unwrap();
+            h.mesh().check().unwrap();
+            for v in input.vertices() {
+                let i = input.vertex_index(v);
+                let (p, q) = (input.position(v), h.mesh().position(v));
+                if in_cap[ancestors[i] as usize] {
+                    assert!(
+                        q.distance(twist(p) + shift) < 1e-12,
+                        "{v}: {q} against {}",
+                        twist(p) + shift
+                    );
+                } else {
+                    assert_eq!(q, p, "{v} outside the cap moved");
+                }
+            }
+        }
+        // Refused in translation mode, nothing marked.
+        let options = HierarchyOptions::rounds().with_detail_mode(DetailMode::Translation);
+        let mut h = Hierarchy::build(input.clone(), &options.with_target_faces(100)).unwrap();
+        h.go_to_level(1).unwrap();
+        let v = h.mesh().vertices().next().unwrap();
+        assert!(h.mark_field(&[v], twist).is_err());
+        assert!(h.marks.is_empty());
+    }
 
     #[test]
     fn cluster_members_are_the_input_positions_of_each_live_vertex_cluster() {
