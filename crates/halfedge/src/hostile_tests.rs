@@ -396,7 +396,8 @@ enum HOp {
     RemoveLabels,
     /// An attribute of another type in the place of the removed labels.
     OtherAttribute,
-    /// A vertex marked (composed when the flag is set) with a translation of 10^e.
+    /// A vertex marked (composed when the flag is set) with a translation of 10^e, or
+    /// (composed, odd e) with the field `p (1 + 10^e) + 10^e y`.
     Mark(u32, i16, bool),
     /// The ancestors of a level (some out of range).
     Ancestors(u32),
@@ -586,11 +587,13 @@ fn run_hierarchy(
             HOp::Mark(k, e, compose) => {
                 let vs: Vec<VertexId> = h.mesh().vertices().collect();
                 let Some(v) = pick(&vs, k) else { continue };
-                let t = glam::DAffine3::from_translation(DVec3::X * 10f64.powi(i32::from(e)));
-                let r = if compose {
-                    h.mark_affine(&[v], t)
-                } else {
-                    h.set_affine_mark(&[v], t)
+                let s = 10f64.powi(i32::from(e));
+                let t = glam::DAffine3::from_translation(DVec3::X * s);
+                let r = match (compose, e % 2 == 0) {
+                    (true, true) => h.mark_affine(&[v], t),
+                    // a field that overflows for large `s`
+                    (true, false) => h.mark_field(&[v], move |p| p * (1.0 + s) + DVec3::Y * s),
+                    (false, _) => h.set_affine_mark(&[v], t),
                 };
                 stats.count(if r.is_ok() {
                     "mark accepted"
