@@ -1,9 +1,12 @@
 //! What an edit made at a coarse level of a [`Hierarchy`] tells the hierarchy, so that
 //! refinement brings it back at full resolution as it was made: its **region** (the
 //! coarse vertices it may move, [`Hierarchy::mark_region`]: their fine vertices follow
-//! the motion of their neighbourhood, everything else stays bit for bit) and its
+//! the motion of their neighbourhood, everything else stays bit for bit), its
 //! **affine parts** (coarse vertices moved by one affine map, [`Hierarchy::mark_affine`]:
-//! their fine vertices land exactly on the map's image of where they were). Local-frame
+//! their fine vertices land exactly on the map's image of where they were) and its
+//! **fields** (coarse vertices moved by a map of space that is not affine, such as a twist
+//! ramping along its axis, [`Hierarchy::mark_field`]: their fine vertices are that map of
+//! where they were). Local-frame
 //! detail after Kobbelt, Campagna, Vorsatz & Seidel 1998; see the
 //! [coarse edits guide](crate::guide::coarse_edits).
 //!
@@ -20,8 +23,8 @@ use halfedge::{DetailMode, Field, Hierarchy, Mesh, MeshBinding, VertexId};
 
 use crate::{EditError, Result};
 
-/// The region and affine parts of one edit, for the [`Hierarchy`] whose mesh it was made
-/// on (see the [module docs](self)).
+/// The region, affine parts and fields of one edit, for the [`Hierarchy`] whose mesh it
+/// was made on (see the [module docs](self)).
 #[derive(Clone)]
 pub struct HierarchyMarks {
     binding: MeshBinding,
@@ -108,8 +111,9 @@ impl HierarchyMarks {
     }
 
     /// Tells `hierarchy` about the edit: [`Hierarchy::mark_affine`] for every affine part
-    /// (composing with the marks the vertices already have: use this once per edit) and
-    /// [`Hierarchy::mark_region`] for the region. With the paper's translations
+    /// and [`Hierarchy::mark_shared_field`] for every field (composing with the marks the
+    /// vertices already have: use this once per edit), and [`Hierarchy::mark_region`] for
+    /// the region. With the paper's translations
     /// ([`DetailMode::Translation`]) nothing is marked.
     ///
     /// # Errors
