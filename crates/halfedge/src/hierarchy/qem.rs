@@ -33,7 +33,7 @@ use glam::{DMat3, DVec3, Vec3};
 use rayon::prelude::*;
 
 use super::heap::{self, Queue};
-use super::legality::{self, Collapse, NewNormals};
+use super::legality::{self, Collapse, NewNormals, Star};
 use super::rounds::choose_direction;
 use super::{report, BuildProgress, Hierarchy, HierarchyOptions};
 use crate::handle::NONE;
@@ -300,6 +300,7 @@ pub(crate) fn build(
     let mut next_level = level_target(input_faces, options.level_ratio);
     let mut since_report = 0usize;
     let mut new_normals = NewNormals::new();
+    let mut star = Star::new();
     // Keys of dead edges are dropped as they come out of the heap, before the lookahead.
     while let Some(key) = heap.pop(|k| state.get(heap::unpack(k).1 as usize) != DEAD) {
         if h.mesh.n_faces() <= options.target_faces || h.built_levels() >= options.max_levels {
@@ -337,11 +338,18 @@ pub(crate) fn build(
                 park(&mut state, &mut parked_near);
                 continue;
             };
+            prefetch_collapse(mesh, mesh.halfedge_index(g) as u32);
             let c = Collapse::new(mesh, g);
-            // The cheapest candidate that is within the error bound and legal.
+            // The cheapest candidate that is within the error bound and legal (the star
+            // gathered once for all candidates).
+            let gathered = star.gather(mesh, &c, &normals);
             let chosen = cands.as_slice().iter().find(|&&(_, p)| {
                 !(options.max_error.is_finite() && q.error(p) > options.max_error)
-                    && legality::geometry(mesh, &c, p, &normals, cos_flip, &mut new_normals)
+                    && if gathered {
+                        star.geometry(mesh, p, &normals, cos_flip, &mut new_normals)
+                    } else {
+                        legality::geometry(mesh, &c, p, &normals, cos_flip, &mut new_normals)
+                    }
             });
             let Some(&(_, p)) = chosen else {
                 park(&mut state, &mut parked_near);
@@ -454,6 +462,42 @@ fn prefetch_ahead(
                 prefetch(he, r.next as usize);
                 prefetch(normals, r.face as usize);
             }
+        }
+    }
+}
+
+/// Prefetches what collapsing halfedge slot `h` writes beyond the rings its legality
+/// tests walk (see [`crate::prefetch`]): the slot states of the removed elements, the
+/// outer neighbours of the removed edges `vl → v0` and `v0 → vr` and their faces'
+/// halfedges, the outgoing halfedge of `vr`. Called as soon as the edge is known to be
+/// topologically legal, so that the loads overlap the geometric tests.
+#[inline]
+fn prefetch_collapse(mesh: &Mesh, h: u32) {
+    use crate::prefetch::prefetch;
+    let s = mesh.sides(h);
+    mesh.halfedge_slots_.prefetch_state(h as usize);
+    if let Some(r) = mesh.he.get((h ^ 1) as usize) {
+        mesh.vertex_slots_.prefetch_state(r.to as usize);
+    }
+    for f in [s.fl, s.fr] {
+        if f != NONE {
+            mesh.face_slots_.prefetch_state(f as usize);
+        }
+    }
+    for x in [s.vlv0, s.v0vr] {
+        if x == NONE {
+            continue;
+        }
+        mesh.halfedge_slots_.prefetch_state(x as usize);
+        if let Some(r) = mesh.he.get((x ^ 1) as usize) {
+            prefetch(&mesh.he, r.prev as usize);
+            prefetch(&mesh.he, r.next as usize);
+            prefetch(&mesh.face_conn, r.face as usize);
+        }
+    }
+    if s.v0vr != NONE {
+        if let Some(r) = mesh.he.get(s.v0vr as usize) {
+            prefetch(&mesh.vertex_conn, r.to as usize);
         }
     }
 }
