@@ -468,7 +468,8 @@ fn prefetch_ahead(
 
 /// Prefetches what collapsing halfedge slot `h` writes beyond the rings its legality
 /// tests walk (see [`crate::prefetch`]): the slot states of the removed elements, the
-/// outer neighbours of the removed edges `vl → v0` and `v0 → vr` and their faces'
+/// halfedges of the removed faces (which the record's fingerprint reads), the outer
+/// neighbours of the removed edges `vl → v0` and `v0 → vr` and their faces'
 /// halfedges, the outgoing halfedge of `vr`. Called as soon as the edge is known to be
 /// topologically legal, so that the loads overlap the geometric tests.
 #[inline]
@@ -482,6 +483,7 @@ fn prefetch_collapse(mesh: &Mesh, h: u32) {
     for f in [s.fl, s.fr] {
         if f != NONE {
             mesh.face_slots_.prefetch_state(f as usize);
+            prefetch(&mesh.face_conn, f as usize);
         }
     }
     for x in [s.vlv0, s.v0vr] {
