@@ -34,7 +34,6 @@ use rayon::prelude::*;
 
 use super::heap::{self, Queue};
 use super::legality::{self, Collapse, NewNormals, Star};
-use super::rounds::choose_direction;
 use super::{report, BuildProgress, Hierarchy, HierarchyOptions};
 use crate::handle::NONE;
 use crate::iter::vertex_walk;
@@ -333,12 +332,12 @@ pub(crate) fn build(
                 parked_near.insert(mesh.vertex_index(mesh.from_vertex(e)));
                 parked_near.insert(mesh.vertex_index(mesh.to_vertex(e)));
             };
-            let o = mesh.opposite(e);
-            let Some((g, _)) = choose_direction(mesh, e, o, &labels) else {
+            let Some((g, _)) = legality::choose_direction_ix(mesh, edge as u32, &labels) else {
                 park(&mut state, &mut parked_near);
                 continue;
             };
-            prefetch_collapse(mesh, mesh.halfedge_index(g) as u32);
+            prefetch_collapse(mesh, g);
+            let g = mesh.hh(g);
             let c = Collapse::new(mesh, g);
             // The cheapest candidate that is within the error bound and legal (the star
             // gathered once for all candidates).
