@@ -188,7 +188,8 @@ pub fn vertex_quadrics(mesh: &Mesh, planes: &[(DVec3, f64)], boundary_weight: f6
     quadrics
 }
 
-/// Candidate survivor positions of an edge with their quadric costs, cheapest first.
+/// Candidate survivor positions of an edge with their quadric costs (in the order of
+/// [`candidates`] until [`sort`](Self::sort)ed).
 #[derive(Clone, Copy, Debug)]
 struct Candidates {
     items: [(f64, DVec3); 4],
@@ -200,10 +201,18 @@ impl Candidates {
     fn as_slice(&self) -> &[(f64, DVec3)] {
         &self.items[..self.len]
     }
-    /// The cheapest cost.
+    /// The cheapest cost (costs are never NaN).
     #[inline]
     fn cost(&self) -> f64 {
-        self.items[0].0
+        self.as_slice()
+            .iter()
+            .fold(f64::INFINITY, |m, &(c, _)| m.min(c))
+    }
+    /// Orders the candidates cheapest first, ties in their first order (what the
+    /// collapse tries them in; the heap only needs [`cost`](Self::cost)).
+    #[inline]
+    fn sort(&mut self) {
+        self.items[..self.len].sort_by(|x, y| x.0.total_cmp(&y.0));
     }
 }
 
@@ -218,7 +227,7 @@ fn is_boundary_vertex(mesh: &Mesh, v: u32) -> bool {
 }
 
 /// The summed quadric of the edge of halfedge slot `e` and its candidate survivor
-/// positions, cheapest first: the quadric's minimiser (when well conditioned and within
+/// positions (unsorted, see [`Candidates::sort`]): the quadric's minimiser (when well conditioned and within
 /// one edge length of the midpoint), the midpoint and both endpoints; only the boundary
 /// vertex's position when the edge is interior and exactly one endpoint is on the
 /// boundary (the boundary rule of [`super::legality`]).
@@ -251,7 +260,6 @@ fn candidates(mesh: &Mesh, quadrics: &[Quadric], e: u32) -> (Quadric, Candidates
     add(mid);
     add(pa);
     add(pb);
-    c.items[..c.len].sort_by(|x, y| x.0.total_cmp(&y.0));
     (q, c)
 }
 
@@ -315,8 +323,12 @@ pub(crate) fn build(
             // Edges die only by collapses, which mark them DEAD: this one is live.
             debug_assert!(mesh.halfedge_at(edge).is_some());
             let e = mesh.hh(edge as u32);
-            let (q, cands) = candidates(mesh, &quadrics, edge as u32);
+            // A stale edge's cost first (most go back into the heap); a clean one's
+            // candidates once it is topologically legal.
+            let mut computed = None;
             if state.get(edge) == STALE {
+                let (q, cands) = candidates(mesh, &quadrics, edge as u32);
+                computed = Some((q, cands));
                 // Costs only grow as quadrics accumulate: re-queue with the current cost
                 // unless it is still the cheapest.
                 state.set(edge, CLEAN);
@@ -337,6 +349,9 @@ pub(crate) fn build(
                 continue;
             };
             prefetch_collapse(mesh, g);
+            let (q, mut cands) =
+                computed.unwrap_or_else(|| candidates(mesh, &quadrics, edge as u32));
+            cands.sort();
             let g = mesh.hh(g);
             let c = Collapse::new(mesh, g);
             // The cheapest candidate that is within the error bound and legal (the star
