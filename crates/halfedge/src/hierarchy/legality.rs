@@ -320,20 +320,34 @@ impl Star {
         let fl = c.fl.map_or(NONE, |f| mesh.face_index(f) as u32);
         let fr = c.fr.map_or(NONE, |f| mesh.face_index(f) as u32);
         self.len = 0;
+        // One ring at a time, `(face, to)` of its outgoing halfedges in walk order. The
+        // third corner of the face of outgoing halfedge `k` is the target of the next
+        // one (`prev(k) ^ 1` runs from the centre to it), so the faces' third halfedges
+        // need not be read.
+        let mut ring = [(0u32, 0u32); STAR];
         for v in [c.v0, c.v1] {
+            let mut n = 0;
             for (_, r) in vertex_walk(he, mesh.vertex_conn[mesh.vertex_index(v)]) {
-                let f = r.face;
+                if n == STAR {
+                    return false;
+                }
+                prefetch(&mesh.positions, r.to as usize);
+                if r.face != NONE {
+                    prefetch(normals, r.face as usize);
+                }
+                ring[n] = (r.face, r.to);
+                n += 1;
+            }
+            for i in 0..n {
+                let (f, a) = ring[i];
                 if f == NONE || f == fl || f == fr {
                     continue;
                 }
                 if self.len == STAR {
                     return false;
                 }
-                let b = he[r.next as usize].to;
-                prefetch(&mesh.positions, r.to as usize);
-                prefetch(&mesh.positions, b as usize);
-                prefetch(normals, f as usize);
-                self.faces[self.len] = [f, r.to, b];
+                let b = ring[if i + 1 == n { 0 } else { i + 1 }].1;
+                self.faces[self.len] = [f, a, b];
                 self.len += 1;
             }
         }
