@@ -276,6 +276,9 @@ pub(crate) fn build(
     progress: &mut dyn FnMut(BuildProgress) -> ControlFlow<()>,
 ) -> Result<()> {
     let input_faces = h.mesh.n_faces();
+    // The output buffers' memory is written on another thread meanwhile (each collapse
+    // removes two faces of a closed mesh).
+    let mut prefaulting = h.prefault(input_faces.saturating_sub(options.target_faces) / 2);
     let cos_flip = options.max_flip_angle.cos();
     let labels = h.label_constraint(options);
     let planes = face_planes(&h.mesh);
@@ -419,6 +422,11 @@ pub(crate) fn build(
             report(h, input_faces, progress)?;
         }
         since_report += 1;
+        if since_report % 1024 == 0 && prefaulting.as_ref().is_some_and(|t| t.is_finished()) {
+            if let Some(Ok(buffers)) = prefaulting.take().map(std::thread::JoinHandle::join) {
+                h.adopt_prefaulted(buffers);
+            }
+        }
         if since_report == 1 << 16 {
             since_report = 0;
             report(h, input_faces, progress)?;
