@@ -276,9 +276,6 @@ pub(crate) fn build(
     progress: &mut dyn FnMut(BuildProgress) -> ControlFlow<()>,
 ) -> Result<()> {
     let input_faces = h.mesh.n_faces();
-    // The output buffers' memory is written on another thread meanwhile (each collapse
-    // removes two faces of a closed mesh).
-    let mut prefaulting = h.prefault(input_faces.saturating_sub(options.target_faces) / 2);
     let cos_flip = options.max_flip_angle.cos();
     let labels = h.label_constraint(options);
     let planes = face_planes(&h.mesh);
@@ -307,6 +304,9 @@ pub(crate) fn build(
             .collect()
     };
     let mut heap = Queue::new(keys, AHEAD);
+    // The output buffers' memory is written on another thread while the (sequential)
+    // decimation runs; each collapse removes two faces of a closed mesh.
+    let mut prefaulting = h.prefault(input_faces.saturating_sub(options.target_faces) / 2);
     let mut next_level = level_target(input_faces, options.level_ratio);
     let mut since_report = 0usize;
     let mut new_normals = NewNormals::new();
