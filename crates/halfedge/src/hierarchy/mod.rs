@@ -769,7 +769,7 @@ impl Hierarchy {
 /// Output buffers for a build's next records, made on another thread while the build
 /// runs, with every page of their memory written once: a build writes some 250 bytes of
 /// records and detail coefficients per collapse into fresh memory, and the page faults
-/// of first writes (a quarter of a million for 1.6 M faces) otherwise fall in the
+/// of first writes (some fifty thousand pages for 1.6 M faces) otherwise fall in the
 /// build's single-threaded loop. The build adopts the buffers when they are ready (see
 /// [`Hierarchy::adopt_prefaulted`]); what it holds is the same either way.
 #[derive(Debug)]
@@ -809,7 +809,8 @@ fn adopt<T: Copy>(old: &mut Vec<T>, mut new: Vec<T>) {
 impl Hierarchy {
     /// Starts making [`Prefaulted`] buffers, as large as the ones reserved, the memory
     /// of the first `records` records mapped, on another thread; `None` for a small
-    /// build.
+    /// build (or when no thread can be started). A build that ends first drops the
+    /// handle: the thread finishes and frees what it made.
     pub(crate) fn prefault(&self, records: usize) -> Option<std::thread::JoinHandle<Prefaulted>> {
         let capacity = self.records.steps.capacity();
         let records = records.min(capacity);

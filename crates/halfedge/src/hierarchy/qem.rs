@@ -227,10 +227,10 @@ fn is_boundary_vertex(mesh: &Mesh, v: u32) -> bool {
 }
 
 /// The summed quadric of the edge of halfedge slot `e` and its candidate survivor
-/// positions (unsorted, see [`Candidates::sort`]): the quadric's minimiser (when well conditioned and within
-/// one edge length of the midpoint), the midpoint and both endpoints; only the boundary
-/// vertex's position when the edge is interior and exactly one endpoint is on the
-/// boundary (the boundary rule of [`super::legality`]).
+/// positions (unsorted, see [`Candidates::sort`]): the quadric's minimiser (when well
+/// conditioned and within one edge length of the midpoint), the midpoint and both
+/// endpoints; only the boundary vertex's position when the edge is interior and exactly
+/// one endpoint is on the boundary (the boundary rule of [`super::legality`]).
 #[inline]
 fn candidates(mesh: &Mesh, quadrics: &[Quadric], e: u32) -> (Quadric, Candidates) {
     let (r, ro) = (&mesh.he[e as usize], &mesh.he[(e ^ 1) as usize]);
