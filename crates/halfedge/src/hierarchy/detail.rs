@@ -284,6 +284,36 @@ pub(crate) struct Details {
     centres: Vec<DVec3>,
 }
 
+/// Sizes of [`DetailBuffers`] (capacity, and how much of it to map): neighbours, offsets,
+/// coefficients, frames, centres.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct DetailSizes([(usize, usize); 5]);
+
+impl DetailSizes {
+    /// The buffers, their memory written once (see [`super::Prefaulted`]).
+    pub(crate) fn make(self) -> DetailBuffers {
+        let [n, o, c, f, e] = self.0;
+        DetailBuffers {
+            neighbours: super::prefaulted(n),
+            offsets: super::prefaulted(o),
+            coefficients: super::prefaulted(c),
+            framed: super::prefaulted(f),
+            centres: super::prefaulted(e),
+        }
+    }
+}
+
+/// Empty buffers for [`Details`], their memory already written once (see
+/// [`DetailSizes::make`]).
+#[derive(Debug)]
+pub(crate) struct DetailBuffers {
+    neighbours: Vec<u32>,
+    offsets: Vec<u32>,
+    coefficients: Vec<[DVec3; 2]>,
+    framed: Vec<Ring>,
+    centres: Vec<DVec3>,
+}
+
 /// Centroid of the positions of the listed vertices, summed in list order (the order is
 /// what makes `C_f == C_i` bit for bit when nothing moved). Zero for an empty list.
 #[inline]
@@ -667,6 +697,38 @@ impl Details {
         self.centres.clear();
         self.centres.reserve(framed);
         self
+    }
+
+    /// The sizes of buffers like these details' (their reserved capacities, and how
+    /// much of them `records` records fill), to be made off the building thread (see
+    /// [`super::Prefaulted`]).
+    pub(crate) fn prefaulted_sizes(&self, records: usize) -> DetailSizes {
+        let share =
+            |capacity: usize, per_record: usize| (capacity, capacity.min(per_record * records));
+        DetailSizes([
+            share(self.neighbours.capacity(), 12),
+            share(self.offsets.capacity(), 2),
+            share(self.coefficients.capacity(), 1),
+            share(self.framed.capacity(), 1),
+            share(self.centres.capacity(), 1),
+        ])
+    }
+
+    /// Moves these details into `buffers` (made from
+    /// [`prefaulted_sizes`](Self::prefaulted_sizes)), which then hold them.
+    pub(crate) fn adopt(&mut self, buffers: DetailBuffers) {
+        let DetailBuffers {
+            neighbours,
+            offsets,
+            coefficients,
+            framed,
+            centres,
+        } = buffers;
+        super::adopt(&mut self.neighbours, neighbours);
+        super::adopt(&mut self.offsets, offsets);
+        super::adopt(&mut self.coefficients, coefficients);
+        super::adopt(&mut self.framed, framed);
+        super::adopt(&mut self.centres, centres);
     }
 
     /// The scheme.

@@ -449,6 +449,11 @@ impl Records {
         self.fingerprints.reserve(n);
         self.origin = 0;
     }
+    /// Moves the records into `steps` and `fingerprints` (see [`Prefaulted`]).
+    fn adopt(&mut self, steps: Vec<Step>, fingerprints: Vec<u64>) {
+        adopt(&mut self.steps, steps);
+        adopt(&mut self.fingerprints, fingerprints);
+    }
     /// Gives back unused capacity.
     pub(crate) fn shrink_to_fit(&mut self) {
         self.steps.shrink_to_fit();
@@ -761,6 +766,85 @@ impl Hierarchy {
     /// Levels below the input built so far.
     pub(crate) fn built_levels(&self) -> usize {
         self.level_ends.len() - 1
+    }
+}
+
+/// Output buffers for a build's next records, made on another thread while the build
+/// runs, with every page of their memory written once: a build writes some 250 bytes of
+/// records and detail coefficients per collapse into fresh memory, and the page faults
+/// of first writes (some fifty thousand pages for 1.6 M faces) otherwise fall in the
+/// build's single-threaded loop. The build adopts the buffers when they are ready (see
+/// [`Hierarchy::adopt_prefaulted`]); what it holds is the same either way.
+#[derive(Debug)]
+pub(crate) struct Prefaulted {
+    steps: Vec<Step>,
+    fingerprints: Vec<u64>,
+    placements: Vec<(DVec3, f64)>,
+    details: detail::DetailBuffers,
+}
+
+/// Fewest records expected for [`Hierarchy::prefault`] to make buffers ahead (a smaller
+/// build is over before they would be ready).
+const PREFAULT_RECORDS: usize = 1 << 12;
+
+/// An empty vector with room for `capacity` elements, the memory of the first `touched`
+/// mapped (an element a page written with zero bytes).
+fn prefaulted<T>((capacity, touched): (usize, usize)) -> Vec<T> {
+    let mut v = Vec::with_capacity(capacity);
+    let step = (4096 / std::mem::size_of::<T>().max(1)).max(1);
+    for slot in v.spare_capacity_mut()[..touched.min(capacity)]
+        .iter_mut()
+        .step_by(step)
+    {
+        *slot = std::mem::MaybeUninit::zeroed();
+    }
+    std::hint::black_box(&mut v);
+    v
+}
+
+/// Makes `new` (empty) hold `old`'s elements and take its place.
+fn adopt<T: Copy>(old: &mut Vec<T>, mut new: Vec<T>) {
+    new.clear();
+    new.extend_from_slice(old);
+    *old = new;
+}
+
+impl Hierarchy {
+    /// Starts making [`Prefaulted`] buffers, as large as the ones reserved, the memory
+    /// of the first `records` records mapped, on another thread; `None` for a small
+    /// build (or when no thread can be started). A build that ends first drops the
+    /// handle: the thread finishes and frees what it made.
+    pub(crate) fn prefault(&self, records: usize) -> Option<std::thread::JoinHandle<Prefaulted>> {
+        let capacity = self.records.steps.capacity();
+        let records = records.min(capacity);
+        if records < PREFAULT_RECORDS {
+            return None;
+        }
+        // The buffers' sizes are read here, the memory is made there.
+        let sizes = (capacity.max(self.placements.capacity()), records);
+        let details = self.details.prefaulted_sizes(records);
+        std::thread::Builder::new()
+            .name("prefault".into())
+            .spawn(move || Prefaulted {
+                steps: prefaulted(sizes),
+                fingerprints: prefaulted(sizes),
+                placements: prefaulted(sizes),
+                details: details.make(),
+            })
+            .ok()
+    }
+
+    /// Moves the records, placements and detail coefficients into `buffers`.
+    pub(crate) fn adopt_prefaulted(&mut self, buffers: Prefaulted) {
+        let Prefaulted {
+            steps,
+            fingerprints,
+            placements,
+            details,
+        } = buffers;
+        self.records.adopt(steps, fingerprints);
+        adopt(&mut self.placements, placements);
+        self.details.adopt(details);
     }
 }
 
@@ -1881,6 +1965,60 @@ impl Hierarchy {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Output buffers made and mapped on another thread, adopted in the middle of a build
+    /// (large enough for the QEM build to do so itself) or afterwards, hold the same
+    /// records: the hierarchy refines back to its input bit for bit.
+    #[test]
+    fn adopted_prefaulted_buffers_keep_every_record() {
+        let input = crate::generators::icosphere(6);
+        let options = HierarchyOptions::qem().with_target_faces(500);
+        let mut h = Hierarchy::build(input.clone(), &options).unwrap();
+        assert!(h.n_records() > 4 * PREFAULT_RECORDS);
+        let records = h.n_records();
+        let bytes = h.record_bytes();
+        let before: Vec<_> = h
+            .records()
+            .iter()
+            .map(|r| (r.v0v1, r.p0, r.p1, r.fingerprint()))
+            .collect();
+        // Adopt buffers by hand (as large as the records, and larger).
+        for extra in [0, 1000] {
+            let sizes = (records + extra, records);
+            let details = h.details.prefaulted_sizes(records);
+            h.adopt_prefaulted(Prefaulted {
+                steps: prefaulted(sizes),
+                fingerprints: prefaulted(sizes),
+                placements: prefaulted(sizes),
+                details: details.make(),
+            });
+        }
+        assert_eq!(h.n_records(), records);
+        assert!(h.record_bytes() >= bytes);
+        let after: Vec<_> = h
+            .records()
+            .iter()
+            .map(|r| (r.v0v1, r.p0, r.p1, r.fingerprint()))
+            .collect();
+        assert_eq!(after, before);
+        h.refine_to(0).unwrap();
+        h.mesh().check().unwrap();
+        let bits = |m: &Mesh| -> Vec<[u64; 3]> {
+            m.positions()
+                .iter()
+                .map(|p| p.to_array().map(f64::to_bits))
+                .collect()
+        };
+        assert_eq!(bits(h.mesh()), bits(&input));
+        // And a build that adopted them at its own pace gives the same records.
+        let again = Hierarchy::build(input, &options).unwrap();
+        let records_again: Vec<_> = again
+            .records()
+            .iter()
+            .map(|r| (r.v0v1, r.p0, r.p1, r.fingerprint()))
+            .collect();
+        assert_eq!(records_again, before);
+    }
 
     #[test]
     fn a_field_mark_places_every_fine_vertex_of_its_clusters_at_the_field_of_its_input_position() {

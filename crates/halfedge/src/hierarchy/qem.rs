@@ -33,8 +33,7 @@ use glam::{DMat3, DVec3, Vec3};
 use rayon::prelude::*;
 
 use super::heap::{self, Queue};
-use super::legality::{self, Collapse, NewNormals};
-use super::rounds::choose_direction;
+use super::legality::{self, Collapse, NewNormals, Star};
 use super::{report, BuildProgress, Hierarchy, HierarchyOptions};
 use crate::handle::NONE;
 use crate::iter::vertex_walk;
@@ -189,7 +188,8 @@ pub fn vertex_quadrics(mesh: &Mesh, planes: &[(DVec3, f64)], boundary_weight: f6
     quadrics
 }
 
-/// Candidate survivor positions of an edge with their quadric costs, cheapest first.
+/// Candidate survivor positions of an edge with their quadric costs (in the order of
+/// [`candidates`] until [`sort`](Self::sort)ed).
 #[derive(Clone, Copy, Debug)]
 struct Candidates {
     items: [(f64, DVec3); 4],
@@ -201,10 +201,18 @@ impl Candidates {
     fn as_slice(&self) -> &[(f64, DVec3)] {
         &self.items[..self.len]
     }
-    /// The cheapest cost.
+    /// The cheapest cost (costs are never NaN).
     #[inline]
     fn cost(&self) -> f64 {
-        self.items[0].0
+        self.as_slice()
+            .iter()
+            .fold(f64::INFINITY, |m, &(c, _)| m.min(c))
+    }
+    /// Orders the candidates cheapest first, ties in their first order (what the
+    /// collapse tries them in; the heap only needs [`cost`](Self::cost)).
+    #[inline]
+    fn sort(&mut self) {
+        self.items[..self.len].sort_by(|x, y| x.0.total_cmp(&y.0));
     }
 }
 
@@ -219,10 +227,10 @@ fn is_boundary_vertex(mesh: &Mesh, v: u32) -> bool {
 }
 
 /// The summed quadric of the edge of halfedge slot `e` and its candidate survivor
-/// positions, cheapest first: the quadric's minimiser (when well conditioned and within
-/// one edge length of the midpoint), the midpoint and both endpoints; only the boundary
-/// vertex's position when the edge is interior and exactly one endpoint is on the
-/// boundary (the boundary rule of [`super::legality`]).
+/// positions (unsorted, see [`Candidates::sort`]): the quadric's minimiser (when well
+/// conditioned and within one edge length of the midpoint), the midpoint and both
+/// endpoints; only the boundary vertex's position when the edge is interior and exactly
+/// one endpoint is on the boundary (the boundary rule of [`super::legality`]).
 #[inline]
 fn candidates(mesh: &Mesh, quadrics: &[Quadric], e: u32) -> (Quadric, Candidates) {
     let (r, ro) = (&mesh.he[e as usize], &mesh.he[(e ^ 1) as usize]);
@@ -252,7 +260,6 @@ fn candidates(mesh: &Mesh, quadrics: &[Quadric], e: u32) -> (Quadric, Candidates
     add(mid);
     add(pa);
     add(pb);
-    c.items[..c.len].sort_by(|x, y| x.0.total_cmp(&y.0));
     (q, c)
 }
 
@@ -297,9 +304,13 @@ pub(crate) fn build(
             .collect()
     };
     let mut heap = Queue::new(keys, AHEAD);
+    // The output buffers' memory is written on another thread while the (sequential)
+    // decimation runs; each collapse removes two faces of a closed mesh.
+    let mut prefaulting = h.prefault(input_faces.saturating_sub(options.target_faces) / 2);
     let mut next_level = level_target(input_faces, options.level_ratio);
     let mut since_report = 0usize;
     let mut new_normals = NewNormals::new();
+    let mut star = Star::new();
     // Keys of dead edges are dropped as they come out of the heap, before the lookahead.
     while let Some(key) = heap.pop(|k| state.get(heap::unpack(k).1 as usize) != DEAD) {
         if h.mesh.n_faces() <= options.target_faces || h.built_levels() >= options.max_levels {
@@ -315,8 +326,12 @@ pub(crate) fn build(
             // Edges die only by collapses, which mark them DEAD: this one is live.
             debug_assert!(mesh.halfedge_at(edge).is_some());
             let e = mesh.hh(edge as u32);
-            let (q, cands) = candidates(mesh, &quadrics, edge as u32);
+            // A stale edge's cost first (most go back into the heap); a clean one's
+            // candidates once it is topologically legal.
+            let mut computed = None;
             if state.get(edge) == STALE {
+                let (q, cands) = candidates(mesh, &quadrics, edge as u32);
+                computed = Some((q, cands));
                 // Costs only grow as quadrics accumulate: re-queue with the current cost
                 // unless it is still the cheapest.
                 state.set(edge, CLEAN);
@@ -332,16 +347,26 @@ pub(crate) fn build(
                 parked_near.insert(mesh.vertex_index(mesh.from_vertex(e)));
                 parked_near.insert(mesh.vertex_index(mesh.to_vertex(e)));
             };
-            let o = mesh.opposite(e);
-            let Some((g, _)) = choose_direction(mesh, e, o, &labels) else {
+            let Some((g, _)) = legality::choose_direction_ix(mesh, edge as u32, &labels) else {
                 park(&mut state, &mut parked_near);
                 continue;
             };
+            prefetch_collapse(mesh, g);
+            let (q, mut cands) =
+                computed.unwrap_or_else(|| candidates(mesh, &quadrics, edge as u32));
+            cands.sort();
+            let g = mesh.hh(g);
             let c = Collapse::new(mesh, g);
-            // The cheapest candidate that is within the error bound and legal.
+            // The cheapest candidate that is within the error bound and legal (the star
+            // gathered once for all candidates).
+            let gathered = star.gather(mesh, &c, &normals);
             let chosen = cands.as_slice().iter().find(|&&(_, p)| {
                 !(options.max_error.is_finite() && q.error(p) > options.max_error)
-                    && legality::geometry(mesh, &c, p, &normals, cos_flip, &mut new_normals)
+                    && if gathered {
+                        star.geometry(mesh, p, &normals, cos_flip, &mut new_normals)
+                    } else {
+                        legality::geometry(mesh, &c, p, &normals, cos_flip, &mut new_normals)
+                    }
             });
             let Some(&(_, p)) = chosen else {
                 park(&mut state, &mut parked_near);
@@ -397,6 +422,11 @@ pub(crate) fn build(
             report(h, input_faces, progress)?;
         }
         since_report += 1;
+        if since_report % 1024 == 0 && prefaulting.as_ref().is_some_and(|t| t.is_finished()) {
+            if let Some(Ok(buffers)) = prefaulting.take().map(std::thread::JoinHandle::join) {
+                h.adopt_prefaulted(buffers);
+            }
+        }
         if since_report == 1 << 16 {
             since_report = 0;
             report(h, input_faces, progress)?;
@@ -454,6 +484,44 @@ fn prefetch_ahead(
                 prefetch(he, r.next as usize);
                 prefetch(normals, r.face as usize);
             }
+        }
+    }
+}
+
+/// Prefetches what collapsing halfedge slot `h` writes beyond the rings its legality
+/// tests walk (see [`crate::prefetch`]): the slot states of the removed elements, the
+/// halfedges of the removed faces (which the record's fingerprint reads), the outer
+/// neighbours of the removed edges `vl → v0` and `v0 → vr` and their faces'
+/// halfedges, the outgoing halfedge of `vr`. Called as soon as the edge is known to be
+/// topologically legal, so that the loads overlap the geometric tests.
+#[inline]
+fn prefetch_collapse(mesh: &Mesh, h: u32) {
+    use crate::prefetch::prefetch;
+    let s = mesh.sides(h);
+    mesh.halfedge_slots_.prefetch_state(h as usize);
+    if let Some(r) = mesh.he.get((h ^ 1) as usize) {
+        mesh.vertex_slots_.prefetch_state(r.to as usize);
+    }
+    for f in [s.fl, s.fr] {
+        if f != NONE {
+            mesh.face_slots_.prefetch_state(f as usize);
+            prefetch(&mesh.face_conn, f as usize);
+        }
+    }
+    for x in [s.vlv0, s.v0vr] {
+        if x == NONE {
+            continue;
+        }
+        mesh.halfedge_slots_.prefetch_state(x as usize);
+        if let Some(r) = mesh.he.get((x ^ 1) as usize) {
+            prefetch(&mesh.he, r.prev as usize);
+            prefetch(&mesh.he, r.next as usize);
+            prefetch(&mesh.face_conn, r.face as usize);
+        }
+    }
+    if s.v0vr != NONE {
+        if let Some(r) = mesh.he.get(s.v0vr as usize) {
+            prefetch(&mesh.vertex_conn, r.to as usize);
         }
     }
 }
