@@ -223,7 +223,8 @@ impl Frame {
         if !enough || !area2.is_finite() {
             return None;
         }
-        let z = normal / area2.sqrt().sqrt();
+        // One division for the three components (a split's placement waits on it).
+        let z = normal * (1.0 / area2.sqrt().sqrt());
         Some(Self {
             axes: glam::DMat3::from_cols(x, y, z),
         })
@@ -345,8 +346,9 @@ pub(crate) fn translate_exact(p: DVec3, d: DVec3) -> DVec3 {
 #[inline]
 fn moved_together(f: &Frame, ring_len: usize, delta: DVec3) -> bool {
     let [x, y, _] = f.axes.to_cols_array_2d().map(DVec3::from_array);
-    let scale2 = (x.length_squared() + y.length_squared()) / (ring_len.max(1) as f64).powi(2);
-    let apart = delta.length_squared() > 1e-20 * scale2;
+    // |delta|² > 1e-20 (|x|² + |y|²) / n², without the division.
+    let n2 = (ring_len.max(1) as f64).powi(2);
+    let apart = delta.length_squared() * n2 > 1e-20 * (x.length_squared() + y.length_squared());
     !apart
 }
 
