@@ -147,8 +147,8 @@ impl Slots {
         !self.generations.is_empty()
     }
     /// The handle check of a mesh that collected garbage (see
-    /// [`collected`](Self::collected)): panics unless `k` names a live element or a
-    /// tombstone. The test is inline and only the panic is out of line and never
+    /// [`collected`](Self::collected)): panics unless `k` is of its slot's current
+    /// generation (a live element or a tombstone of this mesh). The test is inline and only the panic is out of line and never
     /// returns: a call that could return would make a caller's loop (a `for` over a
     /// circulator reading positions) keep its sums in memory across it.
     ///

@@ -369,8 +369,9 @@ pub struct Hierarchy {
     /// and for knowing, when splitting, whether the survivor moved since.
     placements: Vec<(DVec3, f64)>,
     details: Details,
-    /// Affine maps the user said moved some vertices since the hierarchy placed them
-    /// ([`Hierarchy::mark_affine`]).
+    /// Affine maps and fields the user said moved some vertices since the hierarchy
+    /// placed them, and the edits' regions ([`Hierarchy::mark_affine`],
+    /// [`Hierarchy::mark_field`], [`Hierarchy::mark_region`]).
     marks: Marks,
     /// Records collapsed at the end of each level; `level_ends[0] == 0` (the input).
     level_ends: Vec<usize>,
@@ -1669,9 +1670,9 @@ const UNMARKED: u32 = u32::MAX;
 /// ([`Hierarchy::mark_region`]).
 const IN_REGION: u32 = u32::MAX - 1;
 
-/// Affine maps that moved vertices since the hierarchy placed them
-/// ([`Hierarchy::mark_affine`]): a map index per vertex slot (allocated on first use) and
-/// the maps.
+/// Motions (affine maps or fields) that moved vertices since the hierarchy placed them
+/// ([`Hierarchy::mark_affine`], [`Hierarchy::mark_field`]) and region marks: a motion
+/// index (or [`IN_REGION`]) per vertex slot, allocated on first use, and the motions.
 #[derive(Clone, Debug, Default)]
 struct Marks {
     of_vertex: Vec<u32>,
