@@ -694,3 +694,82 @@ impl Tool for LeeAreaEdit {
         self.show(ctx);
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::tools::fixture::{bits, Fixture};
+    use crate::tools::Pick;
+    use glam::DVec3;
+
+    #[test]
+    fn a_lee_drag_at_a_coarse_level_lands_its_primitive_and_keeps_the_outside() {
+        // The tool marks the document's hierarchy when the drag ends: the primitive's fine
+        // vertices land on the dragged target, the input vertices outside the area's
+        // interior do not move, bit for bit.
+        let level = 2;
+        let mut fixture = Fixture::at_level(level);
+        let input = fixture.input.clone();
+        let mut ctx = fixture.ctx();
+        let mesh = ctx.mesh();
+        let top = mesh
+            .vertices()
+            .max_by(|&a, &b| mesh.position(a).z.total_cmp(&mesh.position(b).z))
+            .unwrap();
+        let start = mesh.position(top);
+        let mut tool = LeeAreaEdit::new();
+        tool.radius = 0.3;
+        let index = serde_json::json!(mesh.vertex_index(top));
+        tool.set_parameter("disk", &index, &mut ctx).unwrap();
+        let interior: Vec<usize> = tool
+            .area()
+            .unwrap()
+            .interior()
+            .iter()
+            .map(|&v| ctx.mesh().vertex_index(v))
+            .collect();
+        assert!(interior.len() > 10, "{} interior vertices", interior.len());
+        let offset = DVec3::new(0.05, 0.0, 0.25);
+        let pick = Pick {
+            vertex: top,
+            face: None,
+            point: start,
+        };
+        for (phase, fraction) in [
+            (DragPhase::Start, 0.0),
+            (DragPhase::Move, 0.6),
+            (DragPhase::End, 1.0),
+        ] {
+            let drag = Drag {
+                phase,
+                pick: Some(pick),
+                start,
+                current: start + fraction * offset,
+            };
+            tool.on_drag(&drag, &mut ctx);
+            assert!(!ctx.status.is_error, "{}", ctx.status.message);
+        }
+        ctx.doc.end_edit();
+        let i_top = ctx.mesh().vertex_index(top);
+        let ancestors = ctx.doc.hierarchy().unwrap().ancestors(level).unwrap();
+        ctx.doc.go_to_level(0, "levels").unwrap();
+        let fine = ctx.mesh();
+        let (mut primitive, mut worst) = (0, 0.0f64);
+        for v in input.vertices() {
+            let i = input.vertex_index(v);
+            let (p, q) = (input.position(v), fine.position(v));
+            let a = ancestors[i] as usize;
+            if a == i_top {
+                primitive += 1;
+                worst = worst.max(q.distance(p + offset));
+            } else if !interior.contains(&a) {
+                assert_eq!(bits(&[q]), bits(&[p]), "vertex {v} outside the area moved");
+            }
+        }
+        assert!(
+            primitive > 1,
+            "{primitive} fine vertices in the primitive's cluster"
+        );
+        assert!(worst < 1e-9, "the primitive is {worst:e} off its target");
+    }
+}
