@@ -350,6 +350,9 @@ struct Plan {
     bound: Option<Plane>,
     /// Nothing moves (identity parameters or no vertex reached).
     idle: bool,
+    /// The vertices of the propagation collars the edit reaches (moved or not; none for
+    /// a variation by levels, which does not propagate).
+    collars: Vec<u32>,
 }
 
 impl SubMesh {
@@ -425,9 +428,7 @@ impl SubMesh {
         let plan = self.plan(mesh, edit, propagation)?;
         let live = |i: u32| mesh.vertex_at(i as usize);
         let mut region: Vec<u32> = self.vertices.clone();
-        if !matches!(edit.variation(), Some(Variation::Levels(_))) && propagation.levels > 0 {
-            region.extend(self.collars(mesh, propagation.levels)?.concat());
-        }
+        region.extend_from_slice(&plan.collars);
         region.sort_unstable();
         region.dedup();
         let region: Vec<VertexId> = region.into_iter().filter_map(live).collect();
@@ -519,8 +520,10 @@ impl SubMesh {
             .map(|&i| (i, inside_strength(i)))
             .collect();
         let propagates = !matches!(variation, Some(Variation::Levels(_)));
+        let mut collars = Vec::new();
         if propagates && propagation.levels > 0 {
-            for (k, collar) in self.collars(mesh, propagation.levels)?.iter().enumerate() {
+            let rings = self.collars(mesh, propagation.levels)?;
+            for (k, collar) in rings.iter().enumerate() {
                 let w = propagation.weight(k + 1);
                 for &i in collar {
                     let v = match variation {
@@ -532,6 +535,7 @@ impl SubMesh {
                     targets.push((i, w * v));
                 }
             }
+            collars = rings.concat();
         }
         targets.retain(|&(_, tau)| tau > 0.0);
         targets.sort_unstable_by_key(|&(i, _)| i);
@@ -543,6 +547,7 @@ impl SubMesh {
                 reseat: DVec3::ZERO,
                 bound: None,
                 idle,
+                collars,
             });
         }
 
@@ -563,6 +568,7 @@ impl SubMesh {
             reseat,
             bound,
             idle,
+            collars,
         })
     }
 

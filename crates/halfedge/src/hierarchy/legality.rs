@@ -240,6 +240,26 @@ impl NewNormals {
     }
 }
 
+/// The unit normal of the face `(p, a, b)` (the survivor moved to `p`), or `None` when
+/// that face is degenerate or its normal turned away from `old` (its cached unit normal)
+/// by more than the bound whose cosine is `cos_flip`: the test of one face of
+/// [`geometry`] and [`Star::geometry`].
+#[inline(always)]
+fn moved_face_normal(p: DVec3, a: DVec3, b: DVec3, old: Vec3, cos_flip: f64) -> Option<DVec3> {
+    let (ea, eb) = (a - p, b - p);
+    let n = ea.cross(eb);
+    let len2 = n.length_squared();
+    let scale = ea.length_squared() + eb.length_squared() + (b - a).length_squared();
+    if len2 <= (DEGENERATE * scale) * (DEGENERATE * scale) {
+        return None;
+    }
+    let len = len2.sqrt();
+    if n.dot(old.as_dvec3()) < cos_flip * len {
+        return None;
+    }
+    Some(n / len)
+}
+
 /// Checks every face around `v0` and `v1` except `fl` and `fr` with the survivor moved to
 /// `p`: no normal turns by more than the bound whose cosine is `cos_flip`, no face
 /// becomes degenerate. `normals` holds the current unit face normals by face index; the
@@ -262,20 +282,12 @@ pub(crate) fn geometry(
             let n1 = mesh.next(k);
             let a = mesh.position(mesh.to_vertex(k));
             let b = mesh.position(mesh.to_vertex(n1));
-            let (ea, eb) = (a - p, b - p);
-            let n = ea.cross(eb);
-            let len2 = n.length_squared();
-            let scale = ea.length_squared() + eb.length_squared() + (b - a).length_squared();
-            if len2 <= (DEGENERATE * scale) * (DEGENERATE * scale) {
-                return false;
-            }
             let fi = mesh.face_index(f);
-            let len = len2.sqrt();
-            if n.dot(normals[fi].as_dvec3()) < cos_flip * len {
+            let Some(n) = moved_face_normal(p, a, b, normals[fi], cos_flip) else {
                 return false;
-            }
+            };
             if out.len < NEW_NORMALS {
-                out.items[out.len] = (fi as u32, n / len);
+                out.items[out.len] = (fi as u32, n);
             }
             out.len += 1;
         }
@@ -370,19 +382,11 @@ impl Star {
         for &[f, a, b] in &self.faces[..self.len] {
             let a = positions[a as usize];
             let b = positions[b as usize];
-            let (ea, eb) = (a - p, b - p);
-            let n = ea.cross(eb);
-            let len2 = n.length_squared();
-            let scale = ea.length_squared() + eb.length_squared() + (b - a).length_squared();
-            if len2 <= (DEGENERATE * scale) * (DEGENERATE * scale) {
+            let Some(n) = moved_face_normal(p, a, b, normals[f as usize], cos_flip) else {
                 return false;
-            }
-            let len = len2.sqrt();
-            if n.dot(normals[f as usize].as_dvec3()) < cos_flip * len {
-                return false;
-            }
+            };
             // (At most `STAR` = `NEW_NORMALS` faces.)
-            out.items[out.len] = (f, n / len);
+            out.items[out.len] = (f, n);
             out.len += 1;
         }
         true

@@ -1967,6 +1967,23 @@ impl Hierarchy {
 mod tests {
     use super::*;
 
+    /// What identifies every record of `h`: its edge, positions and fingerprint.
+    fn record_keys(h: &Hierarchy) -> Vec<(HalfedgeId, DVec3, DVec3, u64)> {
+        h.records()
+            .iter()
+            .map(|r| (r.v0v1, r.p0, r.p1, r.fingerprint()))
+            .collect()
+    }
+
+    /// An icosphere of level 4 with smooth bumps (detail that is not radial).
+    fn bumpy_icosphere() -> Mesh {
+        let mut input = crate::generators::icosphere(4);
+        for p in input.positions_mut() {
+            *p *= 1.0 + 0.1 * (7.0 * p.x).sin() * (5.0 * p.y + 0.3).sin();
+        }
+        input
+    }
+
     /// Output buffers made and mapped on another thread, adopted in the middle of a build
     /// (large enough for the QEM build to do so itself) or afterwards, hold the same
     /// records: the hierarchy refines back to its input bit for bit.
@@ -1978,11 +1995,7 @@ mod tests {
         assert!(h.n_records() > 4 * PREFAULT_RECORDS);
         let records = h.n_records();
         let bytes = h.record_bytes();
-        let before: Vec<_> = h
-            .records()
-            .iter()
-            .map(|r| (r.v0v1, r.p0, r.p1, r.fingerprint()))
-            .collect();
+        let before = record_keys(&h);
         // Adopt buffers by hand (as large as the records, and larger).
         for extra in [0, 1000] {
             let sizes = (records + extra, records);
@@ -1996,11 +2009,7 @@ mod tests {
         }
         assert_eq!(h.n_records(), records);
         assert!(h.record_bytes() >= bytes);
-        let after: Vec<_> = h
-            .records()
-            .iter()
-            .map(|r| (r.v0v1, r.p0, r.p1, r.fingerprint()))
-            .collect();
+        let after = record_keys(&h);
         assert_eq!(after, before);
         h.refine_to(0).unwrap();
         h.mesh().check().unwrap();
@@ -2013,11 +2022,7 @@ mod tests {
         assert_eq!(bits(h.mesh()), bits(&input));
         // And a build that adopted them at its own pace gives the same records.
         let again = Hierarchy::build(input, &options).unwrap();
-        let records_again: Vec<_> = again
-            .records()
-            .iter()
-            .map(|r| (r.v0v1, r.p0, r.p1, r.fingerprint()))
-            .collect();
+        let records_again = record_keys(&again);
         assert_eq!(records_again, before);
     }
 
@@ -2026,10 +2031,7 @@ mod tests {
         // A twist whose angle ramps along z (not affine), then a translation: the fine
         // vertices of the marked cap are exactly the composed deformation of the input,
         // the rest did not move; a mark that does not fit falls back to the local frame.
-        let mut input = crate::generators::icosphere(4);
-        for p in input.positions_mut() {
-            *p *= 1.0 + 0.1 * (7.0 * p.x).sin() * (5.0 * p.y + 0.3).sin();
-        }
+        let input = bumpy_icosphere();
         let twist = |p: DVec3| {
             let angle = 1.5 * (p.z - 0.2).clamp(0.0, 1.0);
             glam::DQuat::from_rotation_z(angle) * p
@@ -2084,10 +2086,7 @@ mod tests {
         // At every level of both methods: each member is at its input position bit for bit
         // and has the ancestor `ancestors` gives; every vertex that is not a member is live
         // there, its own ancestor, and still at its input position.
-        let mut input = crate::generators::icosphere(4);
-        for p in input.positions_mut() {
-            *p *= 1.0 + 0.1 * (7.0 * p.x).sin() * (5.0 * p.y + 0.3).sin();
-        }
+        let input = bumpy_icosphere();
         for options in [HierarchyOptions::rounds(), HierarchyOptions::qem()] {
             let mut h = Hierarchy::build(input.clone(), &options.with_target_faces(100)).unwrap();
             for level in 0..h.n_levels() {

@@ -1016,7 +1016,7 @@ impl BendelsKlein {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::tools::fixture::{bits, Fixture};
+    use crate::tools::fixture::{bits, refine_and_land, Expect, Fixture, Landing};
     use crate::tools::Status;
 
     /// The number in "… refine: N new vertices …" of the status line.
@@ -1029,14 +1029,9 @@ mod tests {
         rest.split(' ').next().unwrap().parse().unwrap()
     }
 
-    /// Paints the handle (the top cap) and the fixed part (the lower half) of the level
-    /// shown, pulls the handle up, refines, and checks that the hierarchy survives.
-    fn refine_keeps_the_hierarchy(level: usize) {
-        let mut fixture = Fixture::at_level(level);
-        let input = fixture.input.clone();
-        let mut ctx = fixture.ctx();
-        let mut tool = BendelsKlein::default();
-        let mesh = ctx.mesh();
+    /// Paints the top cap (z > 0.7) of `mesh` as the handle and its lower half as the
+    /// fixed part.
+    fn paint_cap_and_lower_half(tool: &mut BendelsKlein, mesh: &Mesh) {
         tool.paint = (0..mesh.vertex_slots())
             .map(|i| match mesh.vertex_at(i).map(|v| mesh.position(v).z) {
                 Some(z) if z > 0.7 => PAINT_HANDLE,
@@ -1045,6 +1040,16 @@ mod tests {
             })
             .collect();
         tool.source = Some(RegionSource::Painted);
+    }
+
+    /// Paints the handle (the top cap) and the fixed part (the lower half) of the level
+    /// shown, pulls the handle up, refines, and checks that the hierarchy survives.
+    fn refine_keeps_the_hierarchy(level: usize) {
+        let mut fixture = Fixture::at_level(level);
+        let input = fixture.input.clone();
+        let mut ctx = fixture.ctx();
+        let mut tool = BendelsKlein::default();
+        paint_cap_and_lower_half(&mut tool, ctx.mesh());
         tool.build(&mut ctx).unwrap();
         assert!(tool.session.is_some());
         tool.set_parameter("translate", &serde_json::json!([0.0, 0.0, 1.0]), &mut ctx)
@@ -1127,15 +1132,7 @@ mod tests {
     /// tool (its session made).
     fn rotate_the_cap(ctx: &mut ToolContext<'_>) -> BendelsKlein {
         let mut tool = BendelsKlein::default();
-        let mesh = ctx.mesh();
-        tool.paint = (0..mesh.vertex_slots())
-            .map(|i| match mesh.vertex_at(i).map(|v| mesh.position(v).z) {
-                Some(z) if z > 0.7 => PAINT_HANDLE,
-                Some(z) if z < 0.0 => PAINT_FIXED,
-                _ => PAINT_NONE,
-            })
-            .collect();
-        tool.source = Some(RegionSource::Painted);
+        paint_cap_and_lower_half(&mut tool, ctx.mesh());
         tool.build(ctx).unwrap();
         for (name, value) in [
             ("axis", serde_json::json!([1.0, 0.0, 0.0])),
@@ -1159,26 +1156,17 @@ mod tests {
         let input = fixture.input.clone();
         let mut ctx = fixture.ctx();
         let tool = rotate_the_cap(&mut ctx);
-        let a = glam::DAffine3::from_mat4(tool.transform());
+        let a_map = glam::DAffine3::from_mat4(tool.transform());
         let roles = tool.session.as_ref().unwrap().regions().roles().to_vec();
-        let ancestors = ctx.doc.hierarchy().unwrap().ancestors(level).unwrap();
-        ctx.doc.go_to_level(0, "levels").unwrap();
-        let fine = ctx.mesh();
-        let (mut handle, mut fixed, mut worst) = (0, 0, 0.0f64);
-        for v in input.vertices() {
-            let (p, q) = (input.position(v), fine.position(v));
-            match roles[ancestors[input.vertex_index(v)] as usize] {
-                Role::Fixed => {
-                    fixed += 1;
-                    assert_eq!(q, p, "fixed vertex {v} moved");
-                }
-                Role::Handle => {
-                    handle += 1;
-                    worst = worst.max((q - a.transform_point3(p)).length());
-                }
-                Role::Deformable => {}
-            }
-        }
+        let Landing {
+            landed: handle,
+            stayed: fixed,
+            worst,
+        } = refine_and_land(&mut ctx, &input, level, |a| match roles[a] {
+            Role::Fixed => Expect::Stays,
+            Role::Handle => Expect::Lands(a_map),
+            Role::Deformable => Expect::Free,
+        });
         assert!(handle > 10 && fixed > 100, "{handle} handle, {fixed} fixed");
         // The icosphere's diagonal is about 3.5.
         assert!(

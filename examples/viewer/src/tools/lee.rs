@@ -698,7 +698,7 @@ impl Tool for LeeAreaEdit {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::tools::fixture::{bits, Fixture};
+    use crate::tools::fixture::{refine_and_land, Expect, Fixture, Landing};
     use crate::tools::Pick;
     use glam::DVec3;
 
@@ -751,21 +751,19 @@ mod tests {
         }
         ctx.doc.end_edit();
         let i_top = ctx.mesh().vertex_index(top);
-        let ancestors = ctx.doc.hierarchy().unwrap().ancestors(level).unwrap();
-        ctx.doc.go_to_level(0, "levels").unwrap();
-        let fine = ctx.mesh();
-        let (mut primitive, mut worst) = (0, 0.0f64);
-        for v in input.vertices() {
-            let i = input.vertex_index(v);
-            let (p, q) = (input.position(v), fine.position(v));
-            let a = ancestors[i] as usize;
+        let Landing {
+            landed: primitive,
+            worst,
+            ..
+        } = refine_and_land(&mut ctx, &input, level, |a| {
             if a == i_top {
-                primitive += 1;
-                worst = worst.max(q.distance(p + offset));
-            } else if !interior.contains(&a) {
-                assert_eq!(bits(&[q]), bits(&[p]), "vertex {v} outside the area moved");
+                Expect::Lands(glam::DAffine3::from_translation(offset))
+            } else if interior.contains(&a) {
+                Expect::Free
+            } else {
+                Expect::Stays
             }
-        }
+        });
         assert!(
             primitive > 1,
             "{primitive} fine vertices in the primitive's cluster"

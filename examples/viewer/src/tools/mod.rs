@@ -561,6 +561,59 @@ pub(crate) mod fixture {
         }
     }
 
+    /// What a test expects of an input vertex once the hierarchy is refined, by the
+    /// index of its ancestor at the edited level.
+    pub enum Expect {
+        /// At this map of its input position (a part moved rigidly or affinely).
+        Lands(glam::DAffine3),
+        /// Exactly where the input has it, bit for bit.
+        Stays,
+        /// Anywhere (the edit's transition).
+        Free,
+    }
+
+    /// What [`refine_and_land`] saw: vertices expected to land and to stay, and the
+    /// largest distance of a landing one from its target.
+    pub struct Landing {
+        pub landed: usize,
+        pub stayed: usize,
+        pub worst: f64,
+    }
+
+    /// Refines the document's hierarchy from `level` to the input and checks every input
+    /// vertex against `expect` of its ancestor: those that should stay did, bit for bit
+    /// (asserted), those that should land are measured.
+    pub fn refine_and_land(
+        ctx: &mut ToolContext<'_>,
+        input: &Mesh,
+        level: usize,
+        expect: impl Fn(usize) -> Expect,
+    ) -> Landing {
+        let ancestors = ctx.doc.hierarchy().unwrap().ancestors(level).unwrap();
+        ctx.doc.go_to_level(0, "levels").unwrap();
+        let fine = ctx.mesh();
+        let mut seen = Landing {
+            landed: 0,
+            stayed: 0,
+            worst: 0.0,
+        };
+        for v in input.vertices() {
+            let (p, q) = (input.position(v), fine.position(v));
+            match expect(ancestors[input.vertex_index(v)] as usize) {
+                Expect::Lands(map) => {
+                    seen.landed += 1;
+                    seen.worst = seen.worst.max(q.distance(map.transform_point3(p)));
+                }
+                Expect::Stays => {
+                    seen.stayed += 1;
+                    assert_eq!(bits(&[q]), bits(&[p]), "vertex {v} moved");
+                }
+                Expect::Free => {}
+            }
+        }
+        seen
+    }
+
     pub fn bits(positions: &[DVec3]) -> Vec<[u64; 3]> {
         positions
             .iter()

@@ -727,7 +727,7 @@ impl Tool for SubMeshEdit {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::tools::fixture::{bits, Fixture};
+    use crate::tools::fixture::{refine_and_land, Expect, Fixture};
     use halfedge::generators;
 
     #[test]
@@ -788,21 +788,15 @@ mod tests {
         sub: &SubMesh,
         map: glam::DAffine3,
     ) -> f64 {
-        let ancestors = ctx.doc.hierarchy().unwrap().ancestors(level).unwrap();
-        ctx.doc.go_to_level(0, "levels").unwrap();
-        let fine = ctx.mesh();
-        let (mut inside, mut worst) = (0, 0.0f64);
-        for v in input.vertices() {
-            let (p, q) = (input.position(v), fine.position(v));
-            if sub.contains_index(ancestors[input.vertex_index(v)] as usize) {
-                inside += 1;
-                worst = worst.max(q.distance(map.transform_point3(p)));
+        let seen = refine_and_land(ctx, input, level, |a| {
+            if sub.contains_index(a) {
+                Expect::Lands(map)
             } else {
-                assert_eq!(bits(&[q]), bits(&[p]), "vertex {v} outside moved");
+                Expect::Stays
             }
-        }
-        assert!(inside > 20, "{inside} vertices inside");
-        worst
+        });
+        assert!(seen.landed > 20, "{} vertices inside", seen.landed);
+        seen.worst
     }
 
     #[test]
