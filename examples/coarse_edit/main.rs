@@ -46,8 +46,11 @@
 //!   from the frontier's highest axial coordinate to 70 % of the way to the region's top:
 //!   the strength is geometric, so the same at both resolutions, and the frontier does
 //!   not move. The part beyond 70 % is moved by one rigid (twist) or affine (taper) map.
-//!   A flat region (reaching less than `0.05 R` beyond its frontier along both axes) is
-//!   refused with an error: there is nothing to twist.
+//!   A flat region (reaching less than `0.05 R` beyond its frontier along both axes, as
+//!   inside a flat or open mesh, where the frontier encloses the region) has nothing to
+//!   twist: without `--seed-vertex` the tip is then chosen again with no distance from
+//!   the boundary asked (the farthest vertex from the centroid, where a flat mesh
+//!   protrudes), and a region still flat is refused with an error.
 //! - `lee`: an editing area made of the faces around the first `K` vertices of the
 //!   region order whose neighbours are all among them (and that are two rings from the
 //!   mesh boundary), with the pockets they enclose, `K` = the region's vertex count

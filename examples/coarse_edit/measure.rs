@@ -384,8 +384,18 @@ const MAX_HALVINGS: usize = 4;
 /// How many rings from the mesh boundary a tip should be, at most (see the docs).
 const TIP_DEPTH: u32 = 3;
 
-/// The region rule (see the example's module docs).
-fn choose_region(mesh: &Mesh, ancestors: &[u32], seed: Option<usize>) -> Result<Region, Failure> {
+/// Why a twist or taper refuses a region (see the docs; the rule then tries a tip on
+/// the boundary).
+const FLAT_REGION: &str = "the region is flat: it does not reach beyond its frontier along the axis towards its tip nor along its frontier's normal, so a twist or taper along it moves nothing";
+
+/// The region rule (see the example's module docs), with tips at least `tip_depth`
+/// rings from the mesh boundary where there are such vertices.
+fn choose_region(
+    mesh: &Mesh,
+    ancestors: &[u32],
+    seed: Option<usize>,
+    tip_depth: u32,
+) -> Result<Region, Failure> {
     let (component, _) = mesh.connected_components();
     let tip = match seed {
         Some(s) => {
@@ -435,7 +445,7 @@ fn choose_region(mesh: &Mesh, ancestors: &[u32], seed: Option<usize>) -> Result<
             let mut best: Option<(u32, f64, usize)> = None;
             for &v in &members {
                 let i = mesh.vertex_index(v);
-                let key = (depth[i].min(TIP_DEPTH), mesh.position(v).distance(centroid));
+                let key = (depth[i].min(tip_depth), mesh.position(v).distance(centroid));
                 if best.is_none_or(|(d, r, _)| key.0 > d || (key.0 == d && key.1 > r)) {
                     best = Some((key.0, key.1, i));
                 }
@@ -592,7 +602,23 @@ pub fn measure(prepared: &Prepared, options: &Options) -> Result<Measured, Failu
     let mut hierarchy = prepared.hierarchy.clone();
     let input = &prepared.input;
     let diagonal = prepared.diagonal;
-    let region = choose_region(hierarchy.mesh(), &prepared.ancestors, options.seed_vertex)?;
+    let mut region = choose_region(
+        hierarchy.mesh(),
+        &prepared.ancestors,
+        options.seed_vertex,
+        TIP_DEPTH,
+    )?;
+    if matches!(options.edit, EditKind::Twist | EditKind::Taper) && options.seed_vertex.is_none() {
+        // a region enclosed by its frontier (a flat or open mesh's inside) has nothing to
+        // twist: the tip may then be on the boundary, where a flat mesh protrudes
+        let mut trial = hierarchy.mesh().clone();
+        if let Err(e) = apply(&mut trial, None, prepared, &region, options, options.amount) {
+            if e.message != FLAT_REGION {
+                return Err(e);
+            }
+            region = choose_region(hierarchy.mesh(), &prepared.ancestors, None, 0)?;
+        }
+    }
     let before: Vec<DVec3> = hierarchy.mesh().positions().to_vec();
     let level_faces = hierarchy.mesh().n_faces();
     // a smooth edit that turns a face of the coarse mesh over is too strong for it: halve
@@ -895,7 +921,7 @@ fn submesh_edit(
             let reach = top - start;
             if reach.is_nan() || reach <= 0.05 * radius {
                 return Err(Failure::new(
-                    "the region is flat: it does not reach beyond its frontier along the axis towards its tip nor along its frontier's normal, so a twist or taper along it moves nothing",
+                    FLAT_REGION,
                     "pass a --seed-vertex on a protruding part, or another --region-fraction",
                 ));
             }
@@ -1354,6 +1380,7 @@ fn bk_edit(
     session
         .apply(coarse, glam::DMat4::from(a))
         .map_err(lib(hint))?;
+    let marks = session.hierarchy_marks(coarse).map_err(lib(hint))?;
 
     let mut fine_region = 0;
     if let Some(fine) = fine {
@@ -1379,7 +1406,7 @@ fn bk_edit(
             vertices: handle_list,
             map: a,
         }],
-        marks: None,
+        marks: Some(marks),
     })
 }
 
@@ -1524,7 +1551,12 @@ pub fn measure_bk_refine(
     let level = prepared.level;
     let input = &prepared.input;
     let f = options.region_fraction;
-    let region = choose_region(hierarchy.mesh(), &prepared.ancestors, options.seed_vertex)?;
+    let region = choose_region(
+        hierarchy.mesh(),
+        &prepared.ancestors,
+        options.seed_vertex,
+        TIP_DEPTH,
+    )?;
     let coarse = hierarchy.mesh();
     let slots = coarse.vertex_slots();
     let (handle, _) = region.ball(slots, 0.15 * f, 1)?;

@@ -37,6 +37,7 @@ use halfedge::{Hierarchy, Mesh, VertexData, VertexId};
 use rayon::prelude::*;
 
 use crate::distance::{BorderGrid, FastMarching, QueryPoints, Source};
+use crate::marks::HierarchyMarks;
 use crate::matrix::AffinePower;
 use crate::regions::{Regions, Role};
 use crate::selection::{check_finite_positions, scatter};
@@ -530,13 +531,36 @@ impl BlendSession {
     pub fn mark_in_hierarchy(&self, hierarchy: &mut Hierarchy) -> Result<()> {
         self.check_mesh(hierarchy.mesh())?;
         if hierarchy.detail_mode() == halfedge::DetailMode::LocalFrame {
-            let map = glam::DAffine3::from_mat4(self.power.transform());
-            if map.is_finite() {
-                hierarchy.set_affine_mark(self.regions.handle(), map)?;
-            }
-            hierarchy.mark_region(&self.moving_vertices(hierarchy.mesh()))?;
+            self.mark_motion(hierarchy)?;
         }
         Ok(())
+    }
+
+    /// The marks of [`mark_in_hierarchy`](Self::mark_in_hierarchy), in local-frame mode.
+    fn mark_motion(&self, hierarchy: &mut Hierarchy) -> Result<()> {
+        self.hierarchy_marks(hierarchy.mesh())?.replace(hierarchy)
+    }
+
+    /// What the session's current edit did, for a [`Hierarchy`] whose mesh (at its
+    /// current level) the session was made on ([`HierarchyMarks`]): the handle moved by
+    /// the session's transform `A`, and the handle and the deformable region as the
+    /// edit's region. Refinement then puts every finer vertex of the handle at `A` of its
+    /// original position, places the finer vertices of the deformable region by their
+    /// local-frame detail on the blended neighbourhood, and leaves the fixed region bit
+    /// for bit. Use [`HierarchyMarks::replace`] after each application of a new
+    /// transform (or [`mark_in_hierarchy`](Self::mark_in_hierarchy), which does).
+    ///
+    /// # Errors
+    /// [`EditError::Stale`] when the session was not made on `mesh` at its current level.
+    pub fn hierarchy_marks(&self, mesh: &Mesh) -> Result<HierarchyMarks> {
+        self.check_mesh(mesh)?;
+        let map = glam::DAffine3::from_mat4(self.power.transform());
+        Ok(HierarchyMarks::new(
+            mesh,
+            self.moving_vertices(mesh),
+            vec![(self.regions.handle().to_vec(), map)],
+        )?
+        .bound_to(self.binding))
     }
 
     /// The live vertices of the handle and the deformable region (what a blend may move).
@@ -604,11 +628,7 @@ impl BlendSession {
             .map(|&a| roles.get(a as usize).is_some_and(|&r| r != Role::Fixed))
             .collect();
         if hierarchy.detail_mode() == halfedge::DetailMode::LocalFrame {
-            let a = glam::DAffine3::from_mat4(self.power.transform());
-            if a.is_finite() {
-                hierarchy.set_affine_mark(self.regions.handle(), a)?;
-            }
-            hierarchy.mark_region(&self.moving_vertices(hierarchy.mesh()))?;
+            self.mark_motion(hierarchy)?;
         }
         let report = hierarchy.edit_input(|mesh| {
             Ok::<_, EditError>(split_long_edges(

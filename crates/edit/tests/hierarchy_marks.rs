@@ -352,3 +352,39 @@ fn the_taper_map_given_to_the_hierarchy_is_the_edit_at_full_strength() {
         assert!(map.transform_point3(p).distance(expected) < 1e-12);
     }
 }
+
+#[test]
+fn a_coarse_blend_marks_its_handle_and_moving_region_and_lands_the_handle() {
+    use edit::blend::{BlendOptions, BlendSession};
+    use edit::regions::{Regions, Role};
+    let (original, mut h) = hierarchy(DetailMode::LocalFrame);
+    let coarse = h.mesh();
+    let handle = cap(coarse, 0.7);
+    let fixed: Vec<VertexId> = coarse
+        .vertices()
+        .filter(|&v| coarse.position(v).z < 0.0)
+        .collect();
+    let regions = Regions::from_sets(coarse, &handle, &fixed).unwrap();
+    let roles = regions.roles().to_vec();
+    let mut session = BlendSession::new(coarse, regions, BlendOptions::default()).unwrap();
+    let map = rotation_about(DVec3::new(0.0, 0.0, 0.7), DVec3::X, 0.4);
+    session.apply(h.mesh_mut(), glam::DMat4::from(map)).unwrap();
+    let marks = session.hierarchy_marks(h.mesh()).unwrap();
+    let moving = roles.iter().filter(|&&r| r != Role::Fixed).count();
+    assert_eq!(marks.region().len(), moving);
+    assert_eq!(marks.affine_parts().len(), 1);
+    assert_eq!(marks.affine_parts()[0].0.len(), handle.len());
+    // Made for this level: a walk coarser makes them stale.
+    let mut other = h.clone();
+    other.go_to_level(LEVEL + 1).unwrap();
+    assert!(matches!(marks.mark(&mut other), Err(EditError::Stale(_))));
+    marks.replace(&mut h).unwrap();
+    let part = mask(
+        h.mesh(),
+        handle.iter().map(|&v| h.mesh().vertex_index(v) as u32),
+    );
+    let region: Vec<bool> = roles.iter().map(|&r| r != Role::Fixed).collect();
+    let (worst, outside_moved, _) = refine_and_measure(&original, h, &part, map, &region);
+    assert!(worst <= 1e-9, "the handle missed its image by {worst:e}");
+    assert_eq!(outside_moved, 0, "the fixed region moved");
+}

@@ -300,6 +300,170 @@ impl Bvh {
             nearest_vertex,
         }))
     }
+
+    /// The point of the mesh's surface nearest to `query`: the face it lies on, the
+    /// point, its barycentric coordinates for the corners of [`Mesh::triangle`] and its
+    /// distance (projecting a point onto a mesh, e.g. to carry values given at a mesh's
+    /// vertices to points near its surface). Ties between faces go to the face met first
+    /// by the traversal; `None` for an empty mesh.
+    ///
+    /// # Errors
+    /// [`Error::InvalidArgument`] when `query` is not finite, or when the hierarchy is not
+    /// current for `mesh` (see [`is_current`](Self::is_current)).
+    pub fn closest_point(&self, mesh: &Mesh, query: DVec3) -> Result<Option<Nearest>> {
+        if !self.is_current(mesh) {
+            return Err(Error::InvalidArgument(
+                "closest_point: the BVH is not current for this mesh (another mesh, or it changed since the build); call update"
+                    .into(),
+            ));
+        }
+        if !query.is_finite() {
+            return Err(Error::InvalidArgument(format!(
+                "closest_point: the query point {query} is not finite"
+            )));
+        }
+        if self.nodes.is_empty() {
+            return Ok(None);
+        }
+        let positions = mesh.positions();
+        let mut best: Option<(f64, usize, DVec3, DVec3)> = None;
+        let mut best_d2 = f64::INFINITY;
+        let mut stack: Vec<(usize, f64)> = Vec::with_capacity(64);
+        stack.push((
+            0,
+            box_distance_squared(self.nodes[0].lo, self.nodes[0].hi, query),
+        ));
+        while let Some((i, d2)) = stack.pop() {
+            if d2 >= best_d2 {
+                continue;
+            }
+            let node = &self.nodes[i];
+            if node.count > 0 {
+                let start = node.index as usize;
+                for k in start..start + node.count as usize {
+                    let [a, b, c] = self.corners[k].map(|j| positions[j as usize]);
+                    let (point, barycentric) = closest_point_on_triangle(query, a, b, c);
+                    let d2 = point.distance_squared(query);
+                    if d2 < best_d2 {
+                        best_d2 = d2;
+                        best = Some((d2, k, point, barycentric));
+                    }
+                }
+            } else {
+                let (left, right) = (i + 1, node.index as usize);
+                let dl = box_distance_squared(self.nodes[left].lo, self.nodes[left].hi, query);
+                let dr = box_distance_squared(self.nodes[right].lo, self.nodes[right].hi, query);
+                // The nearer child is popped first.
+                if dl <= dr {
+                    stack.push((right, dr));
+                    stack.push((left, dl));
+                } else {
+                    stack.push((left, dl));
+                    stack.push((right, dr));
+                }
+            }
+        }
+        Ok(best.map(|(d2, k, point, barycentric)| Nearest {
+            face: self.faces[k],
+            point,
+            barycentric,
+            distance: d2.sqrt(),
+        }))
+    }
+}
+
+/// The point of a surface nearest to a query ([`Bvh::closest_point`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Nearest {
+    /// The face the point lies on.
+    pub face: FaceId,
+    /// The nearest point.
+    pub point: DVec3,
+    /// Barycentric coordinates of the point for the corners of [`Mesh::triangle`], in
+    /// order (non-negative, summing to 1 up to rounding).
+    pub barycentric: DVec3,
+    /// Distance from the query to the point.
+    pub distance: f64,
+}
+
+/// Squared distance from `p` to the box `[lo, hi]` (0 inside).
+#[inline]
+fn box_distance_squared(lo: DVec3, hi: DVec3, p: DVec3) -> f64 {
+    let d = (lo - p).max(p - hi).max(DVec3::ZERO);
+    d.length_squared()
+}
+
+/// The point of triangle `abc` nearest to `p` and its barycentric coordinates, found by
+/// the Voronoi region of `p` among the triangle's corners, edges and interior. A
+/// degenerate triangle (a segment or a point) is handled by the same regions: its
+/// nearest corner or edge point is returned.
+pub fn closest_point_on_triangle(p: DVec3, a: DVec3, b: DVec3, c: DVec3) -> (DVec3, DVec3) {
+    let ab = b - a;
+    let ac = c - a;
+    let ap = p - a;
+    let d1 = ab.dot(ap);
+    let d2 = ac.dot(ap);
+    if d1 <= 0.0 && d2 <= 0.0 {
+        return (a, DVec3::X);
+    }
+    let bp = p - b;
+    let d3 = ab.dot(bp);
+    let d4 = ac.dot(bp);
+    if d3 >= 0.0 && d4 <= d3 {
+        return (b, DVec3::Y);
+    }
+    let vc = d1 * d4 - d3 * d2;
+    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
+        let v = d1 / (d1 - d3);
+        return (a + v * ab, DVec3::new(1.0 - v, v, 0.0));
+    }
+    let cp = p - c;
+    let d5 = ab.dot(cp);
+    let d6 = ac.dot(cp);
+    if d6 >= 0.0 && d5 <= d6 {
+        return (c, DVec3::Z);
+    }
+    let vb = d5 * d2 - d1 * d6;
+    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
+        let w = d2 / (d2 - d6);
+        return (a + w * ac, DVec3::new(1.0 - w, 0.0, w));
+    }
+    let va = d3 * d6 - d5 * d4;
+    if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
+        let w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+        return (b + w * (c - b), DVec3::new(0.0, 1.0 - w, w));
+    }
+    let sum = va + vb + vc;
+    if !(sum > 0.0 && sum.is_finite()) {
+        // Degenerate (collinear corners): the nearest of the three edges' points.
+        let candidates = [
+            segment_point(p, a, b).map(|t| (a + t * ab, DVec3::new(1.0 - t, t, 0.0))),
+            segment_point(p, a, c).map(|t| (a + t * ac, DVec3::new(1.0 - t, 0.0, t))),
+            segment_point(p, b, c).map(|t| (b + t * (c - b), DVec3::new(0.0, 1.0 - t, t))),
+        ];
+        return candidates
+            .into_iter()
+            .flatten()
+            .min_by(|x, y| x.0.distance_squared(p).total_cmp(&y.0.distance_squared(p)))
+            .unwrap_or((a, DVec3::X));
+    }
+    let denom = 1.0 / sum;
+    let v = vb * denom;
+    let w = vc * denom;
+    (a + ab * v + ac * w, DVec3::new(1.0 - v - w, v, w))
+}
+
+/// Parameter in `[0, 1]` of the point of segment `ab` nearest to `p` (0 for a point
+/// segment); `None` when it is not finite.
+fn segment_point(p: DVec3, a: DVec3, b: DVec3) -> Option<f64> {
+    let ab = b - a;
+    let l2 = ab.length_squared();
+    let t = if l2 > 0.0 {
+        ((p - a).dot(ab) / l2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    t.is_finite().then_some(t)
 }
 
 fn build_recursive(
@@ -472,6 +636,77 @@ mod tests {
             }
         }
         assert!(hits > rays / 4, "too few hits ({hits}) to test anything");
+    }
+
+    /// Random points around a mesh: the BVH's nearest point is as near as the brute
+    /// force's over every face, lies on its face at its barycentric coordinates, and
+    /// those are a convex combination.
+    fn nearest_agrees_with_brute_force(mesh: &Mesh, bvh: &Bvh, queries: usize, seed: u64) {
+        let mut rng = Lcg(seed);
+        let (lo, hi) = mesh.bounding_box().unwrap();
+        let centre = 0.5 * (lo + hi);
+        let scale = (hi - lo).length();
+        for _ in 0..queries {
+            let q = centre + 0.8 * scale * rng.vec();
+            let expected = mesh
+                .faces()
+                .map(|f| {
+                    let [a, b, c] = mesh.triangle_positions(f);
+                    closest_point_on_triangle(q, a, b, c).0.distance(q)
+                })
+                .fold(f64::INFINITY, f64::min);
+            let got = bvh.closest_point(mesh, q).unwrap().unwrap();
+            assert!(
+                (got.distance - expected).abs() <= 1e-12 * scale,
+                "{} vs {expected}",
+                got.distance
+            );
+            let [a, b, c] = mesh.triangle_positions(got.face);
+            let w = got.barycentric;
+            assert!(w.min_element() >= 0.0 && (w.element_sum() - 1.0).abs() < 1e-12);
+            assert!((w.x * a + w.y * b + w.z * c - got.point).length() < 1e-12 * scale);
+            assert!((got.point.distance(q) - got.distance).abs() < 1e-12 * scale);
+        }
+    }
+
+    #[test]
+    fn closest_point_matches_brute_force_and_finds_vertices_exactly() {
+        let mut mesh = generators::icosphere(3);
+        for p in mesh.positions_mut() {
+            *p = DVec3::new(p.x * 2.0, p.y + 0.3 * p.x * p.x, p.z * 0.5);
+        }
+        let bvh = Bvh::build(&mesh);
+        nearest_agrees_with_brute_force(&mesh, &bvh, 300, 7);
+        // A vertex is its own nearest point, with all its weight on it.
+        for v in mesh.vertices().step_by(7) {
+            let p = mesh.position(v);
+            let got = bvh.closest_point(&mesh, p).unwrap().unwrap();
+            assert_eq!(got.distance, 0.0);
+            let corners = mesh.triangle(got.face);
+            let k = corners
+                .iter()
+                .position(|&c| c == v)
+                .expect("a face of the vertex");
+            assert_eq!(got.barycentric[k], 1.0);
+        }
+        // Bad queries are refused, not answered.
+        assert!(bvh
+            .closest_point(&mesh, DVec3::new(f64::NAN, 0.0, 0.0))
+            .is_err());
+        let other = generators::icosphere(2);
+        assert!(bvh.closest_point(&other, DVec3::ZERO).is_err());
+    }
+
+    #[test]
+    fn closest_point_on_degenerate_triangles_is_on_their_segment() {
+        let (a, b) = (DVec3::ZERO, DVec3::X);
+        // Collinear corners: the nearest point of the segment a–b.
+        let (p, w) = closest_point_on_triangle(DVec3::new(0.25, 1.0, 0.0), a, b, 0.5 * b);
+        assert!((p - DVec3::new(0.25, 0.0, 0.0)).length() < 1e-15);
+        assert!((w.element_sum() - 1.0).abs() < 1e-15 && w.min_element() >= 0.0);
+        // All corners at one point.
+        let (p, _) = closest_point_on_triangle(DVec3::ONE, a, a, a);
+        assert_eq!(p, a);
     }
 
     #[test]
