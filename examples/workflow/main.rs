@@ -24,15 +24,17 @@
 //!   in steps of 4 % of the extent, then away from it; where no height works, the other
 //!   axes are tried (`y`, `z`, `x`, `-y`, `-z`, `-x`).
 //! - **Lee area** (dragged along the normal): a disk of about a twelfth of the coarse
-//!   vertices (30 to 5,000) around the vertex furthest to the front (+z). Where the disk
-//!   reaches the mesh boundary or wraps around a handle it is halved (down to a vertex
-//!   and its ring); then the extreme vertices along `x`, `-x`, `y`, `-y`, `-z` are tried, and
-//!   last the vertex farthest from the boundary.
+//!   vertices (30 to 5,000) around the vertex of the largest component furthest to the
+//!   front (+z). Where the disk reaches the mesh boundary or wraps around a handle it is
+//!   halved (down to a vertex and its ring); then the largest component's extreme
+//!   vertices along `x`, `-x`, `y`, `-y`, `-z` are tried, and last the vertex farthest
+//!   from the boundary.
 //! - **Bendels & Klein** (handle rotated 25° and pulled): the handle is the vertices
 //!   within an edge-path distance of 8 % of the bounding-box diagonal from the vertex
 //!   furthest along −x, the fixed region everything beyond 30 %; where the handle would
 //!   touch the fixed region or either is empty, both radii are halved (three times at
-//!   most).
+//!   most); where no radius works (the vertex is on a small loose part), the same around
+//!   the vertex furthest along −x of the largest component.
 //!
 //! A step none of whose rules applies is left out with a note saying why and which flag
 //! changes it; the job goes on. The pictures are framed on the union of the before and
@@ -583,6 +585,7 @@ fn lee_drag(
 ) -> Result<(String, Option<String>), String> {
     let mesh = hierarchy.mesh();
     let mut centres: Vec<(VertexId, String)> = Vec::new();
+    let largest = largest_component(mesh).map_err(|e| e.to_string())?;
     for (d, name) in [
         (DVec3::Z, "+z"),
         (DVec3::X, "+x"),
@@ -591,7 +594,7 @@ fn lee_drag(
         (DVec3::NEG_Y, "-y"),
         (DVec3::NEG_Z, "-z"),
     ] {
-        if let Ok(Some(v)) = mesh.extreme_vertex(d) {
+        if let Some(v) = extreme_on(mesh, &largest, d) {
             centres.push((v, format!("the vertex furthest along {name}")));
         }
     }
@@ -658,6 +661,27 @@ fn lee_drag(
     ))
 }
 
+/// The vertices of the mesh's largest component (by faces, then vertices; none for a
+/// mesh without vertices).
+fn largest_component(mesh: &Mesh) -> halfedge::Result<Vec<VertexId>> {
+    match mesh.components().first() {
+        Some(c) => Ok(mesh.select_linked(&[c.vertex])?.vertices(mesh)),
+        None => Ok(Vec::new()),
+    }
+}
+
+/// The vertex of `part` with faces furthest along `direction` (ties: the lowest index).
+fn extreme_on(mesh: &Mesh, part: &[VertexId], direction: DVec3) -> Option<VertexId> {
+    part.iter()
+        .copied()
+        .filter(|&v| !mesh.is_isolated(v))
+        .max_by(|&a, &b| {
+            (mesh.position(a).dot(direction))
+                .total_cmp(&mesh.position(b).dot(direction))
+                .then(mesh.vertex_index(b).cmp(&mesh.vertex_index(a)))
+        })
+}
+
 /// The vertex with faces farthest (by edge paths) from the mesh boundary and from
 /// non-manifold vertices; `None` for a closed mesh.
 fn farthest_from_boundary(mesh: &Mesh) -> Option<VertexId> {
@@ -696,82 +720,92 @@ fn blend_rotate(
         .extreme_vertex(DVec3::NEG_X)
         .map_err(|e| e.to_string())?
         .ok_or("the mesh has no vertex with a face")?;
-    let centre = mesh.position(side);
-    let side_index = mesh.vertex_index(side);
+    // The same rule on the largest component, for a mesh whose extreme vertex is on a
+    // small part (an eye, a loose piece) that the handle would cover whole.
+    let mut sides = vec![(side, "the mesh")];
+    let largest = largest_component(mesh).map_err(|e| e.to_string())?;
+    if let Some(v) = extreme_on(mesh, &largest, DVec3::NEG_X).filter(|&v| v != side) {
+        sides.push((v, "its largest component"));
+    }
     let mut first_failure: Option<String> = None;
-    for halvings in 0..4 {
-        let scale = 0.5f64.powi(halvings);
-        let (r_handle, r_fixed) = (0.08 * diagonal * scale, 0.3 * diagonal * scale);
-        let attempt = (|| -> Result<(usize, usize, Landing), String> {
-            let mesh = hierarchy.mesh();
-            let handle = mesh
-                .select_edge_ball(&[side], r_handle)
-                .map_err(|e| e.to_string())?;
-            let near = mesh
-                .select_edge_ball(&[side], r_fixed)
-                .map_err(|e| e.to_string())?;
-            let fixed: Vec<VertexId> = mesh
-                .vertices()
-                .filter(|&v| !near.contains(mesh, v))
-                .collect();
-            let regions = Regions::from_sets(mesh, &handle.vertices(mesh), &fixed)
-                .map_err(|e| e.to_string())?;
-            let n_deformable = regions.deformable().len();
-            let n_handle = regions.handle().len();
-            let handle_slots: Vec<u32> = regions
-                .handle()
-                .iter()
-                .map(|&v| mesh.vertex_index(v) as u32)
-                .collect();
-            let options = BlendOptions {
-                distance: DistanceKind::Geodesic,
-                shape: ShapeFunction::Smoothstep,
-            };
-            let mut blend =
-                progress::step(large, "B&K: geodesic distances (fast marching)", || {
-                    BlendSession::new(mesh, regions, options)
-                })
-                .map_err(|e| e.to_string())?;
-            let rotation = DMat4::from_translation(centre)
-                * DMat4::from_axis_angle(DVec3::Z, 25f64.to_radians())
-                * DMat4::from_translation(-centre)
-                * DMat4::from_translation(-DVec3::X * 0.05 * diagonal * scale);
-            blend
-                .apply_in_hierarchy(hierarchy, rotation)
-                .map_err(|e| e.to_string())?;
-            let landing = Landing {
-                handle: handle_slots,
-                map: glam::DAffine3::from_mat4(rotation),
-            };
-            Ok((n_handle, n_deformable, landing))
-        })();
-        match attempt {
-            Ok((n_handle, n_deformable, landing)) => {
-                let detail = format!(
-                    "handle of {n_handle} vertices within {r_handle:.3} of v{} (furthest \
-                     along -x) rotated 25° and pulled; {n_deformable} deformable vertices, \
-                     fixed beyond {r_fixed:.3}",
-                    side_index
-                );
-                let note = (halvings > 0).then(|| {
-                    format!(
-                        "the Bendels & Klein regions at 8 % / 30 % of the diagonal could not be \
-                         used ({}); used {:.1} % / {:.1} %",
-                        first_failure.as_deref().unwrap_or("?"),
-                        8.0 * scale,
-                        30.0 * scale
-                    )
-                });
-                return Ok((detail, note, landing));
-            }
-            Err(e) => {
-                first_failure.get_or_insert(e);
+    for (k, &(side, whose)) in sides.iter().enumerate() {
+        let centre = hierarchy.mesh().position(side);
+        let side_index = hierarchy.mesh().vertex_index(side);
+        for halvings in 0..4 {
+            let scale = 0.5f64.powi(halvings);
+            let (r_handle, r_fixed) = (0.08 * diagonal * scale, 0.3 * diagonal * scale);
+            let attempt = (|| -> Result<(usize, usize, Landing), String> {
+                let mesh = hierarchy.mesh();
+                let handle = mesh
+                    .select_edge_ball(&[side], r_handle)
+                    .map_err(|e| e.to_string())?;
+                let near = mesh
+                    .select_edge_ball(&[side], r_fixed)
+                    .map_err(|e| e.to_string())?;
+                let fixed: Vec<VertexId> = mesh
+                    .vertices()
+                    .filter(|&v| !near.contains(mesh, v))
+                    .collect();
+                let regions = Regions::from_sets(mesh, &handle.vertices(mesh), &fixed)
+                    .map_err(|e| e.to_string())?;
+                let n_deformable = regions.deformable().len();
+                let n_handle = regions.handle().len();
+                let handle_slots: Vec<u32> = regions
+                    .handle()
+                    .iter()
+                    .map(|&v| mesh.vertex_index(v) as u32)
+                    .collect();
+                let options = BlendOptions {
+                    distance: DistanceKind::Geodesic,
+                    shape: ShapeFunction::Smoothstep,
+                };
+                let mut blend =
+                    progress::step(large, "B&K: geodesic distances (fast marching)", || {
+                        BlendSession::new(mesh, regions, options)
+                    })
+                    .map_err(|e| e.to_string())?;
+                let rotation = DMat4::from_translation(centre)
+                    * DMat4::from_axis_angle(DVec3::Z, 25f64.to_radians())
+                    * DMat4::from_translation(-centre)
+                    * DMat4::from_translation(-DVec3::X * 0.05 * diagonal * scale);
+                blend
+                    .apply_in_hierarchy(hierarchy, rotation)
+                    .map_err(|e| e.to_string())?;
+                let landing = Landing {
+                    handle: handle_slots,
+                    map: glam::DAffine3::from_mat4(rotation),
+                };
+                Ok((n_handle, n_deformable, landing))
+            })();
+            match attempt {
+                Ok((n_handle, n_deformable, landing)) => {
+                    let detail = format!(
+                        "handle of {n_handle} vertices within {r_handle:.3} of v{} (furthest \
+                     along -x of {whose}) rotated 25° and pulled; {n_deformable} deformable \
+                     vertices, fixed beyond {r_fixed:.3}",
+                        side_index
+                    );
+                    let note = (k > 0 || halvings > 0).then(|| {
+                        format!(
+                            "the Bendels & Klein regions at 8 % / 30 % of the diagonal around the \
+                         vertex furthest along -x could not be used ({}); used {:.1} % / \
+                         {:.1} % around the one of {whose}",
+                            first_failure.as_deref().unwrap_or("?"),
+                            8.0 * scale,
+                            30.0 * scale
+                        )
+                    });
+                    return Ok((detail, note, landing));
+                }
+                Err(e) => {
+                    first_failure.get_or_insert(e);
+                }
             }
         }
     }
     Err(format!(
-        "no handle and fixed region around the vertex furthest along -x work, down to 1 % / \
-         3.75 % of the diagonal (first: {})",
+        "no handle and fixed region around the vertex furthest along -x of the mesh or of its \
+         largest component work, down to 1 % / 3.75 % of the diagonal (first: {})",
         first_failure.unwrap_or_default()
     ))
 }
