@@ -219,3 +219,43 @@ fn workflow_runs_on_the_data_mesh() {
     }
     std::fs::remove_dir_all(&out).ok();
 }
+
+#[test]
+fn workflow_edits_the_main_body_when_a_loose_part_is_furthest_out() {
+    // A body and, furthest along -x and +z, a loose part small enough for the B&K
+    // handle to cover whole (as a figure's fingernails): the handle and the Lee area
+    // go on the body, and every step is made.
+    let mut body = halfedge::generators::icosphere(4);
+    let loose = halfedge::generators::icosphere(1);
+    let offset = body.n_vertices();
+    let mut positions: Vec<glam::DVec3> = body.positions().to_vec();
+    positions.extend(
+        loose
+            .positions()
+            .iter()
+            .map(|&p| 0.05 * p + glam::DVec3::new(-1.3, 0.0, 0.9)),
+    );
+    let mut triangles: Vec<[u32; 3]> = body
+        .faces()
+        .map(|f| body.triangle(f).map(|v| body.vertex_index(v) as u32))
+        .collect();
+    triangles.extend(
+        loose
+            .faces()
+            .map(|f| loose.triangle(f).map(|v| (offset + loose.vertex_index(v)) as u32)),
+    );
+    body = halfedge::Mesh::from_polygons(&positions, triangles.iter().map(|t| t.to_vec()))
+        .unwrap()
+        .0;
+    let input = std::env::temp_dir().join(format!("multires-loose-{}.obj", std::process::id()));
+    halfedge::io::write(&input, &body).unwrap();
+    let (out, stdout) = run_workflow(&input, "loose");
+    check_run(&input, &out, &stdout);
+    for step in ["Lee drag", "B&K rotate", "taper"] {
+        let row = stdout.lines().find(|l| l.starts_with(step)).unwrap();
+        assert!(!row.contains("skipped"), "{row}\n{stdout}");
+    }
+    assert!(stdout.contains("largest component"), "{stdout}");
+    std::fs::remove_dir_all(&out).ok();
+    std::fs::remove_file(&input).ok();
+}
