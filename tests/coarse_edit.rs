@@ -207,31 +207,53 @@ fn coarse_edits_end_like_full_resolution_edits_on_generated_meshes() {
 }
 
 #[test]
-fn a_flat_region_refuses_twist_and_taper_and_takes_the_other_edits() {
-    // On a flat open patch the rule's region (near the rim) does not reach beyond its
-    // frontier along any axis it could twist or taper about: an error naming the flag
-    // to change. The other edits need no such axis.
+fn a_flat_region_twists_from_the_boundary_and_refuses_a_seed_inside() {
+    // On a flat open patch the rule's region (three rings in from the rim) is enclosed by
+    // its frontier: nothing reaches beyond it along any axis a twist or taper could use.
+    // The rule then takes the tip on the boundary (a corner, where the patch protrudes),
+    // and the edits meet the targets like the others. A tip given inside the patch is
+    // refused with an error naming the flag to change.
+    let mesh = flat_patch();
     let prepared =
-        measure::prepare(flat_patch(), Method::Rounds, DetailMode::LocalFrame, 3).unwrap();
+        measure::prepare(mesh.clone(), Method::Rounds, DetailMode::LocalFrame, 3).unwrap();
+    let mut reports = Vec::new();
+    for edit in EditKind::ALL {
+        let report = measure::measure(&prepared, &Options::new(edit))
+            .unwrap()
+            .report;
+        if matches!(edit, EditKind::Twist | EditKind::Taper) {
+            let coarse = prepared.hierarchy.mesh();
+            let tip = coarse.vertex_at(report.tip).unwrap();
+            assert!(
+                coarse.is_boundary_vertex(tip),
+                "{}",
+                report.to_json("flat patch")
+            );
+            assert!(report.moved[0] > 0 && report.moved[1] > 0);
+        }
+        reports.push(("flat patch".to_string(), report));
+    }
+    assert_all(&reports, "the targets", Report::meets_targets);
+    // the input vertex nearest the patch's centre, away from the bump
+    let inside = mesh
+        .vertices()
+        .min_by(|&a, &b| {
+            let d = |v| mesh.position(v).distance(DVec3::new(1.0, 0.75, 0.0));
+            d(a).total_cmp(&d(b))
+        })
+        .map(|v| mesh.vertex_index(v))
+        .unwrap();
     for edit in [EditKind::Twist, EditKind::Taper] {
-        let e = measure::measure(&prepared, &Options::new(edit))
-            .err()
-            .unwrap();
+        let options = Options {
+            seed_vertex: Some(inside),
+            ..Options::new(edit)
+        };
+        let e = measure::measure(&prepared, &options).err().unwrap();
         assert!(
             e.message.contains("flat") && e.hint.contains("--seed-vertex"),
             "{e}"
         );
     }
-    let mut reports = Vec::new();
-    for edit in EditKind::ALL {
-        if !matches!(edit, EditKind::Twist | EditKind::Taper) {
-            let report = measure::measure(&prepared, &Options::new(edit))
-                .unwrap()
-                .report;
-            reports.push(("flat patch".to_string(), report));
-        }
-    }
-    assert_all(&reports, "the targets", Report::meets_targets);
 }
 
 #[test]

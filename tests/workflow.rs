@@ -239,11 +239,11 @@ fn workflow_edits_the_main_body_when_a_loose_part_is_furthest_out() {
         .faces()
         .map(|f| body.triangle(f).map(|v| body.vertex_index(v) as u32))
         .collect();
-    triangles.extend(
+    triangles.extend(loose.faces().map(|f| {
         loose
-            .faces()
-            .map(|f| loose.triangle(f).map(|v| (offset + loose.vertex_index(v)) as u32)),
-    );
+            .triangle(f)
+            .map(|v| (offset + loose.vertex_index(v)) as u32)
+    }));
     body = halfedge::Mesh::from_polygons(&positions, triangles.iter().map(|t| t.to_vec()))
         .unwrap()
         .0;
