@@ -1103,6 +1103,15 @@ impl Mesh {
     /// [`vertex_split`](Self::vertex_split) once it checked). The two triangles and the
     /// rewritten links are read back from the tombstones of the removed halfedges.
     pub(crate) fn vertex_split_unchecked(&mut self, step: &Step) {
+        self.vertex_split_connectivity(step);
+        self.positions[step.v0 as usize] = step.p0;
+        self.positions[step.v1 as usize] = step.p1;
+    }
+
+    /// [`vertex_split_unchecked`](Self::vertex_split_unchecked) without the positions:
+    /// the connectivity alone (the caller places `v0` and `v1`; the positions are not
+    /// read, so they may be held elsewhere meanwhile).
+    pub(crate) fn vertex_split_connectivity(&mut self, step: &Step) {
         self.touch_topology();
         let h = step.v0v1;
         let s = self.sides(h);
@@ -1162,8 +1171,6 @@ impl Mesh {
                 self.vertex_conn[v as usize] = before;
             }
         }
-        self.positions[step.v0 as usize] = step.p0;
-        self.positions[step.v1 as usize] = step.p1;
     }
 }
 

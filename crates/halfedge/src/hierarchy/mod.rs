@@ -56,6 +56,7 @@ pub mod heap;
 pub mod legality;
 pub mod motion;
 pub mod outcome;
+mod placer;
 pub mod qem;
 mod replan;
 pub mod rounds;
@@ -94,6 +95,9 @@ const LIST_PREFETCH_DISTANCE: usize = 20;
 /// How many splits ahead [`Hierarchy::split_next`] prefetches the first, second and third
 /// halfedge of the walk around `v1` of the record it will split.
 const MOVED_PREFETCH_DISTANCES: [usize; 3] = [6, 4, 2];
+/// Refinements after an edit of at least this many splits place on one thread and split
+/// on another ([`Hierarchy::split_beside`]); shorter ones are not worth the hand-off.
+const SPLIT_BESIDE_MIN: usize = 4096;
 /// How many collapses ahead [`Hierarchy::collapse_next`] prefetches the first, second, …
 /// halfedge of the walk around `v0` (the whole ring: one more than the split's walk and
 /// the removed edges).
@@ -1038,10 +1042,131 @@ impl Hierarchy {
         while self.applied < applied {
             self.collapse_next()?;
         }
+        if self.applied >= applied + SPLIT_BESIDE_MIN
+            && self.stamp == Some(self.mesh.topology_stamp())
+            && !self.positions_are_clean()
+            && rayon::current_num_threads() > 1
+        {
+            return self.split_beside(applied);
+        }
         while self.applied > applied {
             self.split_next()?;
         }
         Ok(())
+    }
+
+    /// The parts of the hierarchy that place split vertices ([`placer::Placer`]).
+    fn placer(&mut self) -> placer::Placer<'_> {
+        placer::Placer {
+            steps: &self.records.steps,
+            placements: &self.placements,
+            details: &self.details,
+            marks: &mut self.marks,
+            rests: &mut self.rests,
+            positions: &mut self.mesh.positions,
+        }
+    }
+
+    /// [`split_next`](Self::split_next) until `applied` records are collapsed, for a
+    /// hierarchy that trusts its mesh after an edit: the placements run on this thread,
+    /// the splits (connectivity and labels) on another, each record split once its
+    /// placement is known. The two touch disjoint data (see [`placer`]), and the result
+    /// is the same bit for bit. A placement that overflows stops the walk just above its
+    /// record, as `split_next` does.
+    ///
+    /// # Errors
+    /// [`Error::Overflow`] as `split_next` (the records above it are split); an
+    /// [`Error::InvalidArgument`] when the label attribute was removed (nothing changed).
+    fn split_beside(&mut self, applied: usize) -> Result<()> {
+        use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+        let top = self.applied;
+        let labels = self.labels.filter(|b| applied < b.defined_at);
+        if let Some(binding) = labels {
+            if !self.mesh.has_attribute(binding.attribute) {
+                return Err(Error::InvalidArgument(
+                    "the label attribute attached to the hierarchy was removed from its mesh \
+                     (detach_labels, or attach_labels again)"
+                        .into(),
+                ));
+            }
+        }
+        // Every record from `placed` up is placed; `failed`: no more will be.
+        let placed = AtomicUsize::new(top);
+        let failed = AtomicBool::new(false);
+        let mut positions = std::mem::take(&mut self.mesh.positions);
+        let steps = &self.records.steps;
+        let mut placer = placer::Placer {
+            steps,
+            placements: &self.placements,
+            details: &self.details,
+            marks: &mut self.marks,
+            rests: &mut self.rests,
+            positions: &mut positions,
+        };
+        let mesh = &mut self.mesh;
+        let (placing, split_to) = rayon::join(
+            || -> Result<()> {
+                for r in (applied..top).rev() {
+                    placer.prefetch_ahead(r);
+                    let (placement, mark) = placer.placement(r, false);
+                    if let Placement::At([q0, q1]) = placement {
+                        if !(q0.is_finite() && q1.is_finite()) {
+                            failed.store(true, Ordering::Release);
+                            let record = &steps[r];
+                            return Err(Error::Overflow(format!(
+                                "splitting vertex {} from {} would put them at {q0} and {q1}",
+                                record.v0, record.v1
+                            )));
+                        }
+                    }
+                    placer.settle(r, placement, mark);
+                    placed.store(r, Ordering::Release);
+                }
+                Ok(())
+            },
+            || -> usize {
+                let mut r = top;
+                while r > applied {
+                    let next = r - 1;
+                    // This thread never gets ahead of the placements: a split is made
+                    // only once its record's placement is known to be good.
+                    while placed.load(Ordering::Acquire) > next {
+                        if failed.load(Ordering::Acquire) && placed.load(Ordering::Acquire) > next {
+                            return r;
+                        }
+                        std::hint::spin_loop();
+                    }
+                    if let Some(ahead) = next.checked_sub(SPLIT_PREFETCH_DISTANCE) {
+                        mesh.prefetch_step(&steps[ahead], false);
+                    }
+                    if let Some(ahead) = next.checked_sub(SIDES_PREFETCH_DISTANCE) {
+                        mesh.prefetch_sides(&steps[ahead]);
+                    }
+                    if let Some(ahead) = next.checked_sub(LINKS_PREFETCH_DISTANCE) {
+                        mesh.prefetch_links(&steps[ahead], false);
+                    }
+                    for (step, distance) in MOVED_PREFETCH_DISTANCES.into_iter().enumerate() {
+                        if let Some(ahead) = next.checked_sub(distance) {
+                            mesh.prefetch_moved(&steps[ahead], step as u32);
+                        }
+                    }
+                    let record = &steps[next];
+                    mesh.vertex_split_connectivity(record);
+                    if let Some(binding) = labels.filter(|b| next < b.defined_at) {
+                        let v0 = mesh.vh(record.v0);
+                        labels::classify_split(mesh, binding.attribute, v0);
+                    }
+                    r = next;
+                }
+                r
+            },
+        );
+        self.mesh.positions = positions;
+        self.applied = split_to;
+        self.consistent_from = self.consistent_from.min(split_to);
+        self.stamp = Some(self.mesh.topology_stamp());
+        self.tag_level();
+        placing
     }
 
     /// One step coarser: collapses the next record again. The survivor goes to its build
@@ -1062,7 +1187,7 @@ impl Hierarchy {
             // A copy of the positions before an edit that has not taken in every split
             // since catches up now: the collapse replaces the record it would read them from.
             for k in 0..self.rests.len() {
-                self.sync_rest(k, r);
+                self.placer().sync_rest(k, r);
             }
         }
         let Some(&old) = self.records.get(r) else {
@@ -1197,34 +1322,7 @@ impl Hierarchy {
             }
         }
         let clean = self.positions_are_clean();
-        let record = &self.records[r];
-        let at = Collapsed {
-            p0: record.p0,
-            p1: record.p1,
-            placed: self.placements[r].0,
-        };
-        let (i0, i1) = (record.v0 as usize, record.v1 as usize);
-        let mut mark = UNMARKED;
-        let placement = match self.mesh.positions.get(i1) {
-            Some(&anchor) if !clean => {
-                mark = self.marks.of(i1);
-                let affine = (mark < IN_REGION)
-                    .then(|| Details::motion_placement(&self.marks.maps[mark as usize], anchor, at))
-                    .flatten();
-                match affine {
-                    Some(both) => Placement::At(both),
-                    None => {
-                        // An affine mark that does not fit still says "in the region".
-                        if mark != UNMARKED {
-                            mark = IN_REGION;
-                        }
-                        let free = mark == IN_REGION;
-                        self.place(r, anchor, at, free)
-                    }
-                }
-            }
-            _ => Placement::Recorded,
-        };
+        let (placement, mark) = self.placer().placement(r, clean);
         if let Some(ahead) = r.checked_sub(SPLIT_PREFETCH_DISTANCE) {
             self.mesh.prefetch_step(&self.records[ahead], false);
         }
@@ -1234,22 +1332,8 @@ impl Hierarchy {
         if let Some(ahead) = r.checked_sub(LINKS_PREFETCH_DISTANCE) {
             self.mesh.prefetch_links(&self.records[ahead], false);
         }
-        if let Some(ahead) = r.checked_sub(DETAIL_PREFETCH_DISTANCE) {
-            if !clean {
-                self.details.prefetch(ahead, self.mesh.positions());
-                if let Some(rest) = self.rests.last().filter(|rest| rest.active) {
-                    let record = &self.records[ahead];
-                    for v in [record.v0, record.v1] {
-                        crate::prefetch::prefetch(&rest.positions, v as usize);
-                    }
-                }
-            }
-        }
         if !clean {
-            if let Some(far) = r.checked_sub(LIST_PREFETCH_DISTANCE) {
-                self.details.prefetch_record(far);
-                crate::prefetch::prefetch(&self.placements, far);
-            }
+            self.placer().prefetch_ahead(r);
         }
         // The walk around v1 is a chain of loads: one more link of it per stage.
         for (step, distance) in MOVED_PREFETCH_DISTANCES.into_iter().enumerate() {
@@ -1290,26 +1374,8 @@ impl Hierarchy {
             };
             self.mesh.vertex_split(&public)?;
         }
-        // The split put v0 and v1 back at p0 and p1.
-        if let Placement::At([q0, q1]) = placement {
-            self.mesh.positions[i0] = q0;
-            self.mesh.positions[i1] = q1;
-        }
-        if !self.marks.is_empty() {
-            self.marks.set(i0, mark);
-            self.marks.set(i1, mark);
-        }
-        if let Some(rest) = self.rests.iter_mut().rev().find(|rest| rest.serves(r)) {
-            // Where the record's baseline has them (the positions the edits started from),
-            // once the copy is in use (else `sync_rest` catches up when it is needed).
-            if rest.active && rest.synced == r + 1 {
-                if let (Some(_), Some(_)) = (rest.positions.get(i0), rest.positions.get(i1)) {
-                    rest.positions[i0] = record.p0.to_array();
-                    rest.positions[i1] = record.p1.to_array();
-                }
-                rest.synced = r;
-            }
-        }
+        // The split put v0 and v1 back at p0 and p1; the placement moves them on.
+        self.placer().settle(r, placement, mark);
         self.consistent_from = self.consistent_from.min(r);
         if let Some(binding) = classify {
             let v0 = self.mesh.vh(record.v0);
@@ -1319,89 +1385,6 @@ impl Hierarchy {
         self.stamp = self.stamp.map(|_| self.mesh.topology_stamp());
         self.tag_level();
         Ok(true)
-    }
-}
-
-impl Hierarchy {
-    /// Where splitting record `r` puts its vertices (local frames, no affine mark that
-    /// fits): the survivor is at `anchor`, `in_region` when it is in an edit's region.
-    /// Brings the positions before the edit up to date first when the split needs them.
-    fn place(&mut self, r: usize, anchor: DVec3, at: Collapsed, in_region: bool) -> Placement {
-        let serving = self.rests.iter().rposition(|rest| rest.serves(r));
-        let synced = serving.is_some_and(|k| self.rests[k].active && self.rests[k].synced == r + 1);
-        let given = serving.filter(|_| synced);
-        let first = self.place_with(r, anchor, at, in_region, given, given.is_none());
-        match (first, serving) {
-            (Placement::NeedsBefore, Some(k)) => {
-                self.sync_rest(k, r + 1);
-                self.rests[k].active = true;
-                self.place_with(r, anchor, at, in_region, Some(k), false)
-            }
-            (Placement::NeedsBefore, None) => {
-                self.place_with(r, anchor, at, in_region, None, false)
-            }
-            (placement, _) => placement,
-        }
-    }
-
-    /// [`Details::placement`] with the positions before the edit of `self.rests[rest]`
-    /// (or, with `None` and `can_ask`, asking for them when a copy serves the record).
-    fn place_with(
-        &self,
-        r: usize,
-        anchor: DVec3,
-        at: Collapsed,
-        in_region: bool,
-        rest: Option<usize>,
-        can_ask: bool,
-    ) -> Placement {
-        let can_ask = can_ask && self.rests.iter().any(|rest| rest.serves(r));
-        let rest = rest.map(|k| &self.rests[k]);
-        let (marks, positions) = (&self.marks, self.mesh.positions());
-        // The motion of a link vertex's whole cluster when it is exact: none for a vertex
-        // that stayed and is in no region; its affine map's motion at the point for a
-        // vertex whose affine mark fits it (its whole cluster lands on that map); `None`
-        // for the others (they interpolate).
-        let exact = |i: u32, p: DVec3| -> Option<DVec3> {
-            let i = i as usize;
-            let at_rest = rest?.positions.get(i).map(|&q| DVec3::from_array(q))?;
-            let mark = marks.of(i);
-            if mark == UNMARKED {
-                return (positions[i] == at_rest).then_some(DVec3::ZERO);
-            }
-            let map = marks.maps.get(mark as usize)?;
-            let at = Collapsed {
-                p0: p,
-                p1: p,
-                placed: at_rest,
-            };
-            Details::motion_placement(map, positions[i], at).map(|[q, _]| q - p)
-        };
-        let before = rest.map(|rest| {
-            (
-                rest.positions.as_slice(),
-                &exact as &dyn Fn(u32, DVec3) -> Option<DVec3>,
-            )
-        });
-        self.details
-            .placement(r, positions, before, anchor, at, in_region, can_ask)
-    }
-
-    /// Puts into `self.rests[k]` the positions of the splits it has not taken in yet,
-    /// down to record `down_to` (as the splits would have, in their order).
-    fn sync_rest(&mut self, k: usize, down_to: usize) {
-        let rest = &mut self.rests[k];
-        if rest.synced <= down_to {
-            return;
-        }
-        for record in self.records.steps[down_to..rest.synced].iter().rev() {
-            let (i0, i1) = (record.v0 as usize, record.v1 as usize);
-            if let (Some(_), Some(_)) = (rest.positions.get(i0), rest.positions.get(i1)) {
-                rest.positions[i0] = record.p0.to_array();
-                rest.positions[i1] = record.p1.to_array();
-            }
-        }
-        rest.synced = down_to;
     }
 }
 

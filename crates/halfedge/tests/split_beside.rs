@@ -1,0 +1,160 @@
+//! A long refinement after an edit places the split vertices on one thread and splits on
+//! another (`Hierarchy::refine_to`, `go_to_level`); one split at a time
+//! (`Hierarchy::split_next`) must give the same mesh, positions, labels and position in
+//! the hierarchy, bit for bit, with every kind of mark, with baselines from edits at two
+//! levels, and when a field overflows part way.
+
+use glam::{DAffine3, DQuat, DVec3};
+use halfedge::{generators, Hierarchy, HierarchyOptions, Mesh, VertexId};
+
+/// An icosphere with bumps: 40,962 vertices, enough records for the threaded walk.
+fn bumpy_sphere() -> Mesh {
+    let mut mesh = generators::icosphere(6);
+    for p in mesh.positions_mut() {
+        let bump = 1.0 + 0.05 * (5.0 * p.x).sin() * (4.0 * p.y).sin() * (3.0 * p.z + 0.5).sin();
+        *p *= bump;
+    }
+    mesh
+}
+
+/// Everything a walk leaves: positions and faces by slot, the label of every vertex
+/// slot, the number of collapsed records.
+fn state(
+    h: &Hierarchy,
+    labels: Option<halfedge::Attribute<VertexId, halfedge::Label>>,
+) -> (Vec<[u64; 3]>, Vec<[usize; 3]>, Vec<halfedge::Label>, usize) {
+    let mesh = h.mesh();
+    mesh.check().unwrap();
+    let positions = mesh
+        .vertices()
+        .map(|v| mesh.position(v).to_array().map(f64::to_bits))
+        .collect();
+    let faces = mesh
+        .faces()
+        .map(|f| mesh.triangle(f).map(|v| mesh.vertex_index(v)))
+        .collect();
+    let labels = labels
+        .map(|a| mesh.attribute_values(a).to_vec())
+        .unwrap_or_default();
+    (positions, faces, labels, h.applied())
+}
+
+/// Splits one record at a time down to `applied`, stopping at the first error.
+fn one_by_one(h: &mut Hierarchy, applied: usize) -> halfedge::Result<()> {
+    while h.applied() > applied {
+        h.split_next()?;
+    }
+    Ok(())
+}
+
+/// An edit at level 3 (a non-rigid wave, a rotated cap marked affine, a twisted band
+/// marked as a field, a region) and, after walking to level 5, a second wave: the walk
+/// back to the input has marks of every kind and two baselines to serve.
+fn edited() -> (Hierarchy, halfedge::Attribute<VertexId, halfedge::Label>) {
+    let options = HierarchyOptions::rounds().with_target_faces(500);
+    let mut h = Hierarchy::build(bumpy_sphere(), &options).unwrap();
+    assert!(h.n_levels() > 6);
+    h.go_to_level(3).unwrap();
+    let m = h.mesh_mut();
+    let frontier = m
+        .frontier_from_plane(DVec3::new(0.0, 0.0, 0.2), DVec3::Z)
+        .unwrap();
+    let (labels, _) = m.label_sides(&frontier, 1, 2).unwrap();
+    h.attach_labels(labels);
+    let coarse = h.mesh();
+    let pick = |f: &dyn Fn(DVec3) -> bool| -> Vec<VertexId> {
+        coarse
+            .vertices()
+            .filter(|&v| f(coarse.position(v)))
+            .collect()
+    };
+    let cap = pick(&|p| p.z > 0.6);
+    let band = pick(&|p| p.x > 0.5 && p.z <= 0.6);
+    let region = pick(&|p| p.y > 0.3 && p.x <= 0.5 && p.z <= 0.6);
+    let turn = DAffine3::from_translation(DVec3::new(0.0, 0.0, 0.6))
+        * DAffine3::from_quat(DQuat::from_rotation_x(0.4))
+        * DAffine3::from_translation(DVec3::new(0.0, 0.0, -0.6));
+    let twist = |p: DVec3| DQuat::from_rotation_x(0.5 * (p.x - 0.5)) * p;
+    let slots: Vec<(usize, DVec3)> = coarse
+        .vertices()
+        .map(|v| (coarse.vertex_index(v), coarse.position(v)))
+        .collect();
+    let positions = h.mesh_mut().positions_mut();
+    for &(i, p) in &slots {
+        positions[i] = p + DVec3::new(0.0, 0.03 * (7.0 * p.z).sin(), 0.0);
+    }
+    for &v in &cap {
+        let i = h.mesh().vertex_index(v);
+        let p = slots.iter().find(|s| s.0 == i).unwrap().1;
+        h.mesh_mut().positions_mut()[i] = turn.transform_point3(p);
+    }
+    for &v in &band {
+        let i = h.mesh().vertex_index(v);
+        let p = slots.iter().find(|s| s.0 == i).unwrap().1;
+        h.mesh_mut().positions_mut()[i] = twist(p);
+    }
+    h.mark_affine(&cap, turn).unwrap();
+    h.mark_field(&band, twist).unwrap();
+    h.mark_region(&region).unwrap();
+    h.go_to_level(5).unwrap();
+    for p in h.mesh_mut().positions_mut() {
+        p.x += 0.02 * (5.0 * p.y).cos();
+    }
+    (h, labels)
+}
+
+#[test]
+fn a_threaded_refinement_is_the_split_by_split_one_bit_for_bit() {
+    let (h, labels) = edited();
+    let mut threaded = h.clone();
+    let mut single = h;
+    threaded.refine_to(0).unwrap();
+    one_by_one(&mut single, 0).unwrap();
+    assert_eq!(threaded.current_level(), Some(0));
+    assert!(
+        state(&threaded, Some(labels)) == state(&single, Some(labels)),
+        "the threaded refinement differs from one split at a time"
+    );
+    // Part way: to level 2, then on to the input.
+    let (h, labels) = edited();
+    let (mut threaded, mut single) = (h.clone(), h);
+    threaded.go_to_level(2).unwrap();
+    let applied = threaded.applied();
+    one_by_one(&mut single, applied).unwrap();
+    assert!(state(&threaded, Some(labels)) == state(&single, Some(labels)));
+}
+
+#[test]
+fn a_field_that_overflows_stops_both_walks_at_the_same_record() {
+    let (mut h, labels) = edited();
+    // A field that overflows far from its coarse vertices' own positions: the first
+    // finer vertex of the cap placed beyond x = 0.05 makes its split fail.
+    let coarse = h.mesh();
+    let cap: Vec<VertexId> = coarse
+        .vertices()
+        .filter(|&v| coarse.position(v).z > 0.5)
+        .collect();
+    let at: Vec<DVec3> = cap.iter().map(|&v| coarse.position(v)).collect();
+    h.mark_field(&cap, move |p| {
+        if at.contains(&p) || p.x < 0.05 {
+            p
+        } else {
+            DVec3::splat(f64::INFINITY)
+        }
+    })
+    .unwrap();
+    let (mut threaded, mut single) = (h.clone(), h);
+    let a = threaded.refine_to(0);
+    let b = one_by_one(&mut single, 0);
+    assert!(
+        matches!(a, Err(halfedge::Error::Overflow(_))),
+        "the threaded walk did not fail: {a:?}"
+    );
+    assert!(matches!(b, Err(halfedge::Error::Overflow(_))));
+    assert!(threaded.applied() > 0);
+    assert!(state(&threaded, Some(labels)) == state(&single, Some(labels)));
+    // Both can walk back coarser from there, alike.
+    threaded.go_to_level(6).unwrap();
+    single.go_to_level(6).unwrap();
+    assert!(state(&threaded, Some(labels)) == state(&single, Some(labels)));
+}
