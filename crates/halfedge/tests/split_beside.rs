@@ -158,3 +158,19 @@ fn a_field_that_overflows_stops_both_walks_at_the_same_record() {
     single.go_to_level(6).unwrap();
     assert!(state(&threaded, Some(labels)) == state(&single, Some(labels)));
 }
+
+#[test]
+fn the_paper_translations_refine_alike_on_both_walks() {
+    let options = HierarchyOptions::rounds()
+        .with_target_faces(500)
+        .with_detail_mode(halfedge::DetailMode::Translation);
+    let mut h = Hierarchy::build(bumpy_sphere(), &options).unwrap();
+    h.go_to_level(4).unwrap();
+    for p in h.mesh_mut().positions_mut() {
+        p.y += 0.03 * (6.0 * p.z).sin();
+    }
+    let (mut threaded, mut single) = (h.clone(), h);
+    threaded.refine_to(0).unwrap();
+    one_by_one(&mut single, 0).unwrap();
+    assert!(state(&threaded, None) == state(&single, None));
+}
