@@ -1130,11 +1130,19 @@ impl Hierarchy {
                     let next = r - 1;
                     // This thread never gets ahead of the placements: a split is made
                     // only once its record's placement is known to be good.
+                    let mut spins = 0u32;
                     while placed.load(Ordering::Acquire) > next {
                         if failed.load(Ordering::Acquire) && placed.load(Ordering::Acquire) > next {
                             return r;
                         }
-                        std::hint::spin_loop();
+                        // Waiting long means the placing thread is not running (a busy
+                        // machine): give the core back rather than spin.
+                        spins += 1;
+                        if spins < 1 << 12 {
+                            std::hint::spin_loop();
+                        } else {
+                            std::thread::yield_now();
+                        }
                     }
                     if let Some(ahead) = next.checked_sub(SPLIT_PREFETCH_DISTANCE) {
                         mesh.prefetch_step(&steps[ahead], false);
