@@ -1,6 +1,6 @@
-//! Picking along a ray: a bounding volume hierarchy over the triangles of a mesh, in
-//! `f64` (what the viewer uses to turn a click into a vertex, and what a program uses to
-//! shoot rays at a mesh).
+//! Picking along a ray and projecting onto a surface: a bounding volume hierarchy over
+//! the triangles of a mesh, in `f64` (what the viewer uses to turn a click into a vertex,
+//! and what a program uses to shoot rays at a mesh or find the nearest point of it).
 //!
 //! The hierarchy is built top-down by median splits of triangle centroids along the
 //! longest axis of their bounds (subtrees built in parallel with `rayon::join` above a
@@ -10,6 +10,9 @@
 //! instead of rebuilding; [`Bvh::update`] does whichever of nothing, refit or rebuild the
 //! mesh needs. Rays are tested with Möller–Trumbore and the traversal visits the nearer
 //! child first and prunes boxes beyond the closest hit so far.
+//! [`Bvh::closest_point`] visits the nearer box first too and prunes boxes farther than
+//! the nearest point so far; the point–triangle test finds the Voronoi region of the
+//! query among the triangle's corners, edges and inside ([`closest_point_on_triangle`]).
 //!
 //! A hierarchy remembers the mesh it was built for ([`Mesh::topology_stamp`] and the
 //! mesh's count of position edits): asked about another mesh, or about its own mesh after

@@ -13,7 +13,8 @@
 //!   detail coefficients (rounds or QEM, module [`hierarchy`]) and sub-mesh
 //!   [`labels`] that hold across its levels.
 //! - [`selection`] (nearest and extreme vertices, Euclidean and edge-path balls,
-//!   components, grow / shrink / select linked) and [`bvh`] (picking along a ray).
+//!   components, grow / shrink / select linked) and [`bvh`] (picking along a ray, the
+//!   nearest point of the surface).
 //! - Plain arrays in and out: [`Mesh::from_arrays`] / [`Mesh::to_arrays`].
 //!
 //! ```
