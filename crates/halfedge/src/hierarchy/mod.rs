@@ -1044,10 +1044,10 @@ impl Hierarchy {
         }
         if self.applied >= applied + SPLIT_BESIDE_MIN
             && self.stamp == Some(self.mesh.topology_stamp())
-            && !self.positions_are_clean()
             && rayon::current_num_threads() > 1
         {
-            return self.split_beside(applied);
+            let clean = self.positions_are_clean();
+            return self.split_beside(applied, clean);
         }
         while self.applied > applied {
             self.split_next()?;
@@ -1068,7 +1068,8 @@ impl Hierarchy {
     }
 
     /// [`split_next`](Self::split_next) until `applied` records are collapsed, for a
-    /// hierarchy that trusts its mesh after an edit: the placements run on this thread,
+    /// hierarchy that trusts its mesh (`clean`: its positions are as its own steps left
+    /// them, so every vertex goes to its recorded position): the placements run on this thread,
     /// the splits (connectivity and labels) on another, each record split once its
     /// placement is known. The two touch disjoint data (see [`placer`]), and the result
     /// is the same bit for bit. A placement that overflows stops the walk just above its
@@ -1077,7 +1078,7 @@ impl Hierarchy {
     /// # Errors
     /// [`Error::Overflow`] as `split_next` (the records above it are split); an
     /// [`Error::InvalidArgument`] when the label attribute was removed (nothing changed).
-    fn split_beside(&mut self, applied: usize) -> Result<()> {
+    fn split_beside(&mut self, applied: usize, clean: bool) -> Result<()> {
         use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
         let top = self.applied;
         let labels = self.labels.filter(|b| applied < b.defined_at);
@@ -1107,8 +1108,10 @@ impl Hierarchy {
         let (placing, split_to) = rayon::join(
             || -> Result<()> {
                 for r in (applied..top).rev() {
-                    placer.prefetch_ahead(r);
-                    let (placement, mark) = placer.placement(r, false);
+                    if !clean {
+                        placer.prefetch_ahead(r);
+                    }
+                    let (placement, mark) = placer.placement(r, clean);
                     if let Placement::At([q0, q1]) = placement {
                         if !(q0.is_finite() && q1.is_finite()) {
                             failed.store(true, Ordering::Release);
