@@ -17,12 +17,12 @@ fn bumpy_sphere() -> Mesh {
     mesh
 }
 
+/// What a walk leaves (see [`state`]).
+type State = (Vec<[u64; 3]>, Vec<[usize; 3]>, Vec<halfedge::Label>, usize);
+
 /// Everything a walk leaves: positions and faces by slot, the label of every vertex
 /// slot, the number of collapsed records.
-fn state(
-    h: &Hierarchy,
-    labels: Option<halfedge::Attribute<VertexId, halfedge::Label>>,
-) -> (Vec<[u64; 3]>, Vec<[usize; 3]>, Vec<halfedge::Label>, usize) {
+fn state(h: &Hierarchy, labels: Option<halfedge::Attribute<VertexId, halfedge::Label>>) -> State {
     let mesh = h.mesh();
     mesh.check().unwrap();
     let positions = mesh
