@@ -308,7 +308,8 @@ impl Bvh {
     /// point, its barycentric coordinates for the corners of [`Mesh::triangle`] and its
     /// distance (projecting a point onto a mesh, e.g. to carry values given at a mesh's
     /// vertices to points near its surface). Ties between faces go to the face met first
-    /// by the traversal; `None` for an empty mesh.
+    /// by the traversal; faces with a corner that is not finite are never nearest;
+    /// `None` for a mesh without any other face.
     ///
     /// # Errors
     /// [`Error::InvalidArgument`] when `query` is not finite, or when the hierarchy is not
@@ -696,6 +697,22 @@ mod tests {
         assert!(bvh
             .closest_point(&mesh, DVec3::new(f64::NAN, 0.0, 0.0))
             .is_err());
+        // Faces with a corner that is not finite are skipped; with none left, no answer.
+        let mut broken = mesh.clone();
+        let far = DVec3::new(3.0, 0.0, 0.0);
+        for p in broken.positions_mut() {
+            if p.x > 0.0 {
+                *p = DVec3::NAN;
+            }
+        }
+        let nan_bvh = Bvh::build(&broken);
+        let got = nan_bvh.closest_point(&broken, far).unwrap().unwrap();
+        assert!(got.point.is_finite() && got.distance.is_finite());
+        for p in broken.positions_mut() {
+            *p = DVec3::INFINITY;
+        }
+        let inf_bvh = Bvh::build(&broken);
+        assert_eq!(inf_bvh.closest_point(&broken, far).unwrap(), None);
         let other = generators::icosphere(2);
         assert!(bvh.closest_point(&other, DVec3::ZERO).is_err());
     }
