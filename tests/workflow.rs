@@ -125,6 +125,13 @@ fn workflow_runs_with_its_defaults_on_every_data_mesh() {
             }
             assert!(moved > 0, "{name}: nothing moved");
         }
+        // Every one has a sub-mesh to taper: a closed plane section, or on the open
+        // meshes the part beyond the plane as a vertex mask.
+        let row = stdout
+            .lines()
+            .find(|l| l.starts_with("taper"))
+            .unwrap_or_else(|| panic!("{name}: no taper step\n{stdout}"));
+        assert!(!row.contains("skipped"), "{name}: {row}\n{stdout}");
         edited += usize::from(moved > 0);
         std::fs::remove_dir_all(&out).ok();
     }

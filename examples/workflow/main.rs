@@ -22,7 +22,10 @@
 //!   runs into the mesh boundary (an open mesh), does not separate the mesh (it goes
 //!   around a handle) or cuts off fewer than 4 vertices, the plane moves towards the tip
 //!   in steps of 4 % of the extent, then away from it; where no height works, the other
-//!   axes are tried (`y`, `z`, `x`, `-y`, `-z`, `-x`).
+//!   axes are tried (`y`, `z`, `x`, `-y`, `-z`, `-x`). Where no section is a closed
+//!   loop at all (an open mesh: a terrain, a flat or partial scan), the sub-mesh is the
+//!   part beyond the same planes reached from the tip without crossing them, given as a
+//!   vertex mask (the hierarchy then carries no labels for it).
 //! - **Lee area** (dragged along the normal): a disk of about a twelfth of the coarse
 //!   vertices (30 to 5,000) around the vertex of the largest component furthest to the
 //!   front (+z). Where the disk reaches the mesh boundary or wraps around a handle it is
@@ -245,11 +248,29 @@ fn run(args: Args) -> Result<(), BoxError> {
                 });
                 Some(labelled.sub)
             }
-            Err(why) => {
-                notes.push(format!("sub-mesh taper left out: {why}"));
-                rows.push(skipped("label", "no cutting plane applies (see notes)"));
-                None
-            }
+            Err(why) => match mask_submesh(hierarchy.mesh(), args.axis, args.plane) {
+                // An open mesh (a terrain, a flat or partial scan): no section is a
+                // closed loop, but the part beyond the plane is still a sub-mesh.
+                Ok((sub, detail)) => {
+                    notes.push(format!(
+                        "no plane section is a closed frontier ({why}); the sub-mesh is the \
+                         part beyond the plane reached from its tip, given to the taper as \
+                         a vertex mask (no labels: the hierarchy's levels were not kept \
+                         from crossing it)"
+                    ));
+                    rows.push(Row {
+                        step: "label",
+                        detail,
+                        seconds: clock.elapsed().as_secs_f64(),
+                    });
+                    Some(sub)
+                }
+                Err(_) => {
+                    notes.push(format!("sub-mesh taper left out: {why}"));
+                    rows.push(skipped("label", "no cutting plane applies (see notes)"));
+                    None
+                }
+            },
         }
     };
     let coarse_before = hierarchy.mesh().clone();
@@ -574,6 +595,79 @@ fn label_submesh(mesh: &mut Mesh, axis: DVec3, fraction: f64) -> Result<Labelled
         100.0 * fraction,
         first_failure.unwrap_or_default()
     ))
+}
+
+/// The sub-mesh of an open mesh no plane section closes around: the vertices beyond a
+/// plane perpendicular to an axis, reached from the vertex furthest along it without
+/// crossing the plane, tried in the order of [`label_submesh`] (axes, then heights).
+fn mask_submesh(mesh: &Mesh, axis: DVec3, fraction: f64) -> Result<(SubMesh, String), String> {
+    let mut axes = vec![axis];
+    for a in [
+        DVec3::Y,
+        DVec3::Z,
+        DVec3::X,
+        DVec3::NEG_Y,
+        DVec3::NEG_Z,
+        DVec3::NEG_X,
+    ] {
+        if a != axis {
+            axes.push(a);
+        }
+    }
+    let live = mesh.vertices().filter(|&v| !mesh.is_isolated(v)).count();
+    for (k, &a) in axes.iter().enumerate() {
+        let tip = mesh
+            .extreme_vertex(a)
+            .map_err(|e| e.to_string())?
+            .ok_or("the mesh has no vertex with a face")?;
+        let top = mesh.position(tip).dot(a);
+        let bottom = mesh
+            .vertices()
+            .filter(|&v| !mesh.is_isolated(v))
+            .map(|v| mesh.position(v).dot(a))
+            .fold(f64::INFINITY, f64::min);
+        let start = if k == 0 { fraction } else { 0.72 };
+        let up = (0..)
+            .map(|i| start + 0.04 * i as f64)
+            .take_while(|&f| f < 0.99);
+        let down = (1..)
+            .map(|i| start - 0.04 * i as f64)
+            .take_while(|&f| f > 0.01);
+        for f in up.chain(down) {
+            let height = bottom + f * (top - bottom);
+            // Flood from the tip over the vertices beyond the plane.
+            let mut inside = vec![false; mesh.vertex_slots()];
+            let mut stack = vec![tip];
+            inside[mesh.vertex_index(tip)] = true;
+            let mut count = 1;
+            while let Some(v) = stack.pop() {
+                for w in mesh.adjacent_vertices(v) {
+                    let i = mesh.vertex_index(w);
+                    if !inside[i] && mesh.position(w).dot(a) >= height {
+                        inside[i] = true;
+                        count += 1;
+                        stack.push(w);
+                    }
+                }
+            }
+            if count < MIN_SUBMESH || live - count < MIN_SUBMESH {
+                continue;
+            }
+            let mask = halfedge::VertexData::new(mesh, inside).map_err(|e| e.to_string())?;
+            let sub = SubMesh::from_mask(mesh, &mask).map_err(|e| e.to_string())?;
+            let detail = format!(
+                "plane {} = {height:.3} ({:.0} % of the extent): the {count} vertices beyond \
+                 it reached from the vertex furthest along {} (an open cut: vertex mask), \
+                 the rest {}",
+                axis_name(a),
+                100.0 * f,
+                axis_name(a),
+                live - count
+            );
+            return Ok((sub, detail));
+        }
+    }
+    Err("no plane perpendicular to ±x, ±y or ±z has vertices beyond it".into())
 }
 
 /// The Lee rule of the module docs: an editing area around a front vertex, dragged along
