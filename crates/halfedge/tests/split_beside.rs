@@ -197,3 +197,39 @@ fn without_an_edit_both_walks_give_the_input_back_bit_for_bit() {
     threaded.go_to_level(0).unwrap();
     assert!(state(&threaded, None) == state(&single, None));
 }
+
+#[test]
+fn a_field_that_panics_leaves_both_walks_at_the_same_consistent_record() {
+    let (mut h, labels) = edited();
+    let coarse = h.mesh();
+    let cap: Vec<VertexId> = coarse
+        .vertices()
+        .filter(|&v| coarse.position(v).z > 0.5)
+        .collect();
+    let at: Vec<DVec3> = cap.iter().map(|&v| coarse.position(v)).collect();
+    // A user's field that panics on the first finer vertex beyond x = 0.05.
+    h.mark_field(&cap, move |p| {
+        assert!(at.contains(&p) || p.x < 0.05, "the user's field gave up");
+        p
+    })
+    .unwrap();
+    let (mut threaded, mut single) = (h.clone(), h);
+    let quiet = std::panic::take_hook();
+    std::panic::set_hook(Box::new(|_| {}));
+    let a = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| threaded.refine_to(0)));
+    let b = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| one_by_one(&mut single, 0)));
+    std::panic::set_hook(quiet);
+    assert!(a.is_err() && b.is_err(), "the field did not panic");
+    assert!(threaded.applied() > 0);
+    assert_eq!(
+        threaded.mesh().positions().len(),
+        single.mesh().positions().len()
+    );
+    assert!(state(&threaded, Some(labels)) == state(&single, Some(labels)));
+    // Both walk on alike once the field is gone (a walk coarser drops the marks).
+    threaded.go_to_level(6).unwrap();
+    single.go_to_level(6).unwrap();
+    threaded.refine_to(0).unwrap();
+    one_by_one(&mut single, 0).unwrap();
+    assert!(state(&threaded, Some(labels)) == state(&single, Some(labels)));
+}

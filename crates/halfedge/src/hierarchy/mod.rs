@@ -1105,79 +1105,101 @@ impl Hierarchy {
             positions: &mut positions,
         };
         let mesh = &mut self.mesh;
-        let (placing, split_to) = rayon::join(
-            || -> Result<()> {
-                for r in (applied..top).rev() {
-                    if !clean {
-                        placer.prefetch_ahead(r);
-                    }
-                    let (placement, mark) = placer.placement(r, clean);
-                    if let Placement::At([q0, q1]) = placement {
-                        if !(q0.is_finite() && q1.is_finite()) {
-                            failed.store(true, Ordering::Release);
-                            let record = &steps[r];
-                            return Err(Error::Overflow(format!(
-                                "splitting vertex {} from {} would put them at {q0} and {q1}",
-                                record.v0, record.v1
-                            )));
+        // How far the splits went (read after both threads are done, even after a panic).
+        let split_to = AtomicUsize::new(top);
+        /// Tells the splitting thread to stop when the placing thread ends early, by an
+        /// error or by a panic (a user's field that panics), so that it never waits on.
+        struct StopOnExit<'a>(&'a AtomicBool);
+        impl Drop for StopOnExit<'_> {
+            fn drop(&mut self) {
+                self.0.store(true, Ordering::Release);
+            }
+        }
+        let walked = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            rayon::join(
+                || -> Result<()> {
+                    let _stop = StopOnExit(&failed);
+                    for r in (applied..top).rev() {
+                        if !clean {
+                            placer.prefetch_ahead(r);
                         }
-                    }
-                    placer.settle(r, placement, mark);
-                    placed.store(r, Ordering::Release);
-                }
-                Ok(())
-            },
-            || -> usize {
-                let mut r = top;
-                while r > applied {
-                    let next = r - 1;
-                    // This thread never gets ahead of the placements: a split is made
-                    // only once its record's placement is known to be good.
-                    let mut spins = 0u32;
-                    while placed.load(Ordering::Acquire) > next {
-                        if failed.load(Ordering::Acquire) && placed.load(Ordering::Acquire) > next {
-                            return r;
+                        let (placement, mark) = placer.placement(r, clean);
+                        if let Placement::At([q0, q1]) = placement {
+                            if !(q0.is_finite() && q1.is_finite()) {
+                                failed.store(true, Ordering::Release);
+                                let record = &steps[r];
+                                return Err(Error::Overflow(format!(
+                                    "splitting vertex {} from {} would put them at {q0} and {q1}",
+                                    record.v0, record.v1
+                                )));
+                            }
                         }
-                        // Waiting long means the placing thread is not running (a busy
-                        // machine): give the core back rather than spin.
-                        spins += 1;
-                        if spins < 1 << 12 {
-                            std::hint::spin_loop();
-                        } else {
-                            std::thread::yield_now();
+                        placer.settle(r, placement, mark);
+                        placed.store(r, Ordering::Release);
+                    }
+                    Ok(())
+                },
+                || -> usize {
+                    let mut r = top;
+                    while r > applied {
+                        let next = r - 1;
+                        // This thread never gets ahead of the placements: a split is made
+                        // only once its record's placement is known to be good.
+                        let mut spins = 0u32;
+                        while placed.load(Ordering::Acquire) > next {
+                            if failed.load(Ordering::Acquire)
+                                && placed.load(Ordering::Acquire) > next
+                            {
+                                return r;
+                            }
+                            // Waiting long means the placing thread is not running (a busy
+                            // machine): give the core back rather than spin.
+                            spins += 1;
+                            if spins < 1 << 12 {
+                                std::hint::spin_loop();
+                            } else {
+                                std::thread::yield_now();
+                            }
                         }
-                    }
-                    if let Some(ahead) = next.checked_sub(SPLIT_PREFETCH_DISTANCE) {
-                        mesh.prefetch_step(&steps[ahead], false);
-                    }
-                    if let Some(ahead) = next.checked_sub(SIDES_PREFETCH_DISTANCE) {
-                        mesh.prefetch_sides(&steps[ahead]);
-                    }
-                    if let Some(ahead) = next.checked_sub(LINKS_PREFETCH_DISTANCE) {
-                        mesh.prefetch_links(&steps[ahead], false);
-                    }
-                    for (step, distance) in MOVED_PREFETCH_DISTANCES.into_iter().enumerate() {
-                        if let Some(ahead) = next.checked_sub(distance) {
-                            mesh.prefetch_moved(&steps[ahead], step as u32);
+                        if let Some(ahead) = next.checked_sub(SPLIT_PREFETCH_DISTANCE) {
+                            mesh.prefetch_step(&steps[ahead], false);
                         }
+                        if let Some(ahead) = next.checked_sub(SIDES_PREFETCH_DISTANCE) {
+                            mesh.prefetch_sides(&steps[ahead]);
+                        }
+                        if let Some(ahead) = next.checked_sub(LINKS_PREFETCH_DISTANCE) {
+                            mesh.prefetch_links(&steps[ahead], false);
+                        }
+                        for (step, distance) in MOVED_PREFETCH_DISTANCES.into_iter().enumerate() {
+                            if let Some(ahead) = next.checked_sub(distance) {
+                                mesh.prefetch_moved(&steps[ahead], step as u32);
+                            }
+                        }
+                        let record = &steps[next];
+                        mesh.vertex_split_connectivity(record);
+                        if let Some(binding) = labels.filter(|b| next < b.defined_at) {
+                            let v0 = mesh.vh(record.v0);
+                            labels::classify_split(mesh, binding.attribute, v0);
+                        }
+                        r = next;
+                        split_to.store(r, Ordering::Relaxed);
                     }
-                    let record = &steps[next];
-                    mesh.vertex_split_connectivity(record);
-                    if let Some(binding) = labels.filter(|b| next < b.defined_at) {
-                        let v0 = mesh.vh(record.v0);
-                        labels::classify_split(mesh, binding.attribute, v0);
-                    }
-                    r = next;
-                }
-                r
-            },
-        );
+                    r
+                },
+            )
+        }));
+        // Whatever happened, the mesh gets its positions back and the hierarchy the
+        // position its splits reached: every record split was placed first.
         self.mesh.positions = positions;
+        let split_to = split_to.into_inner();
         self.applied = split_to;
         self.consistent_from = self.consistent_from.min(split_to);
         self.stamp = Some(self.mesh.topology_stamp());
         self.tag_level();
-        placing
+        match walked {
+            Ok((placing, _)) => placing,
+            Err(panic) => std::panic::resume_unwind(panic),
+        }
     }
 
     /// One step coarser: collapses the next record again. The survivor goes to its build
