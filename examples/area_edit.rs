@@ -7,8 +7,12 @@
 //! cargo run --release --example area_edit -- data/creature.obj --scale 0.25
 //! ```
 //!
-//! Without a path, `data/blob.obj` is used. The dragged vertex is by default the one
-//! furthest along +z (the front of a mesh that looks along +z: the creature's snout).
+//! Without a path, `data/blob.obj` is used. The dragged vertex is by default the one of
+//! the largest component furthest along +z (the front of a mesh that looks along +z: the
+//! creature's snout). Where the disk around it is not an editing area (it reaches the
+//! boundary of an open mesh, wraps around a handle), the disk is halved down to 16
+//! vertices, then the other extreme vertices and the vertex farthest from the boundary
+//! are tried, and a note says what was used.
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -66,48 +70,105 @@ fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
         mesh.n_faces(),
         t.elapsed()
     );
-    let vertex: VertexId = match args.vertex {
-        Some(i) => mesh.vertex_at(i).ok_or_else(|| {
-            format!(
-                "vertex {i} does not exist (the mesh has {} vertex slots)",
-                mesh.vertex_slots()
-            )
-        })?,
-        None => mesh
-            .extreme_vertex(DVec3::Z)?
-            .ok_or("the mesh has no vertex with a face to drag")?,
+    // Where to drag: the given vertex, or the largest component's vertex furthest along
+    // +z, then its other extreme vertices, then the vertex farthest from the boundary
+    // (on an open mesh the extreme vertices are often on the boundary).
+    let candidates: Vec<(VertexId, String)> = match args.vertex {
+        Some(i) => vec![(
+            mesh.vertex_at(i).ok_or_else(|| {
+                format!(
+                    "vertex {i} does not exist (the mesh has {} vertex slots)",
+                    mesh.vertex_slots()
+                )
+            })?,
+            format!("vertex {i}"),
+        )],
+        None => {
+            let largest = mesh.select_largest_component();
+            let mut list: Vec<(VertexId, String)> = Vec::new();
+            for (d, name) in [
+                (DVec3::Z, "+z"),
+                (DVec3::X, "+x"),
+                (DVec3::NEG_X, "-x"),
+                (DVec3::Y, "+y"),
+                (DVec3::NEG_Y, "-y"),
+                (DVec3::NEG_Z, "-z"),
+            ] {
+                if let Some(v) = largest.extreme_vertex(&mesh, d)? {
+                    list.push((v, format!("the vertex furthest along {name}")));
+                }
+            }
+            if let Some(v) = mesh.farthest_from_boundary()? {
+                list.push((v, "the vertex farthest from the boundary".into()));
+            }
+            if list.is_empty() {
+                return Err("the mesh has no vertex with a face to drag".into());
+            }
+            list
+        }
     };
-    let frames = match args.frames.as_str() {
-        "global" => FrameKind::Global,
-        "normal" => FrameKind::Normal {
+    let frames_of = |vertex: VertexId| match args.frames.as_str() {
+        "global" => Ok(FrameKind::Global),
+        "normal" => Ok(FrameKind::Normal {
             seed: Some(vertex),
             x_axis: None,
-        },
-        other => return Err(format!("unknown frames {other:?} (global or normal)").into()),
+        }),
+        other => Err(format!("unknown frames {other:?} (global or normal)")),
     };
+    frames_of(candidates[0].0)?;
 
+    // The first disk around a candidate that is an editing area (a disk inside the mesh
+    // whose embedding works), halving the area down to 16 vertices before moving on.
     let t = Instant::now();
-    let area = EditingArea::disk_around(&mesh, vertex, args.area_vertices).map_err(|e| {
-        format!(
-            "{e}: the editing area must be a disk inside the mesh; pick another --vertex or \
-             a smaller --area-vertices"
+    let mut first_failure: Option<String> = None;
+    let mut chosen = None;
+    'candidates: for (vertex, what) in &candidates {
+        let mut size = args.area_vertices;
+        while size >= 16.min(args.area_vertices) {
+            let options = SessionOptions {
+                frames: frames_of(*vertex)?,
+                scale: args.scale,
+                ..SessionOptions::default()
+            };
+            match EditingArea::disk_around(&mesh, *vertex, size)
+                .and_then(|area| EditingSession::new(&mesh, area, &options))
+            {
+                Ok(session) => {
+                    chosen = Some((*vertex, what.clone(), size, session));
+                    break 'candidates;
+                }
+                Err(e) => {
+                    first_failure.get_or_insert_with(|| e.to_string());
+                }
+            }
+            if size == 0 {
+                break;
+            }
+            size /= 2;
+        }
+    }
+    let Some((vertex, what, size, mut session)) = chosen else {
+        return Err(format!(
+            "{}: the editing area must be a disk inside the mesh; pick another --vertex or \
+             a smaller --area-vertices",
+            first_failure.unwrap_or_default()
         )
-    })?;
-    let t_area = t.elapsed();
-    let t = Instant::now();
-    let options = SessionOptions {
-        frames,
-        scale: args.scale,
-        ..SessionOptions::default()
+        .into());
     };
-    let mut session = EditingSession::new(&mesh, area, &options)?;
-    let t_embed = t.elapsed();
+    if let Some(why) = first_failure {
+        println!(
+            "note: the area of {} vertices around {} could not be used ({why}); used {size} \
+             vertices around {what} (--vertex, --area-vertices)",
+            args.area_vertices, candidates[0].1
+        );
+    }
     println!(
-        "editing area: {} vertices ({} interior), {} faces; selected in {t_area:.1?}, \
-         embedded in {t_embed:.1?} ({:?}, {} flipped triangles), {} B-spline levels",
+        "editing area: {} vertices ({} interior), {} faces; selected and embedded in \
+         {:.1?} ({:?}, {} flipped triangles), {} B-spline levels",
         session.area().vertices().len(),
         session.area().n_interior(),
         session.area().faces().len(),
+        t.elapsed(),
         session.embedding().solver(),
         session.embedding().flipped_faces().len(),
         session.levels()

@@ -4,11 +4,12 @@
 //! cargo run --release --example blend_edit -- data/blob.obj --out blob-edited.obj --angle 35
 //! ```
 //!
-//! Picks the mesh's extreme vertex along `--direction` (default −x: the nose of a mesh
-//! that looks along −x, as the Stanford bunny does),
+//! Picks the extreme vertex of the mesh's largest component along `--direction`
+//! (default −x: the nose of a mesh that looks along −x, as the Stanford bunny does),
 //! draws the handle border and the fixed border as closed loops through vertices
 //! picked around it (radii `--handle-radius` and `--fixed-radius`, as fractions of the
-//! bounding-box diagonal), rotates the handle by `--angle` degrees about an axis through
+//! bounding-box diagonal; halved twice at most where the loops do not close and nest,
+//! then edge-path balls around the vertex instead, with a note), rotates the handle by `--angle` degrees about an axis through
 //! the fixed border's centre (then moves it by `--pull`), refines stretched triangles,
 //! writes the mesh (OBJ or PLY, by extension) and prints the timings of each step.
 
@@ -23,7 +24,7 @@ use edit::blend::{BlendOptions, BlendSession, DistanceKind, RefineOptions};
 use edit::regions::Regions;
 use edit::shape::ShapeFunction;
 use glam::{DMat4, DVec3};
-use halfedge::{Mesh, VertexId};
+use halfedge::{Mesh, Selection, VertexId};
 
 #[derive(Parser, Debug)]
 #[command(
@@ -70,12 +71,21 @@ fn parse_vec(s: &str) -> Result<DVec3, String> {
     }
 }
 
-/// Vertices at distance ≈ `radius` from `centre`, one per direction around `axis`.
-fn picks_around(mesh: &Mesh, centre: DVec3, axis: DVec3, radius: f64, n: usize) -> Vec<VertexId> {
+/// Vertices of `part` at distance ≈ `radius` from `centre`, one per direction around
+/// `axis`.
+fn picks_around(
+    mesh: &Mesh,
+    part: &Selection,
+    centre: DVec3,
+    axis: DVec3,
+    radius: f64,
+    n: usize,
+) -> Vec<VertexId> {
     let u = axis.any_orthonormal_vector();
     let w = axis.cross(u);
-    let candidates: Vec<VertexId> = mesh
-        .vertices()
+    let candidates: Vec<VertexId> = part
+        .vertices(mesh)
+        .into_iter()
         .filter(|&v| !mesh.is_isolated(v))
         .filter(|&v| (mesh.position(v).distance(centre) - radius).abs() < 0.15 * radius)
         .collect();
@@ -115,24 +125,78 @@ fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
         .direction
         .try_normalize()
         .ok_or("--direction must be a non-zero vector")?;
-    let tip = mesh
-        .extreme_vertex(direction)?
+    // The edit goes on the largest component (not on a loose part further out).
+    let largest = mesh.select_largest_component();
+    let tip = largest
+        .extreme_vertex(&mesh, direction)?
         .ok_or("the mesh has no vertex with a face")?;
     let centre = mesh.position(tip);
 
+    // The paper's regions: two loops drawn around the tip through picked vertices. Where
+    // they do not close and nest at the given radii (a thin or open part), both radii are
+    // halved (twice at most); where that fails too, the regions are edge-path balls
+    // around the tip (handle within the handle radius, fixed beyond the fixed radius).
     let clock = Instant::now();
-    let handle = picks_around(&mesh, centre, direction, args.handle_radius * diagonal, 6);
-    let fixed = picks_around(&mesh, centre, direction, args.fixed_radius * diagonal, 12);
-    let regions = Regions::from_picks(&mesh, &handle, &fixed).map_err(|e| {
-        format!(
-            "{e}: the loops drawn at --handle-radius and --fixed-radius around the extreme \
-             vertex must be closed and nested; try other radii or another --direction"
+    let mut first_failure: Option<String> = None;
+    let mut regions = None;
+    for halvings in 0..3 {
+        let scale = 0.5f64.powi(halvings);
+        let (rh, rf) = (args.handle_radius * scale, args.fixed_radius * scale);
+        let handle = picks_around(&mesh, &largest, centre, direction, rh * diagonal, 6);
+        let fixed = picks_around(&mesh, &largest, centre, direction, rf * diagonal, 12);
+        match Regions::from_picks(&mesh, &handle, &fixed) {
+            Ok(r) => {
+                regions = Some((
+                    r,
+                    format!("loops through {} + {} picks", handle.len(), fixed.len()),
+                    halvings > 0,
+                    rh,
+                    rf,
+                ));
+                break;
+            }
+            Err(e) => {
+                first_failure.get_or_insert_with(|| e.to_string());
+            }
+        }
+    }
+    if regions.is_none() {
+        for halvings in 0..4 {
+            let scale = 0.5f64.powi(halvings);
+            let (rh, rf) = (args.handle_radius * scale, args.fixed_radius * scale);
+            let handle = mesh.select_edge_ball(&[tip], rh * diagonal)?;
+            let near = mesh.select_edge_ball(&[tip], rf * diagonal)?;
+            let fixed: Vec<VertexId> = mesh
+                .vertices()
+                .filter(|&v| !near.contains(&mesh, v))
+                .collect();
+            if let Ok(r) = Regions::from_sets(&mesh, &handle.vertices(&mesh), &fixed) {
+                if !r.deformable().is_empty() {
+                    regions = Some((r, "edge-path balls".to_string(), true, rh, rf));
+                    break;
+                }
+            }
+        }
+    }
+    let Some((regions, how, adapted, rh, rf)) = regions else {
+        return Err(format!(
+            "{}: the loops drawn at --handle-radius and --fixed-radius around the extreme \
+             vertex must be closed and nested; try other radii or another --direction",
+            first_failure.unwrap_or_default()
         )
-    })?;
+        .into());
+    };
+    if adapted {
+        println!(
+            "note: the loops at {} / {} of the diagonal could not be used ({}); used {how} at \
+             {rh:.4} / {rf:.4} (--handle-radius, --fixed-radius, --direction)",
+            args.handle_radius,
+            args.fixed_radius,
+            first_failure.as_deref().unwrap_or("?")
+        );
+    }
     println!(
-        "regions from {} + {} picks in {:.3} s: handle {}, deformable {}, fixed {}",
-        handle.len(),
-        fixed.len(),
+        "regions ({how}) in {:.3} s: handle {}, deformable {}, fixed {}",
         clock.elapsed().as_secs_f64(),
         regions.handle().len(),
         regions.deformable().len(),

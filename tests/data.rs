@@ -2,29 +2,13 @@
 //! byte, and each has the shape the default test tier relies on (closed, open, several
 //! components, genus 1, quads, dirty input).
 
+mod common;
+
 use std::path::PathBuf;
 use std::process::Command;
 
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-/// An example binary, built by `cargo test` next to the test binaries.
-fn example(name: &str) -> PathBuf {
-    let exe = std::env::current_exe().unwrap();
-    let path = exe
-        .parent()
-        .unwrap()
-        .parent()
-        .unwrap()
-        .join("examples")
-        .join(format!("{name}{}", std::env::consts::EXE_SUFFIX));
-    assert!(
-        path.exists(),
-        "{} not built (cargo test builds examples)",
-        path.display()
-    );
-    path
 }
 
 const FILES: [&str; 8] = [
@@ -41,7 +25,7 @@ const FILES: [&str; 8] = [
 #[test]
 fn make_data_writes_the_data_folder_again() {
     let out = std::env::temp_dir().join(format!("multires-make-data-{}", std::process::id()));
-    let status = Command::new(example("make_data"))
+    let status = Command::new(common::example_binary("make_data"))
         .arg(&out)
         .status()
         .unwrap();

@@ -10,21 +10,6 @@ mod common;
 use std::path::PathBuf;
 use std::process::Command;
 
-/// The workflow example binary, built by `cargo test` next to the test binaries.
-fn workflow_binary() -> PathBuf {
-    let exe = std::env::current_exe().unwrap();
-    let profile_dir = exe.parent().unwrap().parent().unwrap();
-    let path = profile_dir
-        .join("examples")
-        .join(format!("workflow{}", std::env::consts::EXE_SUFFIX));
-    assert!(
-        path.exists(),
-        "{} not built (cargo test builds examples)",
-        path.display()
-    );
-    path
-}
-
 fn png_pixel_spread(path: &PathBuf) -> f64 {
     let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()));
     let mut reader = decoder.read_info().unwrap();
@@ -44,7 +29,7 @@ fn png_pixel_spread(path: &PathBuf) -> f64 {
 /// folder and the printed table.
 fn run_workflow(input: &std::path::Path, tag: &str) -> (PathBuf, String) {
     let out = std::env::temp_dir().join(format!("multires-workflow-{tag}-{}", std::process::id()));
-    let output = Command::new(workflow_binary())
+    let output = Command::new(common::example_binary("workflow"))
         .arg(input)
         .arg("--out")
         .arg(&out)
@@ -163,7 +148,7 @@ fn workflow_runs_on_the_data_mesh() {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
     let input = root.join("data/blob.obj");
     let out = std::env::temp_dir().join(format!("multires-workflow-{}", std::process::id()));
-    let output = Command::new(workflow_binary())
+    let output = Command::new(common::example_binary("workflow"))
         .arg(&input)
         .arg("--out")
         .arg(&out)

@@ -679,7 +679,7 @@ fn lee_drag(
 ) -> Result<(String, Option<String>), String> {
     let mesh = hierarchy.mesh();
     let mut centres: Vec<(VertexId, String)> = Vec::new();
-    let largest = largest_component(mesh).map_err(|e| e.to_string())?;
+    let largest = mesh.select_largest_component();
     for (d, name) in [
         (DVec3::Z, "+z"),
         (DVec3::X, "+x"),
@@ -688,11 +688,11 @@ fn lee_drag(
         (DVec3::NEG_Y, "-y"),
         (DVec3::NEG_Z, "-z"),
     ] {
-        if let Some(v) = extreme_on(mesh, &largest, d) {
+        if let Ok(Some(v)) = largest.extreme_vertex(mesh, d) {
             centres.push((v, format!("the vertex furthest along {name}")));
         }
     }
-    if let Some(v) = farthest_from_boundary(mesh) {
+    if let Ok(Some(v)) = mesh.farthest_from_boundary() {
         centres.push((v, "the vertex farthest from the boundary".into()));
     }
     let n = mesh.n_vertices();
@@ -755,43 +755,6 @@ fn lee_drag(
     ))
 }
 
-/// The vertices of the mesh's largest component (by faces, then vertices; none for a
-/// mesh without vertices).
-fn largest_component(mesh: &Mesh) -> halfedge::Result<Vec<VertexId>> {
-    match mesh.components().first() {
-        Some(c) => Ok(mesh.select_linked(&[c.vertex])?.vertices(mesh)),
-        None => Ok(Vec::new()),
-    }
-}
-
-/// The vertex of `part` with faces furthest along `direction` (ties: the lowest index).
-fn extreme_on(mesh: &Mesh, part: &[VertexId], direction: DVec3) -> Option<VertexId> {
-    part.iter()
-        .copied()
-        .filter(|&v| !mesh.is_isolated(v))
-        .max_by(|&a, &b| {
-            (mesh.position(a).dot(direction))
-                .total_cmp(&mesh.position(b).dot(direction))
-                .then(mesh.vertex_index(b).cmp(&mesh.vertex_index(a)))
-        })
-}
-
-/// The vertex with faces farthest (by edge paths) from the mesh boundary and from
-/// non-manifold vertices; `None` for a closed mesh.
-fn farthest_from_boundary(mesh: &Mesh) -> Option<VertexId> {
-    let boundary: Vec<VertexId> = mesh
-        .vertices()
-        .filter(|&v| !mesh.is_isolated(v) && mesh.is_boundary_vertex(v))
-        .collect();
-    if boundary.is_empty() {
-        return None;
-    }
-    let d = mesh.edge_distances(&boundary, f64::INFINITY).ok()?;
-    mesh.vertices()
-        .filter(|&v| !mesh.is_isolated(v) && d[mesh.vertex_index(v)].is_finite())
-        .max_by(|&a, &b| d[mesh.vertex_index(a)].total_cmp(&d[mesh.vertex_index(b)]))
-}
-
 /// Where the Bendels & Klein handle should land: its coarse vertex slots and the rigid
 /// map the user gave it.
 struct Landing {
@@ -817,8 +780,12 @@ fn blend_rotate(
     // The same rule on the largest component, for a mesh whose extreme vertex is on a
     // small part (an eye, a loose piece) that the handle would cover whole.
     let mut sides = vec![(side, "the mesh")];
-    let largest = largest_component(mesh).map_err(|e| e.to_string())?;
-    if let Some(v) = extreme_on(mesh, &largest, DVec3::NEG_X).filter(|&v| v != side) {
+    let largest = mesh.select_largest_component();
+    if let Some(v) = largest
+        .extreme_vertex(mesh, DVec3::NEG_X)
+        .map_err(|e| e.to_string())?
+        .filter(|&v| v != side)
+    {
         sides.push((v, "its largest component"));
     }
     let mut first_failure: Option<String> = None;

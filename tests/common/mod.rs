@@ -1,4 +1,4 @@
-//! Helpers shared by the workspace's integration tests that talk to OpenMesh.
+//! Helpers shared by the workspace's integration tests (OpenMesh, the examples' binaries).
 #![allow(dead_code, missing_docs)]
 
 use std::path::{Path, PathBuf};
@@ -15,6 +15,26 @@ pub const KEYS: [&str; 9] = [
     "euler",
     "valence_histogram",
 ];
+
+/// An example's binary, built by `cargo test` next to the test binaries (a filtered
+/// `cargo test --test NAME` does not build examples: run the whole suite, or
+/// `cargo build --release --examples` first).
+pub fn example_binary(name: &str) -> PathBuf {
+    let exe = std::env::current_exe().unwrap();
+    let path = exe
+        .parent()
+        .unwrap()
+        .parent()
+        .unwrap()
+        .join("examples")
+        .join(format!("{name}{}", std::env::consts::EXE_SUFFIX));
+    assert!(
+        path.exists(),
+        "{} not built (cargo test builds examples)",
+        path.display()
+    );
+    path
+}
 
 /// The workspace root.
 pub fn root() -> &'static Path {

@@ -143,6 +143,34 @@ impl Selection {
             .collect()
     }
 
+    /// The selected vertex with faces furthest along `direction` (largest
+    /// `p · direction`; ties go to the lowest index), as [`Mesh::extreme_vertex`] within
+    /// the selection (the tip of the largest component, not of a loose part). `None` when
+    /// no selected vertex has a face.
+    ///
+    /// # Errors
+    /// [`Error::InvalidArgument`] for a zero or non-finite direction; [`Error::Stale`]
+    /// when the selection was made for another mesh (see [`check`](Self::check)).
+    pub fn extreme_vertex(&self, mesh: &Mesh, direction: DVec3) -> Result<Option<VertexId>> {
+        self.check(mesh)?;
+        let Some(d) = direction.try_normalize() else {
+            return Err(Error::InvalidArgument(format!(
+                "extreme_vertex needs a non-zero finite direction, got {direction}"
+            )));
+        };
+        let mut best: Option<(f64, VertexId)> = None;
+        for v in self.vertices(mesh) {
+            if mesh.is_isolated(v) {
+                continue;
+            }
+            let s = mesh.position(v).dot(d);
+            if best.is_none_or(|(b, _)| s > b) {
+                best = Some((s, v));
+            }
+        }
+        Ok(best.map(|(_, v)| v))
+    }
+
     /// Grows the selection by `rings` rings: each ring adds every vertex joined by an
     /// edge to a selected vertex.
     ///
@@ -374,6 +402,44 @@ impl Mesh {
     /// [`Error::InvalidHandle`] for a seed that is not a live vertex.
     pub fn select_linked(&self, seeds: &[VertexId]) -> Result<Selection> {
         Selection::from_vertices(self, seeds)?.linked(self)
+    }
+
+    /// The vertex with faces farthest from the mesh boundary by edge-path distance (ties
+    /// go to the lowest index): the middle of an open patch, where a disk-shaped editing
+    /// area fits best. `None` for a closed mesh (no boundary) or a mesh without faces;
+    /// vertices of closed components are never chosen.
+    ///
+    /// # Errors
+    /// Those of [`edge_distances`](Self::edge_distances) (none for a valid mesh).
+    pub fn farthest_from_boundary(&self) -> Result<Option<VertexId>> {
+        let boundary: Vec<VertexId> = self
+            .vertices()
+            .filter(|&v| !self.is_isolated(v) && self.is_boundary_vertex(v))
+            .collect();
+        if boundary.is_empty() {
+            return Ok(None);
+        }
+        let d = self.edge_distances(&boundary, f64::INFINITY)?;
+        let mut best: Option<(f64, VertexId)> = None;
+        for v in self.vertices().filter(|&v| !self.is_isolated(v)) {
+            let dv = d[self.vertex_index(v)];
+            if dv.is_finite() && best.is_none_or(|(b, _)| dv > b) {
+                best = Some((dv, v));
+            }
+        }
+        Ok(best.map(|(_, v)| v))
+    }
+
+    /// The largest connected component (the first of [`components`](Self::components):
+    /// most faces, then most vertices) as a selection; empty for a mesh without
+    /// vertices. What to edit by default on a mesh with loose parts.
+    pub fn select_largest_component(&self) -> Selection {
+        match self.components().first() {
+            Some(c) => self
+                .select_linked(&[c.vertex])
+                .unwrap_or_else(|_| Selection::empty(self)),
+            None => Selection::empty(self),
+        }
     }
 
     /// The connected components (through edges), largest first (by faces, then

@@ -199,6 +199,43 @@ fn components_are_listed_largest_first_and_select_linked_gives_each_one() {
 }
 
 #[test]
+fn the_largest_component_and_its_extreme_vertex_skip_loose_parts() {
+    // The small sphere sits highest (y up to 2.2): the mesh's top vertex is on it, the
+    // largest component's is on the unit sphere at x = 0.
+    let mesh = three_spheres();
+    let top = mesh.extreme_vertex(DVec3::Y).unwrap().unwrap();
+    assert!(mesh.position(top).y > 2.0);
+    let largest = mesh.select_largest_component();
+    assert_eq!(largest.len(), mesh.components()[0].vertices);
+    let tip = largest.extreme_vertex(&mesh, DVec3::Y).unwrap().unwrap();
+    assert!(largest.contains(&mesh, tip));
+    assert!((mesh.position(tip) - DVec3::Y).length() < 1e-9);
+    // The same as the brute force over the component.
+    let best = largest
+        .vertices(&mesh)
+        .into_iter()
+        .map(|v| mesh.position(v).y)
+        .fold(f64::NEG_INFINITY, f64::max);
+    assert_eq!(mesh.position(tip).y, best);
+    // Bad directions and stale selections are refused; an empty mesh has an empty one.
+    assert!(largest.extreme_vertex(&mesh, DVec3::ZERO).is_err());
+    assert!(largest
+        .extreme_vertex(&generators::icosphere(1), DVec3::Y)
+        .is_err());
+    // The middle of an open patch is farthest from its boundary; a closed mesh has none.
+    let grid = generators::grid(10, 10, 1.0, 1.0);
+    let middle = grid.farthest_from_boundary().unwrap().unwrap();
+    let p = grid.position(middle);
+    assert!((p.x - 0.5).abs() <= 0.1 && (p.y - 0.5).abs() <= 0.1, "{p}");
+    assert_eq!(mesh.farthest_from_boundary().unwrap(), None);
+    let empty = Mesh::new();
+    assert_eq!(empty.farthest_from_boundary().unwrap(), None);
+    let none = empty.select_largest_component();
+    assert!(none.is_empty());
+    assert_eq!(none.extreme_vertex(&empty, DVec3::Y).unwrap(), None);
+}
+
+#[test]
 fn grow_and_shrink_move_the_selection_border_ring_by_ring() {
     let mesh = generators::grid(20, 20, 20.0, 20.0);
     let centre = mesh.vertex_at(10 + 10 * 21).unwrap();
