@@ -18,8 +18,10 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use clap::Parser;
+
+#[path = "support/picks.rs"]
+mod picks;
 use edit::area::{EditingArea, EditingSession, FrameKind, SessionOptions};
-use glam::DVec3;
 use halfedge::VertexId;
 
 #[derive(Parser, Debug)]
@@ -84,23 +86,7 @@ fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
             format!("vertex {i}"),
         )],
         None => {
-            let largest = mesh.select_largest_component();
-            let mut list: Vec<(VertexId, String)> = Vec::new();
-            for (d, name) in [
-                (DVec3::Z, "+z"),
-                (DVec3::X, "+x"),
-                (DVec3::NEG_X, "-x"),
-                (DVec3::Y, "+y"),
-                (DVec3::NEG_Y, "-y"),
-                (DVec3::NEG_Z, "-z"),
-            ] {
-                if let Some(v) = largest.extreme_vertex(&mesh, d)? {
-                    list.push((v, format!("the vertex furthest along {name}")));
-                }
-            }
-            if let Some(v) = mesh.farthest_from_boundary()? {
-                list.push((v, "the vertex farthest from the boundary".into()));
-            }
+            let list = picks::drag_candidates(&mesh);
             if list.is_empty() {
                 return Err("the mesh has no vertex with a face to drag".into());
             }

@@ -103,6 +103,19 @@ fn edited() -> (Hierarchy, halfedge::Attribute<VertexId, halfedge::Label>) {
     (h, labels)
 }
 
+/// Marks the coarse vertices above z = 0.5 with `field(p, own)`, where `own` says that
+/// `p` is one of their own positions (where a field must give their current positions).
+fn mark_cap_field(h: &mut Hierarchy, field: impl Fn(DVec3, bool) -> DVec3 + Send + Sync + 'static) {
+    let coarse = h.mesh();
+    let cap: Vec<VertexId> = coarse
+        .vertices()
+        .filter(|&v| coarse.position(v).z > 0.5)
+        .collect();
+    let at: Vec<DVec3> = cap.iter().map(|&v| coarse.position(v)).collect();
+    h.mark_field(&cap, move |p| field(p, at.contains(&p)))
+        .unwrap();
+}
+
 #[test]
 fn a_threaded_refinement_is_the_split_by_split_one_bit_for_bit() {
     let (h, labels) = edited();
@@ -129,20 +142,13 @@ fn a_field_that_overflows_stops_both_walks_at_the_same_record() {
     let (mut h, labels) = edited();
     // A field that overflows far from its coarse vertices' own positions: the first
     // finer vertex of the cap placed beyond x = 0.05 makes its split fail.
-    let coarse = h.mesh();
-    let cap: Vec<VertexId> = coarse
-        .vertices()
-        .filter(|&v| coarse.position(v).z > 0.5)
-        .collect();
-    let at: Vec<DVec3> = cap.iter().map(|&v| coarse.position(v)).collect();
-    h.mark_field(&cap, move |p| {
-        if at.contains(&p) || p.x < 0.05 {
+    mark_cap_field(&mut h, |p, own| {
+        if own || p.x < 0.05 {
             p
         } else {
             DVec3::splat(f64::INFINITY)
         }
-    })
-    .unwrap();
+    });
     let (mut threaded, mut single) = (h.clone(), h);
     let a = threaded.refine_to(0);
     let b = one_by_one(&mut single, 0);
@@ -201,18 +207,11 @@ fn without_an_edit_both_walks_give_the_input_back_bit_for_bit() {
 #[test]
 fn a_field_that_panics_leaves_both_walks_at_the_same_consistent_record() {
     let (mut h, labels) = edited();
-    let coarse = h.mesh();
-    let cap: Vec<VertexId> = coarse
-        .vertices()
-        .filter(|&v| coarse.position(v).z > 0.5)
-        .collect();
-    let at: Vec<DVec3> = cap.iter().map(|&v| coarse.position(v)).collect();
     // A user's field that panics on the first finer vertex beyond x = 0.05.
-    h.mark_field(&cap, move |p| {
-        assert!(at.contains(&p) || p.x < 0.05, "the user's field gave up");
+    mark_cap_field(&mut h, |p, own| {
+        assert!(own || p.x < 0.05, "the user's field gave up");
         p
-    })
-    .unwrap();
+    });
     let (mut threaded, mut single) = (h.clone(), h);
     let quiet = std::panic::take_hook();
     std::panic::set_hook(Box::new(|_| {}));

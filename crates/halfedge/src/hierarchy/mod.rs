@@ -1055,6 +1055,24 @@ impl Hierarchy {
         Ok(())
     }
 
+    /// The attached labels when splitting record `r` must classify its vertex (the labels
+    /// were defined at a coarser position).
+    ///
+    /// # Errors
+    /// [`Error::InvalidArgument`] when the label attribute was removed from the mesh.
+    fn labels_to_classify(&self, r: usize) -> Result<Option<LabelBinding>> {
+        match self.labels.filter(|b| r < b.defined_at) {
+            Some(binding) if !self.mesh.has_attribute(binding.attribute) => {
+                Err(Error::InvalidArgument(
+                    "the label attribute attached to the hierarchy was removed from its mesh \
+                     (detach_labels, or attach_labels again)"
+                        .into(),
+                ))
+            }
+            labels => Ok(labels),
+        }
+    }
+
     /// The parts of the hierarchy that place split vertices ([`placer::Placer`]).
     fn placer(&mut self) -> placer::Placer<'_> {
         placer::Placer {
@@ -1081,16 +1099,7 @@ impl Hierarchy {
     fn split_beside(&mut self, applied: usize, clean: bool) -> Result<()> {
         use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
         let top = self.applied;
-        let labels = self.labels.filter(|b| applied < b.defined_at);
-        if let Some(binding) = labels {
-            if !self.mesh.has_attribute(binding.attribute) {
-                return Err(Error::InvalidArgument(
-                    "the label attribute attached to the hierarchy was removed from its mesh \
-                     (detach_labels, or attach_labels again)"
-                        .into(),
-                ));
-            }
-        }
+        let labels = self.labels_to_classify(applied)?;
         // Every record from `placed` up is placed; `failed`: no more will be.
         let placed = AtomicUsize::new(top);
         let failed = AtomicBool::new(false);
@@ -1384,16 +1393,7 @@ impl Hierarchy {
                 )));
             }
         }
-        let classify = self.labels.filter(|b| r < b.defined_at);
-        if let Some(binding) = classify {
-            if !self.mesh.has_attribute(binding.attribute) {
-                return Err(Error::InvalidArgument(
-                    "the label attribute attached to the hierarchy was removed from its mesh \
-                     (detach_labels, or attach_labels again)"
-                        .into(),
-                ));
-            }
-        }
+        let classify = self.labels_to_classify(r)?;
         if trusted {
             self.mesh.vertex_split_unchecked(&record);
         } else {
