@@ -145,8 +145,9 @@ impl Selection {
 
     /// The selected vertex with faces furthest along `direction` (largest
     /// `p · direction`; ties go to the lowest index), as [`Mesh::extreme_vertex`] within
-    /// the selection (the tip of the largest component, not of a loose part). `None` when
-    /// no selected vertex has a face.
+    /// the selection (the tip of the largest component, not of a loose part). Vertices
+    /// whose position is not finite are skipped; `None` when no other selected vertex
+    /// has a face.
     ///
     /// # Errors
     /// [`Error::InvalidArgument`] for a zero or non-finite direction; [`Error::Stale`]
@@ -163,8 +164,9 @@ impl Selection {
             if mesh.is_isolated(v) {
                 continue;
             }
-            let s = mesh.position(v).dot(d);
-            if best.is_none_or(|(b, _)| s > b) {
+            let p = mesh.position(v);
+            let s = p.dot(d);
+            if p.is_finite() && !s.is_nan() && best.is_none_or(|(b, _)| s > b) {
                 best = Some((s, v));
             }
         }
@@ -279,7 +281,8 @@ impl Ord for Entry {
 /// # Selection
 impl Mesh {
     /// The vertex with faces nearest to `point` (linear scan; ties go to the lowest
-    /// index); `None` when no vertex has a face.
+    /// index; vertices whose position is not finite are skipped); `None` when no other
+    /// vertex has a face.
     ///
     /// # Errors
     /// [`Error::InvalidArgument`] for a non-finite point.
@@ -293,8 +296,8 @@ impl Mesh {
     }
 
     /// The vertex with faces furthest along `direction` (largest `p · direction`; ties
-    /// go to the lowest index): the tip of a nose, the top of a head. `None` when no
-    /// vertex has a face.
+    /// go to the lowest index; vertices whose position is not finite are skipped): the
+    /// tip of a nose, the top of a head. `None` when no other vertex has a face.
     ///
     /// # Errors
     /// [`Error::InvalidArgument`] for a zero or non-finite direction.
@@ -307,15 +310,17 @@ impl Mesh {
         Ok(self.best_vertex(|p| p.dot(d)))
     }
 
-    /// The vertex with faces of largest `score(position)`, ties to the lowest index.
+    /// The vertex with faces of largest `score(position)`, ties to the lowest index (a
+    /// vertex whose position is not finite is never chosen).
     fn best_vertex(&self, score: impl Fn(DVec3) -> f64) -> Option<VertexId> {
         let mut best: Option<(f64, VertexId)> = None;
         for v in self.vertices() {
             if self.is_isolated(v) {
                 continue;
             }
-            let s = score(self.position(v));
-            if best.is_none_or(|(b, _)| s > b) {
+            let p = self.position(v);
+            let s = score(p);
+            if p.is_finite() && !s.is_nan() && best.is_none_or(|(b, _)| s > b) {
                 best = Some((s, v));
             }
         }

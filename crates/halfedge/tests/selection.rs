@@ -217,6 +217,20 @@ fn the_largest_component_and_its_extreme_vertex_skip_loose_parts() {
         .map(|v| mesh.position(v).y)
         .fold(f64::NEG_INFINITY, f64::max);
     assert_eq!(mesh.position(tip).y, best);
+    // A vertex whose position is not finite is never the answer.
+    let mut broken = mesh.clone();
+    broken.set_position(tip, DVec3::new(0.0, f64::NAN, 0.0));
+    let far = broken.vertices().next().unwrap();
+    broken.set_position(far, DVec3::splat(f64::INFINITY));
+    let body = broken.select_largest_component();
+    let other = body.extreme_vertex(&broken, DVec3::Y).unwrap().unwrap();
+    assert!(other != tip && other != far && broken.position(other).is_finite());
+    for v in [
+        broken.extreme_vertex(DVec3::Y).unwrap().unwrap(),
+        broken.nearest_vertex(DVec3::splat(1e300)).unwrap().unwrap(),
+    ] {
+        assert!(broken.position(v).is_finite());
+    }
     // Bad directions and stale selections are refused; an empty mesh has an empty one.
     assert!(largest.extreme_vertex(&mesh, DVec3::ZERO).is_err());
     assert!(largest
