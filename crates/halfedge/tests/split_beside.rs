@@ -232,3 +232,131 @@ fn a_field_that_panics_leaves_both_walks_at_the_same_consistent_record() {
     one_by_one(&mut single, 0).unwrap();
     assert!(state(&threaded, Some(labels)) == state(&single, Some(labels)));
 }
+
+mod random_sessions {
+    //! Random editing sessions, played on two copies of one hierarchy: one walks as the
+    //! library does (threaded refinements), the other refines one split at a time. Their
+    //! meshes must stay the same bit for bit after every step.
+
+    use super::*;
+    use proptest::prelude::*;
+    use std::sync::OnceLock;
+
+    fn built() -> &'static Hierarchy {
+        static BUILT: OnceLock<Hierarchy> = OnceLock::new();
+        BUILT.get_or_init(|| {
+            let options = HierarchyOptions::rounds().with_target_faces(500);
+            Hierarchy::build(bumpy_sphere(), &options).unwrap()
+        })
+    }
+
+    #[derive(Clone, Debug)]
+    enum Step {
+        /// Walk to a level (index into the levels).
+        Level(usize),
+        /// Walk to a position between levels (per mille of the records).
+        Seek(u32),
+        /// Move every vertex by a wave.
+        Wave(f64),
+        /// Rotate a part and mark it affine.
+        Affine(u8, f64),
+        /// Twist a part and mark it with the twist field.
+        Field(u8, f64),
+        /// Mark a part as a region.
+        Region(u8),
+    }
+
+    fn step() -> impl Strategy<Value = Step> {
+        prop_oneof![
+            (0usize..8).prop_map(Step::Level),
+            (0u32..1000).prop_map(Step::Seek),
+            (-0.05f64..0.05).prop_map(Step::Wave),
+            (0u8..4, -0.6f64..0.6).prop_map(|(p, a)| Step::Affine(p, a)),
+            (0u8..4, -0.6f64..0.6).prop_map(|(p, a)| Step::Field(p, a)),
+            (0u8..4).prop_map(Step::Region),
+        ]
+    }
+
+    fn part(h: &Hierarchy, k: u8) -> Vec<VertexId> {
+        let mesh = h.mesh();
+        mesh.vertices()
+            .filter(|&v| {
+                let p = mesh.position(v);
+                match k {
+                    0 => p.z > 0.5,
+                    1 => p.x > 0.3,
+                    2 => p.y < -0.2,
+                    _ => true,
+                }
+            })
+            .collect()
+    }
+
+    /// Walks to `applied`: as the library does, or one split at a time when refining.
+    fn walk(h: &mut Hierarchy, applied: usize, threaded: bool) {
+        if threaded || applied >= h.applied() {
+            h.seek(applied).unwrap();
+        } else {
+            one_by_one(h, applied).unwrap();
+        }
+    }
+
+    fn play(h: &mut Hierarchy, step: &Step, threaded: bool) {
+        match *step {
+            Step::Level(l) => {
+                let ends = h.level_ends().to_vec();
+                walk(h, ends[l.min(ends.len() - 1)], threaded);
+            }
+            Step::Seek(m) => {
+                let applied = h.n_records() * m as usize / 1000;
+                walk(h, applied, threaded);
+            }
+            Step::Wave(a) => {
+                for p in h.mesh_mut().positions_mut() {
+                    p.y += a * (6.0 * p.z).sin();
+                }
+            }
+            Step::Affine(k, angle) => {
+                let vertices = part(h, k);
+                let map = DAffine3::from_quat(DQuat::from_rotation_x(angle));
+                for &v in &vertices {
+                    let p = h.mesh().position(v);
+                    h.mesh_mut().set_position(v, map.transform_point3(p));
+                }
+                h.mark_affine(&vertices, map).unwrap();
+            }
+            Step::Field(k, angle) => {
+                let vertices = part(h, k);
+                let twist = move |p: DVec3| DQuat::from_rotation_z(angle * p.z) * p;
+                for &v in &vertices {
+                    let p = h.mesh().position(v);
+                    h.mesh_mut().set_position(v, twist(p));
+                }
+                h.mark_field(&vertices, twist).unwrap();
+            }
+            Step::Region(k) => {
+                let vertices = part(h, k);
+                h.mark_region(&vertices).unwrap();
+            }
+        }
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(16))]
+        #[test]
+        fn threaded_and_one_split_at_a_time_sessions_stay_the_same(
+            steps in prop::collection::vec(step(), 1..10)
+        ) {
+            let mut threaded = built().clone();
+            let mut single = built().clone();
+            for step in &steps {
+                play(&mut threaded, step, true);
+                play(&mut single, step, false);
+                prop_assert!(
+                    state(&threaded, None) == state(&single, None),
+                    "the walks differ after {step:?}"
+                );
+            }
+        }
+    }
+}
