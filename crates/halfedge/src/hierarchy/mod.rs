@@ -56,6 +56,7 @@ pub mod heap;
 pub mod legality;
 pub mod motion;
 pub mod outcome;
+mod placements;
 mod placer;
 pub mod qem;
 mod replan;
@@ -369,9 +370,10 @@ pub struct Hierarchy {
     mesh: Mesh,
     records: Records,
     /// Survivor position after the record's last collapse and its parameter `t` along
-    /// the edge (`p1 + t (p0 − p1)` plus a residual), for collapsing again after an edit
-    /// and for knowing, when splitting, whether the survivor moved since.
-    placements: Vec<(DVec3, f64)>,
+    /// the edge, for collapsing again after an edit and for knowing, when splitting,
+    /// whether the survivor moved since: one byte for the rounds' two rules (at `v1`, at
+    /// the midpoint), the position and parameter otherwise ([`placements`]).
+    placements: placements::Placements,
     details: Details,
     /// Affine maps and fields the user said moved some vertices since the hierarchy
     /// placed them, and the edits' regions ([`Hierarchy::mark_affine`],
@@ -655,8 +657,7 @@ impl Hierarchy {
             details,
         } = storage;
         records.recycle(expected_records);
-        placements.clear();
-        placements.reserve(expected_records);
+        placements.recycle(expected_records, options.method == Method::Qem);
         Self {
             mesh,
             records,
@@ -719,8 +720,8 @@ impl Hierarchy {
         let (record, fingerprint) = self.mesh.collapse_unchecked(h);
         let i1 = self.mesh.vertex_index(v1);
         self.mesh.positions[i1] = p;
+        self.placements.push(&record, p, t);
         self.records.push(record, fingerprint);
-        self.placements.push((p, t));
         self.applied += 1;
     }
 
@@ -733,11 +734,11 @@ impl Hierarchy {
         let old = &source.records[r];
         let fingerprint = source.records.fingerprints[r];
         let record = self.mesh.recollapse_unchecked(old, fingerprint);
-        let (p, t) = source.placements[r];
+        let p = source.placements.placed(r, old);
         self.mesh.positions[old.v1 as usize] = p;
         self.details.push_copy(&source.details, r);
+        self.placements.push_copy(&source.placements, r);
         self.records.push(record, fingerprint);
-        self.placements.push((p, t));
         self.applied += 1;
     }
 
@@ -775,7 +776,7 @@ impl Hierarchy {
 }
 
 /// Output buffers for a build's next records, made on another thread while the build
-/// runs, with every page of their memory written once: a build writes some 250 bytes of
+/// runs, with every page of their memory written once: a build writes some 215–250 bytes of
 /// records and detail coefficients per collapse into fresh memory, and the page faults
 /// of first writes (some fifty thousand pages for 1.6 M faces) otherwise fall in the
 /// build's single-threaded loop. The build adopts the buffers when they are ready (see
@@ -784,7 +785,8 @@ impl Hierarchy {
 pub(crate) struct Prefaulted {
     steps: Vec<Step>,
     fingerprints: Vec<u64>,
-    placements: Vec<(DVec3, f64)>,
+    rules: Vec<u8>,
+    stored: Vec<(DVec3, f64)>,
     details: detail::DetailBuffers,
 }
 
@@ -826,14 +828,20 @@ impl Hierarchy {
             return None;
         }
         // The buffers' sizes are read here, the memory is made there.
-        let sizes = (capacity.max(self.placements.capacity()), records);
+        let sizes = (capacity, records);
+        let (rules, stored) = self.placements.capacities();
+        let (rules, stored) = (
+            (rules.max(capacity), records),
+            (stored, records.min(stored)),
+        );
         let details = self.details.prefaulted_sizes(records);
         std::thread::Builder::new()
             .name("prefault".into())
             .spawn(move || Prefaulted {
                 steps: prefaulted(sizes),
                 fingerprints: prefaulted(sizes),
-                placements: prefaulted(sizes),
+                rules: prefaulted(rules),
+                stored: prefaulted(stored),
                 details: details.make(),
             })
             .ok()
@@ -844,11 +852,12 @@ impl Hierarchy {
         let Prefaulted {
             steps,
             fingerprints,
-            placements,
+            rules,
+            stored,
             details,
         } = buffers;
         self.records.adopt(steps, fingerprints);
-        adopt(&mut self.placements, placements);
+        self.placements.adopt(rules, stored);
         self.details.adopt(details);
     }
 }
@@ -938,9 +947,7 @@ impl Hierarchy {
     }
     /// Bytes of memory held by the records and detail coefficients.
     pub fn record_bytes(&self) -> usize {
-        self.records.heap_bytes()
-            + self.placements.capacity() * std::mem::size_of::<(DVec3, f64)>()
-            + self.details.heap_bytes()
+        self.records.heap_bytes() + self.placements.heap_bytes() + self.details.heap_bytes()
     }
 
     /// The mesh instance and change count every record was made at or before (see
@@ -1276,13 +1283,7 @@ impl Hierarchy {
         }
         let p0 = self.mesh.positions[i0];
         let p1 = self.mesh.positions[i1];
-        let (placed, t) = self.placements[r];
-        let p = if p0 == old.p0 && p1 == old.p1 {
-            placed
-        } else {
-            let residual = placed - (old.p1 + t * (old.p0 - old.p1));
-            p1 + t * (p0 - p1) + residual
-        };
+        let p = self.placements.again(r, &old, p0, p1);
         if !p.is_finite() {
             return Err(Error::Overflow(format!(
                 "collapsing {v0} → {v1} would put {v1} at {p} (positions {p0} and {p1})"
@@ -1310,7 +1311,7 @@ impl Hierarchy {
             self.details.refresh(r, self.mesh.positions(), at);
         }
         self.mesh.positions[i1] = p;
-        self.placements[r].0 = p;
+        self.placements.set_placed(r, p);
         self.records.steps[r] = record;
         self.records.fingerprints[r] = fingerprint;
         self.applied += 1;
@@ -1607,7 +1608,7 @@ impl Hierarchy {
 #[derive(Default)]
 pub(crate) struct Storage {
     records: Records,
-    placements: Vec<(DVec3, f64)>,
+    placements: placements::Placements,
     details: Option<Details>,
 }
 
@@ -1633,7 +1634,7 @@ struct Saved {
     range: std::ops::Range<usize>,
     records: Vec<Step>,
     fingerprints: Vec<u64>,
-    placements: Vec<(DVec3, f64)>,
+    placements: (Vec<u8>, Vec<(DVec3, f64)>),
     details: detail::SavedRange,
     marks: Marks,
     rests: Vec<Rest>,
@@ -1649,7 +1650,7 @@ impl Saved {
             mesh: h.mesh.clone(),
             records: h.records.steps[range.clone()].to_vec(),
             fingerprints: h.records.fingerprints[range.clone()].to_vec(),
-            placements: h.placements[range.clone()].to_vec(),
+            placements: h.placements.save(range.clone()),
             details: h.details.save(range.clone()),
             range,
             marks: h.marks.clone(),
@@ -1669,7 +1670,7 @@ impl Saved {
         h.mesh.stamp_count = count + 1;
         h.records.steps[self.range.clone()].copy_from_slice(&self.records);
         h.records.fingerprints[self.range.clone()].copy_from_slice(&self.fingerprints);
-        h.placements[self.range.clone()].copy_from_slice(&self.placements);
+        h.placements.restore(self.range.clone(), self.placements);
         h.details.restore(self.range, self.details);
         h.marks = self.marks;
         h.rests = self.rests;
@@ -2019,7 +2020,8 @@ mod tests {
             h.adopt_prefaulted(Prefaulted {
                 steps: prefaulted(sizes),
                 fingerprints: prefaulted(sizes),
-                placements: prefaulted(sizes),
+                rules: prefaulted(sizes),
+                stored: prefaulted(sizes),
                 details: details.make(),
             });
         }

@@ -9,6 +9,7 @@
 use glam::DVec3;
 
 use super::detail::{Collapsed, Details, Placement};
+use super::placements::Placements;
 use super::{Marks, Rest, DETAIL_PREFETCH_DISTANCE, IN_REGION, LIST_PREFETCH_DISTANCE, UNMARKED};
 use crate::collapse::Step;
 use crate::prefetch::prefetch;
@@ -16,7 +17,7 @@ use crate::prefetch::prefetch;
 /// The parts of a hierarchy that place split vertices (see the module docs).
 pub(super) struct Placer<'a> {
     pub(super) steps: &'a [Step],
-    pub(super) placements: &'a [(DVec3, f64)],
+    pub(super) placements: &'a Placements,
     pub(super) details: &'a Details,
     pub(super) marks: &'a mut Marks,
     pub(super) rests: &'a mut [Rest],
@@ -34,7 +35,7 @@ impl Placer<'_> {
         let at = Collapsed {
             p0: record.p0,
             p1: record.p1,
-            placed: self.placements[r].0,
+            placed: self.placements.placed(r, record),
         };
         let i1 = record.v1 as usize;
         let mut mark = UNMARKED;
@@ -110,7 +111,7 @@ impl Placer<'_> {
         }
         if let Some(far) = r.checked_sub(LIST_PREFETCH_DISTANCE) {
             self.details.prefetch_record(far);
-            prefetch(self.placements, far);
+            self.placements.prefetch(far);
         }
     }
 

@@ -167,13 +167,8 @@ fn replay(
     let place = |mesh: &Mesh| -> Result<(DVec3, f64)> {
         // Where `Hierarchy::collapse_next` would put the survivor.
         let (p0, p1) = (mesh.position(v0), mesh.position(v1));
-        let (placed, t) = source.placements[r];
-        let p = if p0 == record.p0 && p1 == record.p1 {
-            placed
-        } else {
-            let residual = placed - (record.p1 + t * (record.p0 - record.p1));
-            p1 + t * (p0 - p1) + residual
-        };
+        let p = source.placements.again(r, record, p0, p1);
+        let t = source.placements.parameter(r);
         if p.is_finite() {
             Ok((p, t))
         } else {
