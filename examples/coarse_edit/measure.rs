@@ -324,6 +324,8 @@ impl Report {
 struct Region {
     /// The tip's vertex index.
     tip: usize,
+    /// How many rings from the mesh boundary the rule asked the tip to be.
+    tip_depth: u32,
     /// Vertex indices of the tip's component by increasing edge-path distance from the
     /// tip (ties by index), with the distances.
     order: Vec<(u32, f64)>,
@@ -479,7 +481,11 @@ fn choose_region(
             }
         }
     }
-    Ok(Region { tip, order })
+    Ok(Region {
+        tip,
+        tip_depth,
+        order,
+    })
 }
 
 /// A totally ordered `f64` for the Dijkstra heap.
@@ -608,17 +614,6 @@ pub fn measure(prepared: &Prepared, options: &Options) -> Result<Measured, Failu
         options.seed_vertex,
         TIP_DEPTH,
     )?;
-    if matches!(options.edit, EditKind::Twist | EditKind::Taper) && options.seed_vertex.is_none() {
-        // a region enclosed by its frontier (a flat or open mesh's inside) has nothing to
-        // twist: the tip may then be on the boundary, where a flat mesh protrudes
-        let mut trial = hierarchy.mesh().clone();
-        if let Err(e) = apply(&mut trial, None, prepared, &region, options, options.amount) {
-            if e.message != FLAT_REGION {
-                return Err(e);
-            }
-            region = choose_region(hierarchy.mesh(), &prepared.ancestors, None, 0)?;
-        }
-    }
     let before: Vec<DVec3> = hierarchy.mesh().positions().to_vec();
     let level_faces = hierarchy.mesh().n_faces();
     // a smooth edit that turns a face of the coarse mesh over is too strong for it: halve
@@ -627,13 +622,30 @@ pub fn measure(prepared: &Prepared, options: &Options) -> Result<Measured, Failu
         options.edit,
         EditKind::Rotate | EditKind::Scale | EditKind::Pull
     ) {
-        for _ in 0..MAX_HALVINGS {
+        let mut halvings = 0;
+        while halvings < MAX_HALVINGS {
             let mut trial = hierarchy.mesh().clone();
-            apply(&mut trial, None, prepared, &region, options, amount)?;
+            match apply(&mut trial, None, prepared, &region, options, amount) {
+                // a region enclosed by its frontier (a flat or open mesh's inside) has
+                // nothing to twist: the tip may then be on the boundary, where a flat
+                // mesh protrudes (once, and only for the rule's own tip)
+                Err(e)
+                    if e.message == FLAT_REGION
+                        && options.seed_vertex.is_none()
+                        && region.tip_depth > 0 =>
+                {
+                    region = choose_region(hierarchy.mesh(), &prepared.ancestors, None, 0)?;
+                    continue;
+                }
+                result => {
+                    result?;
+                }
+            }
             if flips(hierarchy.mesh(), &trial) == 0 {
                 break;
             }
             amount *= 0.5;
+            halvings += 1;
         }
     }
     let mut fine = input.clone();

@@ -96,6 +96,28 @@ const LIST_PREFETCH_DISTANCE: usize = 20;
 /// How many splits ahead [`Hierarchy::split_next`] prefetches the first, second and third
 /// halfedge of the walk around `v1` of the record it will split.
 const MOVED_PREFETCH_DISTANCES: [usize; 3] = [6, 4, 2];
+/// Prefetches the connectivity the splits a few records below `r` will touch (see
+/// [`SPLIT_PREFETCH_DISTANCE`]): their edges, vertices and positions, then the halfedges
+/// and faces their tombstones name, then the links, and the walk around `v1`, which is a
+/// chain of loads, one more link of it per stage.
+#[inline]
+fn prefetch_splits_after(mesh: &Mesh, steps: &[Step], r: usize) {
+    if let Some(ahead) = r.checked_sub(SPLIT_PREFETCH_DISTANCE) {
+        mesh.prefetch_step(&steps[ahead], false);
+    }
+    if let Some(ahead) = r.checked_sub(SIDES_PREFETCH_DISTANCE) {
+        mesh.prefetch_sides(&steps[ahead]);
+    }
+    if let Some(ahead) = r.checked_sub(LINKS_PREFETCH_DISTANCE) {
+        mesh.prefetch_links(&steps[ahead], false);
+    }
+    for (step, distance) in MOVED_PREFETCH_DISTANCES.into_iter().enumerate() {
+        if let Some(ahead) = r.checked_sub(distance) {
+            mesh.prefetch_moved(&steps[ahead], step as u32);
+        }
+    }
+}
+
 /// Refinements after an edit of at least this many splits place on one thread and split
 /// on another ([`Hierarchy::split_beside`]); shorter ones are not worth the hand-off.
 const SPLIT_BESIDE_MIN: usize = 4096;
@@ -1177,20 +1199,7 @@ impl Hierarchy {
                                 std::thread::yield_now();
                             }
                         }
-                        if let Some(ahead) = next.checked_sub(SPLIT_PREFETCH_DISTANCE) {
-                            mesh.prefetch_step(&steps[ahead], false);
-                        }
-                        if let Some(ahead) = next.checked_sub(SIDES_PREFETCH_DISTANCE) {
-                            mesh.prefetch_sides(&steps[ahead]);
-                        }
-                        if let Some(ahead) = next.checked_sub(LINKS_PREFETCH_DISTANCE) {
-                            mesh.prefetch_links(&steps[ahead], false);
-                        }
-                        for (step, distance) in MOVED_PREFETCH_DISTANCES.into_iter().enumerate() {
-                            if let Some(ahead) = next.checked_sub(distance) {
-                                mesh.prefetch_moved(&steps[ahead], step as u32);
-                            }
-                        }
+                        prefetch_splits_after(mesh, steps, next);
                         let record = &steps[next];
                         mesh.vertex_split_connectivity(record);
                         if let Some(binding) = labels.filter(|b| next < b.defined_at) {
@@ -1366,23 +1375,9 @@ impl Hierarchy {
         }
         let clean = self.positions_are_clean();
         let (placement, mark) = self.placer().placement(r, clean);
-        if let Some(ahead) = r.checked_sub(SPLIT_PREFETCH_DISTANCE) {
-            self.mesh.prefetch_step(&self.records[ahead], false);
-        }
-        if let Some(ahead) = r.checked_sub(SIDES_PREFETCH_DISTANCE) {
-            self.mesh.prefetch_sides(&self.records[ahead]);
-        }
-        if let Some(ahead) = r.checked_sub(LINKS_PREFETCH_DISTANCE) {
-            self.mesh.prefetch_links(&self.records[ahead], false);
-        }
+        prefetch_splits_after(&self.mesh, &self.records.steps, r);
         if !clean {
             self.placer().prefetch_ahead(r);
-        }
-        // The walk around v1 is a chain of loads: one more link of it per stage.
-        for (step, distance) in MOVED_PREFETCH_DISTANCES.into_iter().enumerate() {
-            if let Some(ahead) = r.checked_sub(distance) {
-                self.mesh.prefetch_moved(&self.records[ahead], step as u32);
-            }
         }
         let record = self.records[r];
         // Checked before the split: nothing may change if the step cannot complete.

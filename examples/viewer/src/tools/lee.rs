@@ -698,7 +698,7 @@ impl Tool for LeeAreaEdit {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::tools::fixture::{refine_and_land, Expect, Fixture, Landing};
+    use crate::tools::fixture::{drag_through, refine_and_land, Expect, Fixture, Landing};
     use crate::tools::Pick;
     use glam::DVec3;
 
@@ -735,20 +735,14 @@ mod tests {
             face: None,
             point: start,
         };
-        for (phase, fraction) in [
-            (DragPhase::Start, 0.0),
-            (DragPhase::Move, 0.6),
-            (DragPhase::End, 1.0),
-        ] {
-            let drag = Drag {
-                phase,
-                pick: Some(pick),
-                start,
-                current: start + fraction * offset,
-            };
-            tool.on_drag(&drag, &mut ctx);
-            assert!(!ctx.status.is_error, "{}", ctx.status.message);
-        }
+        drag_through(
+            &mut tool,
+            &mut ctx,
+            Some(pick),
+            start,
+            offset,
+            &[0.0, 0.6, 1.0],
+        );
         ctx.doc.end_edit();
         let i_top = ctx.mesh().vertex_index(top);
         let Landing {

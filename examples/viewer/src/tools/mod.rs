@@ -614,6 +614,35 @@ pub(crate) mod fixture {
         seen
     }
 
+    /// Drags `tool` from `start` by `offset`: a start, moves at the inner `fractions`
+    /// of the offset, an end at the last, each with `pick` and no error reported.
+    pub fn drag_through(
+        tool: &mut dyn super::Tool,
+        ctx: &mut ToolContext<'_>,
+        pick: Option<super::Pick>,
+        start: DVec3,
+        offset: DVec3,
+        fractions: &[f64],
+    ) {
+        for (k, &fraction) in fractions.iter().enumerate() {
+            let phase = if k == 0 {
+                super::DragPhase::Start
+            } else if k + 1 == fractions.len() {
+                super::DragPhase::End
+            } else {
+                super::DragPhase::Move
+            };
+            let drag = super::Drag {
+                phase,
+                pick,
+                start,
+                current: start + fraction * offset,
+            };
+            tool.on_drag(&drag, ctx);
+            assert!(!ctx.status.is_error, "{}", ctx.status.message);
+        }
+    }
+
     pub fn bits(positions: &[DVec3]) -> Vec<[u64; 3]> {
         positions
             .iter()

@@ -727,7 +727,7 @@ impl Tool for SubMeshEdit {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::tools::fixture::{refine_and_land, Expect, Fixture};
+    use crate::tools::fixture::{drag_through, refine_and_land, Expect, Fixture};
     use halfedge::generators;
 
     #[test]
@@ -833,21 +833,14 @@ mod tests {
         let sub = tool.submesh(ctx.mesh()).unwrap();
         let start = ctx.mesh().position(tool.centre.unwrap());
         let offset = DVec3::new(0.1, -0.05, 0.3);
-        for (phase, fraction) in [
-            (DragPhase::Start, 0.0),
-            (DragPhase::Move, 0.5),
-            (DragPhase::Move, 0.8),
-            (DragPhase::End, 1.0),
-        ] {
-            let drag = Drag {
-                phase,
-                pick: None,
-                start,
-                current: start + fraction * offset,
-            };
-            tool.on_drag(&drag, &mut ctx);
-            assert!(!ctx.status.is_error, "{}", ctx.status.message);
-        }
+        drag_through(
+            &mut tool,
+            &mut ctx,
+            None,
+            start,
+            offset,
+            &[0.0, 0.5, 0.8, 1.0],
+        );
         ctx.doc.end_edit();
         let map = glam::DAffine3::from_translation(offset);
         let worst = refine_and_measure(&mut ctx, &input, level, &sub, map);
