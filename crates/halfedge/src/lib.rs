@@ -59,6 +59,7 @@ pub use build::{AddFaceError, BuildReport};
 pub use collapse::{CollapseRecord, CollapseVeto};
 pub use error::{Error, Invariant, Result};
 pub use handle::{FaceId, HalfedgeId, VertexId};
+pub use hierarchy::bookmark::LevelBookmark;
 pub use hierarchy::outcome::BuildOutcome;
 pub use hierarchy::{BuildProgress, DetailMode, Field, Hierarchy, HierarchyOptions, Method};
 pub use labels::{Frontier, Label, SideCounts, FRONTIER};

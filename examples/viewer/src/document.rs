@@ -33,7 +33,7 @@ use std::path::PathBuf;
 
 use glam::DVec3;
 use halfedge::labels::LABEL_ATTRIBUTE;
-use halfedge::{BuildReport, Hierarchy, Label, Mesh, VertexId};
+use halfedge::{BuildReport, Hierarchy, Label, LevelBookmark, Mesh, VertexId};
 
 /// What the document holds: a plain mesh, or a hierarchy and its mesh.
 enum Content {
@@ -74,20 +74,17 @@ enum Snapshot {
     Positions(Vec<DVec3>),
     /// The whole content: a mesh, or a hierarchy (before a build, a connectivity change).
     Content(Box<Content>),
-    /// A position of the hierarchy (records collapsed) and the positions there.
-    Level {
-        applied: usize,
-        positions: Vec<DVec3>,
-    },
+    /// A position of the hierarchy (records collapsed), the positions there and its
+    /// bookkeeping: going back is exact ([`Hierarchy::return_to`]).
+    Level(Box<LevelBookmark>),
 }
 
 impl Snapshot {
     /// Approximate memory held, bytes.
     fn bytes(&self) -> usize {
         match self {
-            Snapshot::Positions(p) | Snapshot::Level { positions: p, .. } => {
-                p.len() * std::mem::size_of::<DVec3>()
-            }
+            Snapshot::Positions(p) => p.len() * std::mem::size_of::<DVec3>(),
+            Snapshot::Level(bookmark) => bookmark.heap_bytes(),
             Snapshot::Content(c) => c.bytes(),
         }
     }
@@ -376,10 +373,7 @@ impl Document {
             return Ok(());
         }
         let open_level = matches!(self.open_edit, Some((_, EditKind::Level)));
-        let before = (!open_level).then(|| Snapshot::Level {
-            applied: h.applied(),
-            positions: h.mesh().positions().to_vec(),
-        });
+        let before = (!open_level).then(|| Snapshot::Level(Box::new(h.bookmark())));
         h.go_to_level(level)?;
         if let Some(snapshot) = before {
             self.push_undo(Entry {
@@ -454,29 +448,29 @@ impl Document {
                 self.bump_all();
                 Snapshot::Content(c)
             }
-            Snapshot::Level {
-                applied,
-                mut positions,
-            } => match &mut self.content {
+            Snapshot::Level(bookmark) => match &mut self.content {
                 Content::Levels(h) => {
-                    let now = Snapshot::Level {
-                        applied: h.applied(),
-                        positions: h.mesh().positions().to_vec(),
-                    };
-                    // A walk back to a position the hierarchy has been at: its own steps.
-                    if h.seek(applied).is_ok() {
-                        let target = h.mesh_mut().positions_mut();
-                        if target.len() == positions.len() {
-                            target.swap_with_slice(&mut positions);
-                        }
+                    let now = Snapshot::Level(Box::new(h.bookmark()));
+                    // Back to a position the hierarchy has been at, exactly; when the
+                    // bookmark no longer fits (cannot happen with LIFO steps), a walk
+                    // there with the positions put back.
+                    let back = h.return_to(&bookmark).is_ok()
+                        || h.seek(bookmark.applied()).is_ok_and(|()| {
+                            let target = h.mesh_mut().positions_mut();
+                            if target.len() == bookmark.positions().len() {
+                                target.copy_from_slice(bookmark.positions());
+                            }
+                            true
+                        });
+                    if back {
                         self.bump_all();
                         now
                     } else {
-                        Snapshot::Level { applied, positions }
+                        Snapshot::Level(bookmark)
                     }
                 }
                 // Cannot happen with LIFO steps (the hierarchy is restored first).
-                Content::Plain(_) => Snapshot::Level { applied, positions },
+                Content::Plain(_) => Snapshot::Level(bookmark),
             },
         };
         Entry {
@@ -685,6 +679,46 @@ mod tests {
         d.redo();
         d.redo();
         assert_eq!(d.mesh().positions(), &moved[..]);
+    }
+
+    #[test]
+    fn a_coarse_edit_undone_after_a_walk_to_the_input_refines_to_the_input_again() {
+        // Edit at level 2, refine to the input, undo both, refine again: the input, bit
+        // for bit (the undone walk must not collapse the edited fine mesh into the
+        // records); redoing the walk after the undo gives the first refinement.
+        let (mut d, input) = hierarchy_doc();
+        d.go_to_level(2, "coarsen").unwrap();
+        d.end_edit();
+        let moved: Vec<VertexId> = d
+            .mesh()
+            .vertices()
+            .filter(|&v| d.mesh().position(v).x > 0.3)
+            .collect();
+        {
+            let h = match &mut d.content {
+                Content::Levels(h) => h,
+                Content::Plain(_) => unreachable!(),
+            };
+            h.mark_region(&moved).unwrap();
+        }
+        for &v in &moved {
+            let (p, i) = (d.mesh().position(v), d.mesh().vertex_index(v));
+            d.positions_mut()[i] = p + DVec3::Z * (0.2 * p.x);
+        }
+        d.end_edit();
+        d.go_to_level(0, "refine").unwrap();
+        d.end_edit();
+        let refined = d.mesh().positions().to_vec();
+        assert_ne!(refined, input.positions());
+        d.undo();
+        d.redo();
+        assert_eq!(d.mesh().positions(), &refined[..], "the walk redone");
+        d.undo();
+        d.undo();
+        assert_eq!(d.hierarchy().unwrap().current_level(), Some(2));
+        d.go_to_level(0, "refine again").unwrap();
+        d.end_edit();
+        assert_eq!(d.mesh().positions(), input.positions());
     }
 
     #[test]

@@ -51,6 +51,7 @@
 //! assert_eq!(h.mesh().n_faces(), faces);
 //! ```
 
+pub mod bookmark;
 pub mod detail;
 pub mod heap;
 pub mod legality;
@@ -432,6 +433,10 @@ pub struct Hierarchy {
     /// This hierarchy's number, for the level tags of its mesh (see
     /// [`crate::MeshBinding`]).
     id: u64,
+    /// Which records were made again from the current mesh (a walk coarser from an edited
+    /// level), and when: a [`bookmark::LevelBookmark`] fits only while the records below
+    /// its level are those it was taken with.
+    refreshes: bookmark::Refreshes,
 }
 
 /// The collapse records of a hierarchy: the compact records the walks use, and apart
@@ -580,6 +585,7 @@ impl Clone for Hierarchy {
             labels: self.labels,
             outcome: self.outcome.clone(),
             id: next_hierarchy_id(),
+            refreshes: self.refreshes.clone(),
         };
         clone.tag_level();
         clone
@@ -701,6 +707,7 @@ impl Hierarchy {
             consistent_from: 0,
             outcome: outcome::BuildOutcome::default(),
             id: next_hierarchy_id(),
+            refreshes: bookmark::Refreshes::default(),
         }
     }
 
@@ -1312,6 +1319,7 @@ impl Hierarchy {
             (*record.step(), record.fingerprint())
         };
         if !clean {
+            self.refreshes.record(r);
             let at = Collapsed {
                 p0: record.p0,
                 p1: record.p1,
