@@ -39,10 +39,15 @@ fn state(h: &Hierarchy, labels: Option<halfedge::Attribute<VertexId, halfedge::L
     (positions, faces, labels, h.applied())
 }
 
-/// Splits one record at a time down to `applied`, stopping at the first error.
+/// Splits one record at a time down to `applied`, stopping at the first error, then
+/// unfolds what the refinement turned over, as a walk does at its end.
 fn one_by_one(h: &mut Hierarchy, applied: usize) -> halfedge::Result<()> {
+    let finer = h.applied() > applied;
     while h.applied() > applied {
         h.split_next()?;
+    }
+    if finer {
+        h.unfold_refinement();
     }
     Ok(())
 }

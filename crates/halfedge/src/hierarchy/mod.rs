@@ -62,6 +62,7 @@ mod placer;
 pub mod qem;
 mod replan;
 pub mod rounds;
+mod unfold;
 
 use std::ops::ControlFlow;
 
@@ -1078,15 +1079,19 @@ impl Hierarchy {
         while self.applied < applied {
             self.collapse_next()?;
         }
+        let finer = self.applied > applied;
         if self.applied >= applied + SPLIT_BESIDE_MIN
             && self.stamp == Some(self.mesh.topology_stamp())
             && rayon::current_num_threads() > 1
         {
             let clean = self.positions_are_clean();
-            return self.split_beside(applied, clean);
+            self.split_beside(applied, clean)?;
         }
         while self.applied > applied {
             self.split_next()?;
+        }
+        if finer {
+            self.unfold_refinement();
         }
         Ok(())
     }

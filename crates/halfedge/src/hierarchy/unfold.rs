@@ -1,0 +1,136 @@
+//! After a walk finer that carried an edit: faces the refinement turned over are unfolded.
+//!
+//! Each split places its two vertices from the neighbourhood it has then (see
+//! [`super::detail`]), and a split's own fold test looks only at that neighbourhood. A
+//! vertex placed early (its cluster spread far from its coarse ancestor, as QEM's
+//! clusters along a flat feature do) can end up beside the exactly moved vertices of a
+//! handle split later, and the fine faces between the two motions turn over: the coarse
+//! edit turned none, the refinement did. So at the end of a walk, every face turned over
+//! against where it was before the edit and touching a vertex of an edit's region that
+//! is placed by interpolation (not an exact affine or field mark, not outside every
+//! region: those stay bit for bit) has those vertices' displacements relaxed towards
+//! their neighbours' (a Jacobi step of the displacement's uniform Laplacian), round after
+//! round while that turns fewer faces over, at most [`MAX_ROUNDS`] rounds.
+
+use glam::DVec3;
+
+use super::{DetailMode, Hierarchy, IN_REGION};
+
+/// Rounds of relaxation at most.
+const MAX_ROUNDS: usize = 200;
+/// Rings of movable neighbours around the turned faces relaxed with them.
+const RINGS: usize = 8;
+
+impl Hierarchy {
+    /// Unfolds the faces a refinement after an edit turned over (see the
+    /// [module docs](self)): the vertices of an edit's region placed by interpolation
+    /// around them are relaxed; vertices outside every region and vertices moved exactly
+    /// by an affine or field mark stay bit for bit. A walk finer
+    /// ([`seek`](Self::seek), [`go_to_level`](Self::go_to_level),
+    /// [`refine_to`](Self::refine_to)) does this at its end; after refining one
+    /// [`split_next`](Self::split_next) at a time, call it once at the level reached.
+    /// Nothing to do (and nothing done) while no position was edited, with the paper's
+    /// translations, or when no region was marked.
+    pub fn unfold_refinement(&mut self) {
+        if self.marks.is_empty()
+            || self.details.mode() != DetailMode::LocalFrame
+            || self.positions_are_clean()
+        {
+            return;
+        }
+        let r = self.applied;
+        let Some(k) = self.rests.iter().rposition(|rest| rest.serves(r)) else {
+            return;
+        };
+        self.placer().sync_rest(k, r);
+        let mut positions = std::mem::take(&mut self.mesh.positions);
+        let rest = &self.rests[k].positions;
+        let mesh = &self.mesh;
+        let marks = &self.marks;
+        let rest_of = |i: usize| rest.get(i).map(|&p| DVec3::from_array(p));
+        let movable = |i: usize| marks.of(i) == IN_REGION && rest_of(i).is_some();
+        // Turned over against the rest: the normals now and before the edit.
+        let turned = |positions: &[DVec3], f: crate::FaceId| -> bool {
+            let [a, b, c] = mesh.triangle(f).map(|v| mesh.vertex_index(v));
+            let (Some(ra), Some(rb), Some(rc)) = (rest_of(a), rest_of(b), rest_of(c)) else {
+                return false;
+            };
+            let now = (positions[b] - positions[a]).cross(positions[c] - positions[a]);
+            let then = (rb - ra).cross(rc - ra);
+            now.dot(then) < 0.0
+        };
+        let mut flipped: Vec<crate::FaceId> = mesh
+            .vertices()
+            .filter(|&v| movable(mesh.vertex_index(v)))
+            .flat_map(|v| mesh.adjacent_faces(v))
+            .filter(|&f| turned(&positions, f))
+            .collect();
+        flipped.sort_unstable_by_key(|&f| mesh.face_index(f));
+        flipped.dedup();
+        if flipped.is_empty() {
+            self.mesh.positions = positions;
+            return;
+        }
+        // The vertices relaxed: the movable ones of the turned faces and their movable
+        // neighbours, two rings deep (so that the step spreads).
+        let mut relaxed: Vec<usize> = flipped
+            .iter()
+            .flat_map(|&f| mesh.triangle(f))
+            .map(|v| mesh.vertex_index(v))
+            .collect();
+        for _ in 0..RINGS {
+            let grown: Vec<usize> = relaxed
+                .iter()
+                .filter_map(|&i| mesh.vertex_at(i))
+                .flat_map(|v| mesh.adjacent_vertices(v))
+                .map(|w| mesh.vertex_index(w))
+                .collect();
+            relaxed.extend(grown);
+            relaxed.sort_unstable();
+            relaxed.dedup();
+        }
+        relaxed.retain(|&i| movable(i));
+        let mut around: Vec<crate::FaceId> = relaxed
+            .iter()
+            .filter_map(|&i| mesh.vertex_at(i))
+            .flat_map(|v| mesh.adjacent_faces(v))
+            .collect();
+        around.sort_unstable_by_key(|&f| mesh.face_index(f));
+        around.dedup();
+        let count = |positions: &[DVec3]| around.iter().filter(|&&f| turned(positions, f)).count();
+        let original: Vec<DVec3> = relaxed.iter().map(|&i| positions[i]).collect();
+        let mut best = (count(&positions), original.clone());
+        for _ in 0..MAX_ROUNDS {
+            let moved: Vec<Option<DVec3>> = relaxed
+                .iter()
+                .map(|&i| {
+                    let v = mesh.vertex_at(i)?;
+                    let (mut sum, mut n) = (DVec3::ZERO, 0usize);
+                    for w in mesh.adjacent_vertices(v) {
+                        let j = mesh.vertex_index(w);
+                        sum += positions[j] - rest_of(j)?;
+                        n += 1;
+                    }
+                    let at_rest = rest_of(i)?;
+                    (n > 0).then(|| at_rest + sum / n as f64)
+                })
+                .collect();
+            for (&i, p) in relaxed.iter().zip(&moved) {
+                if let Some(p) = p.filter(|p| p.is_finite()) {
+                    positions[i] = p;
+                }
+            }
+            let turned_now = count(&positions);
+            if turned_now < best.0 {
+                best = (turned_now, relaxed.iter().map(|&i| positions[i]).collect());
+            }
+            if turned_now == 0 {
+                break;
+            }
+        }
+        for (&i, &p) in relaxed.iter().zip(&best.1) {
+            positions[i] = p;
+        }
+        self.mesh.positions = positions;
+    }
+}
