@@ -49,30 +49,43 @@ impl Hierarchy {
         let marks = &self.marks;
         let rest_of = |i: usize| rest.get(i).map(|&p| DVec3::from_array(p));
         let movable = |i: usize| marks.of(i) == IN_REGION && rest_of(i).is_some();
-        // Turned over against the rest: the normals now and before the edit.
         let turned = |positions: &[DVec3], f: crate::FaceId| -> bool {
-            let [a, b, c] = mesh.triangle(f).map(|v| mesh.vertex_index(v));
-            let (Some(ra), Some(rb), Some(rc)) = (rest_of(a), rest_of(b), rest_of(c)) else {
-                return false;
-            };
-            let now = (positions[b] - positions[a]).cross(positions[c] - positions[a]);
-            let then = (rb - ra).cross(rc - ra);
-            now.dot(then) < 0.0
+            turned_at(
+                positions,
+                rest,
+                mesh.triangle(f).map(|v| mesh.vertex_index(v)),
+            )
         };
-        let mut flipped: Vec<crate::FaceId> = mesh
-            .vertices()
-            .filter(|&v| movable(mesh.vertex_index(v)))
-            .flat_map(|v| mesh.adjacent_faces(v))
-            .filter(|&f| turned(&positions, f))
-            .collect();
-        flipped.sort_unstable_by_key(|&f| mesh.face_index(f));
-        flipped.dedup();
+        // Every face once, on all threads: those with an interpolated vertex of a region
+        // that are turned over (in face order, so the same on any number of threads).
+        let flipped: Vec<crate::FaceId> = {
+            use rayon::prelude::*;
+            let (he, of_vertex) = (&mesh.he[..], &marks.of_vertex[..]);
+            let now = &positions[..];
+            (0..mesh.face_slots())
+                .into_par_iter()
+                .filter(|&f| {
+                    if !mesh.face_slots_.is_live_index(f) {
+                        return false;
+                    }
+                    let r0 = &he[mesh.face_conn[f] as usize];
+                    let r1 = &he[r0.next as usize];
+                    let r2 = &he[r1.next as usize];
+                    let corners = [r0.to, r1.to, r2.to].map(|v| v as usize);
+                    corners
+                        .iter()
+                        .any(|&i| of_vertex.get(i) == Some(&IN_REGION))
+                        && turned_at(now, rest, corners)
+                })
+                .map(|f| mesh.fh(f as u32))
+                .collect()
+        };
         if flipped.is_empty() {
             self.mesh.positions = positions;
             return;
         }
         // The vertices relaxed: the movable ones of the turned faces and their movable
-        // neighbours, two rings deep (so that the step spreads).
+        // neighbours, [`RINGS`] rings deep (so that the step spreads).
         let mut relaxed: Vec<usize> = flipped
             .iter()
             .flat_map(|&f| mesh.triangle(f))
@@ -133,4 +146,18 @@ impl Hierarchy {
         }
         self.mesh.positions = positions;
     }
+}
+
+/// True when the triangle of vertex slots `[a, b, c]` is turned over at `positions`
+/// against `rest`: its normals now and before the edit point apart (false when a
+/// position before the edit is missing).
+#[inline]
+fn turned_at(positions: &[DVec3], rest: &[[f64; 3]], [a, b, c]: [usize; 3]) -> bool {
+    let rest_of = |i: usize| rest.get(i).map(|&p| DVec3::from_array(p));
+    let (Some(ra), Some(rb), Some(rc)) = (rest_of(a), rest_of(b), rest_of(c)) else {
+        return false;
+    };
+    let now = (positions[b] - positions[a]).cross(positions[c] - positions[a]);
+    let then = (rb - ra).cross(rc - ra);
+    now.dot(then) < 0.0
 }
