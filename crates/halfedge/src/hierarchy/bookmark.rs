@@ -77,7 +77,8 @@ impl Hierarchy {
     /// below its level since it was taken (a walk coarser from a finer edited level), or
     /// when the hierarchy does not trust its mesh (its connectivity was changed behind its
     /// back). Nothing is changed then: [`seek`](Self::seek) to the bookmark's
-    /// [`applied`](LevelBookmark::applied) is the way back that remains.
+    /// [`applied`](LevelBookmark::applied) is the way back that remains. Walking back
+    /// finer can fail as [`seek`](Self::seek) can (a marked field that overflows).
     pub fn return_to(&mut self, bookmark: &LevelBookmark) -> Result<()> {
         let refuse = |why: &str| Err(Error::InvalidArgument(format!("return_to: {why}")));
         if bookmark.hierarchy != self.id {
@@ -108,7 +109,11 @@ impl Hierarchy {
         self.mesh.positions.copy_from_slice(&bookmark.positions);
         self.marks = bookmark.marks.clone();
         self.consistent_from = bookmark.consistent_from;
-        self.clean_positions = bookmark.clean.then_some(self.mesh.position_edits);
+        // Clean only if no record was made again since: records above the bookmark's
+        // level made again from an edit hold that edit, so the next walk coarser must make
+        // them again from these positions.
+        let remade = self.refreshes.count != bookmark.refreshes;
+        self.clean_positions = (bookmark.clean && !remade).then_some(self.mesh.position_edits);
         self.tag_level();
         Ok(())
     }

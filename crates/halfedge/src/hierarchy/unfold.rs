@@ -8,9 +8,13 @@
 //! edit turned none, the refinement did. So at the end of a walk, every face turned over
 //! against where it was before the edit and touching a vertex of an edit's region that
 //! is placed by interpolation (not an exact affine or field mark, not outside every
-//! region: those stay bit for bit) has those vertices' displacements relaxed towards
-//! their neighbours' (a Jacobi step of the displacement's uniform Laplacian), round after
-//! round while that turns fewer faces over, at most [`MAX_ROUNDS`] rounds.
+//! region: those stay bit for bit) has those vertices, and their interpolated neighbours
+//! [`RINGS`] rings deep, relaxed: each displacement (from where the vertex was before the
+//! edit) moves to the mean of its neighbours' (a Jacobi step of the displacement's
+//! uniform Laplacian, the exact and outside vertices its boundary), for at most
+//! [`MAX_ROUNDS`] rounds (fewer when the neighbourhoods are so large that they would take
+//! more than [`MAX_WORK`] vertex updates), and the round that turns the fewest faces over is kept (the
+//! positions as they were when no round turns fewer than they did).
 
 use glam::DVec3;
 
@@ -20,6 +24,11 @@ use super::{DetailMode, Hierarchy, IN_REGION};
 const MAX_ROUNDS: usize = 200;
 /// Rings of movable neighbours around the turned faces relaxed with them.
 const RINGS: usize = 8;
+/// Vertex updates at most over all rounds (a refinement that turned faces over
+/// everywhere gets fewer rounds, at least [`MIN_ROUNDS`]).
+const MAX_WORK: usize = 20_000_000;
+/// Rounds at least, whatever the size of the relaxed neighbourhoods.
+const MIN_ROUNDS: usize = 8;
 
 impl Hierarchy {
     /// Unfolds the faces a refinement after an edit turned over (see the
@@ -113,7 +122,8 @@ impl Hierarchy {
         let count = |positions: &[DVec3]| around.iter().filter(|&&f| turned(positions, f)).count();
         let original: Vec<DVec3> = relaxed.iter().map(|&i| positions[i]).collect();
         let mut best = (count(&positions), original.clone());
-        for _ in 0..MAX_ROUNDS {
+        let rounds = MAX_ROUNDS.min((MAX_WORK / relaxed.len().max(1)).max(MIN_ROUNDS));
+        for _ in 0..rounds {
             let moved: Vec<Option<DVec3>> = relaxed
                 .iter()
                 .map(|&i| {
