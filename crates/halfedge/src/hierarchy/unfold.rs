@@ -31,10 +31,12 @@ const MAX_WORK: usize = 20_000_000;
 const MIN_ROUNDS: usize = 8;
 
 impl Hierarchy {
-    /// Unfolds the faces a refinement after an edit turned over (see the
-    /// [module docs](self)): the vertices of an edit's region placed by interpolation
-    /// around them are relaxed; vertices outside every region and vertices moved exactly
-    /// by an affine or field mark stay bit for bit. A walk finer
+    /// Unfolds the faces a refinement after an edit turned over against where they were
+    /// before the edit: the vertices of an edit's region placed by interpolation around
+    /// them (eight rings deep) have their displacements relaxed towards their
+    /// neighbours', keeping the round that turns the fewest faces over; vertices outside
+    /// every region and vertices moved exactly by an affine or field mark stay bit for
+    /// bit (see the coarse edits guide). A walk finer
     /// ([`seek`](Self::seek), [`go_to_level`](Self::go_to_level),
     /// [`refine_to`](Self::refine_to)) does this at its end; after refining one
     /// [`split_next`](Self::split_next) at a time, call it once at the level reached.
