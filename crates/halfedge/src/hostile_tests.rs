@@ -403,6 +403,12 @@ enum HOp {
     Ancestors(u32),
     /// `edit_input` moving an input vertex, or refusing in the closure.
     EditInput(u32, bool),
+    /// A bookmark of where the hierarchy is.
+    Bookmark,
+    /// Back to one of the bookmarks taken so far (some no longer fit).
+    ReturnTo(u32),
+    /// `unfold_refinement` where the hierarchy is.
+    Unfold,
 }
 
 fn hop() -> impl Strategy<Value = HOp> {
@@ -426,6 +432,9 @@ fn hop() -> impl Strategy<Value = HOp> {
         2 => (any::<u32>(), -320i16..=308, any::<bool>()).prop_map(|(v, e, c)| HOp::Mark(v, e, c)),
         1 => any::<u32>().prop_map(HOp::Ancestors),
         1 => (any::<u32>(), any::<bool>()).prop_map(|(v, ok)| HOp::EditInput(v, ok)),
+        2 => Just(HOp::Bookmark),
+        2 => any::<u32>().prop_map(HOp::ReturnTo),
+        1 => Just(HOp::Unfold),
     ]
 }
 
@@ -455,6 +464,7 @@ fn run_hierarchy(
     let mut h = Hierarchy::build(hierarchy_mesh(kind), &options.with_target_faces(20)).unwrap();
     let n_records = h.records().len() as u32 + 1;
     let n_levels = h.n_levels() as u32;
+    let mut bookmarks: Vec<crate::LevelBookmark> = Vec::new();
     for op in ops {
         let before = raw(h.mesh());
         let single = |r: crate::Result<bool>,
@@ -633,6 +643,36 @@ fn run_hierarchy(
                     }
                 }
             }
+            HOp::Bookmark => bookmarks.push(h.bookmark()),
+            HOp::ReturnTo(k) => {
+                if bookmarks.is_empty() {
+                    continue;
+                }
+                let b = &bookmarks[k as usize % bookmarks.len()];
+                let applied = h.applied();
+                match h.return_to(b) {
+                    Ok(()) => {
+                        stats.count("return_to accepted");
+                        prop_assert_eq!(h.applied(), b.applied());
+                        prop_assert!(h.mesh().positions() == b.positions());
+                    }
+                    // A walk back finer stops where a marked field overflows, as a
+                    // walk does.
+                    Err(crate::Error::Overflow(_)) => stats.count("overflow refused"),
+                    Err(e) => {
+                        stats.count("return_to refused");
+                        prop_assert!(
+                            raw(h.mesh()) == before && h.applied() == applied,
+                            "a refused return_to changed the hierarchy: {e}"
+                        );
+                    }
+                }
+            }
+            HOp::Unfold => {
+                let finite = live_positions_finite(h.mesh());
+                h.unfold_refinement();
+                prop_assert!(!finite || live_positions_finite(h.mesh()));
+            }
         }
         h.mesh()
             .check()
@@ -687,7 +727,7 @@ fn the_machines_reach_every_case() {
         assert!(kernel.get(what) > 0, "never: {what} ({kernel:?})");
     }
     let mut hierarchy = Stats::default();
-    for case in 0..40u32 {
+    for case in 0..80u32 {
         let ops = proptest::collection::vec(hop(), 1..60)
             .new_tree(&mut runner)
             .unwrap()
@@ -702,6 +742,8 @@ fn the_machines_reach_every_case() {
         "other refusal",
         "mark accepted",
         "edit_input refused",
+        "return_to accepted",
+        "return_to refused",
     ] {
         assert!(hierarchy.get(what) > 0, "never: {what} ({hierarchy:?})");
     }
@@ -954,4 +996,23 @@ fn a_hierarchy_of_non_finite_positions_is_refused() {
         matches!(e, Error::NonFiniteCoordinate { vertex: 4, .. }),
         "{e}"
     );
+}
+
+/// Coordinates near the largest `f64`: a midpoint or a quadric's optimum of two of them
+/// overflows, and such a collapse is refused; every level keeps finite positions (the
+/// hierarchy machine found a QEM build that did not).
+#[test]
+fn huge_coordinates_never_give_an_overflowed_placement() {
+    for options in [HierarchyOptions::rounds(), HierarchyOptions::qem()] {
+        let mut mesh = generators::icosphere(2);
+        for p in mesh.positions_mut() {
+            *p *= 1.5e308;
+        }
+        let mut h = Hierarchy::build(mesh, &options.with_target_faces(20)).unwrap();
+        for level in (0..h.n_levels()).rev() {
+            h.go_to_level(level).unwrap();
+            assert!(live_positions_finite(h.mesh()), "level {level}");
+            h.mesh().check().unwrap();
+        }
+    }
 }

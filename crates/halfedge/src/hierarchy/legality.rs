@@ -273,6 +273,11 @@ pub(crate) fn geometry(
     out: &mut NewNormals,
 ) -> bool {
     out.len = 0;
+    // A placement that overflowed (the midpoint of two huge coordinates, a quadric's
+    // optimum) would leave a non-finite position in the mesh.
+    if !p.is_finite() {
+        return false;
+    }
     for v in [c.v0, c.v1] {
         for k in mesh.outgoing_halfedges(v) {
             let Some(f) = mesh.face(k) else { continue };
@@ -378,6 +383,10 @@ impl Star {
         out: &mut NewNormals,
     ) -> bool {
         out.len = 0;
+        // As in `geometry`: an overflowed placement is refused.
+        if !p.is_finite() {
+            return false;
+        }
         let positions = &mesh.positions[..];
         for &[f, a, b] in &self.faces[..self.len] {
             let a = positions[a as usize];
