@@ -727,7 +727,7 @@ fn the_machines_reach_every_case() {
         assert!(kernel.get(what) > 0, "never: {what} ({kernel:?})");
     }
     let mut hierarchy = Stats::default();
-    for case in 0..80u32 {
+    for case in 0..200u32 {
         let ops = proptest::collection::vec(hop(), 1..60)
             .new_tree(&mut runner)
             .unwrap()
