@@ -9,12 +9,12 @@
 //! against where it was before the edit and touching a vertex of an edit's region that
 //! is placed by interpolation (not an exact affine or field mark, not outside every
 //! region: those stay bit for bit) has those vertices, and their interpolated neighbours
-//! [`RINGS`] rings deep, relaxed: each displacement (from where the vertex was before the
-//! edit) moves to the mean of its neighbours' (a Jacobi step of the displacement's
-//! uniform Laplacian, the exact and outside vertices its boundary), for at most
-//! [`MAX_ROUNDS`] rounds (fewer when the neighbourhoods are so large that they would take
-//! more than [`MAX_WORK`] vertex updates), and the round that turns the fewest faces over is kept (the
-//! positions as they were when no round turns fewer than they did).
+//! a few rings deep ([`DEPTHS`], tried in turn), relaxed: each displacement (from where
+//! the vertex was before the edit) moves to the mean of its neighbours' (a Jacobi step of
+//! the displacement's uniform Laplacian, the exact and outside vertices its boundary),
+//! for at most [`MAX_ROUNDS`] rounds per depth (fewer when the neighbourhoods are so large
+//! that they would take more than [`MAX_WORK`] vertex updates). The depth and round that
+//! turn the fewest faces over are kept (the positions as they were when none turns fewer).
 
 use glam::DVec3;
 
@@ -22,8 +22,10 @@ use super::{DetailMode, Hierarchy, IN_REGION};
 
 /// Rounds of relaxation at most.
 const MAX_ROUNDS: usize = 200;
-/// Rings of movable neighbours around the turned faces relaxed with them.
-const RINGS: usize = 8;
+/// Rings of movable neighbours around the turned faces relaxed with them: each depth in
+/// turn, from the turned faces' own vertices outwards, until one unfolds everything (the
+/// depth that turns the fewest faces over is kept).
+const DEPTHS: [usize; 4] = [2, 4, 8, 16];
 /// Vertex updates at most over all rounds (a refinement that turned faces over
 /// everywhere gets fewer rounds, at least [`MIN_ROUNDS`]).
 const MAX_WORK: usize = 20_000_000;
@@ -33,7 +35,7 @@ const MIN_ROUNDS: usize = 8;
 impl Hierarchy {
     /// Unfolds the faces a refinement after an edit turned over against where they were
     /// before the edit: the vertices of an edit's region placed by interpolation around
-    /// them (eight rings deep) have their displacements relaxed towards their
+    /// them (up to sixteen rings deep) have their displacements relaxed towards their
     /// neighbours', keeping the round that turns the fewest faces over; vertices outside
     /// every region and vertices moved exactly by an affine or field mark stay bit for
     /// bit (see the coarse edits guide). A walk finer
@@ -96,25 +98,32 @@ impl Hierarchy {
             return;
         }
         // The vertices relaxed: the movable ones of the turned faces and their movable
-        // neighbours, [`RINGS`] rings deep (so that the step spreads).
-        let mut relaxed: Vec<usize> = flipped
+        // neighbours some rings deep (so that the step spreads), for each depth of
+        // [`DEPTHS`] (the deepest set holds the others).
+        let mut grown: Vec<usize> = flipped
             .iter()
             .flat_map(|&f| mesh.triangle(f))
             .map(|v| mesh.vertex_index(v))
             .collect();
-        for _ in 0..RINGS {
-            let grown: Vec<usize> = relaxed
+        let mut sets: Vec<Vec<usize>> = Vec::with_capacity(DEPTHS.len());
+        for ring in 1..=DEPTHS[DEPTHS.len() - 1] {
+            let next: Vec<usize> = grown
                 .iter()
                 .filter_map(|&i| mesh.vertex_at(i))
                 .flat_map(|v| mesh.adjacent_vertices(v))
                 .map(|w| mesh.vertex_index(w))
                 .collect();
-            relaxed.extend(grown);
-            relaxed.sort_unstable();
-            relaxed.dedup();
+            grown.extend(next);
+            grown.sort_unstable();
+            grown.dedup();
+            if DEPTHS.contains(&ring) {
+                sets.push(grown.iter().copied().filter(|&i| movable(i)).collect());
+            }
         }
-        relaxed.retain(|&i| movable(i));
-        let mut around: Vec<crate::FaceId> = relaxed
+        let deepest = &sets[sets.len() - 1];
+        // Turned faces are counted over the faces around the deepest set (the others are
+        // as they were whatever the depth).
+        let mut around: Vec<crate::FaceId> = deepest
             .iter()
             .filter_map(|&i| mesh.vertex_at(i))
             .flat_map(|v| mesh.adjacent_faces(v))
@@ -122,40 +131,49 @@ impl Hierarchy {
         around.sort_unstable_by_key(|&f| mesh.face_index(f));
         around.dedup();
         let count = |positions: &[DVec3]| around.iter().filter(|&&f| turned(positions, f)).count();
-        let original: Vec<DVec3> = relaxed.iter().map(|&i| positions[i]).collect();
+        let original: Vec<DVec3> = deepest.iter().map(|&i| positions[i]).collect();
+        let put = |positions: &mut [DVec3], values: &[DVec3]| {
+            for (&i, &p) in deepest.iter().zip(values) {
+                positions[i] = p;
+            }
+        };
         let mut best = (count(&positions), original.clone());
-        let rounds = MAX_ROUNDS.min((MAX_WORK / relaxed.len().max(1)).max(MIN_ROUNDS));
-        for _ in 0..rounds {
-            let moved: Vec<Option<DVec3>> = relaxed
-                .iter()
-                .map(|&i| {
-                    let v = mesh.vertex_at(i)?;
-                    let (mut sum, mut n) = (DVec3::ZERO, 0usize);
-                    for w in mesh.adjacent_vertices(v) {
-                        let j = mesh.vertex_index(w);
-                        sum += positions[j] - rest_of(j)?;
-                        n += 1;
+        for relaxed in &sets {
+            put(&mut positions, &original);
+            let rounds = MAX_ROUNDS.min((MAX_WORK / relaxed.len().max(1)).max(MIN_ROUNDS));
+            for _ in 0..rounds {
+                let moved: Vec<Option<DVec3>> = relaxed
+                    .iter()
+                    .map(|&i| {
+                        let v = mesh.vertex_at(i)?;
+                        let (mut sum, mut n) = (DVec3::ZERO, 0usize);
+                        for w in mesh.adjacent_vertices(v) {
+                            let j = mesh.vertex_index(w);
+                            sum += positions[j] - rest_of(j)?;
+                            n += 1;
+                        }
+                        let at_rest = rest_of(i)?;
+                        (n > 0).then(|| at_rest + sum / n as f64)
+                    })
+                    .collect();
+                for (&i, p) in relaxed.iter().zip(&moved) {
+                    if let Some(p) = p.filter(|p| p.is_finite()) {
+                        positions[i] = p;
                     }
-                    let at_rest = rest_of(i)?;
-                    (n > 0).then(|| at_rest + sum / n as f64)
-                })
-                .collect();
-            for (&i, p) in relaxed.iter().zip(&moved) {
-                if let Some(p) = p.filter(|p| p.is_finite()) {
-                    positions[i] = p;
+                }
+                let turned_now = count(&positions);
+                if turned_now < best.0 {
+                    best = (turned_now, deepest.iter().map(|&i| positions[i]).collect());
+                }
+                if turned_now == 0 {
+                    break;
                 }
             }
-            let turned_now = count(&positions);
-            if turned_now < best.0 {
-                best = (turned_now, relaxed.iter().map(|&i| positions[i]).collect());
-            }
-            if turned_now == 0 {
+            if best.0 == 0 {
                 break;
             }
         }
-        for (&i, &p) in relaxed.iter().zip(&best.1) {
-            positions[i] = p;
-        }
+        put(&mut positions, &best.1);
         self.mesh.positions = positions;
     }
 }
