@@ -131,6 +131,37 @@ fn bench(c: &mut Criterion) {
             )
         });
     }
+    // A region edit of the coarsest mesh (half of it lifted by a ramp, marked as the
+    // edit's region): refinement interpolates between moved and still parts, and the walk
+    // ends by unfolding what it turned over (`Hierarchy::unfold_refinement`).
+    {
+        let built = Hierarchy::build(mesh.clone(), &rounds_options()).unwrap();
+        let (lo, hi) = mesh.bounding_box().unwrap();
+        let mid = 0.5 * (lo + hi);
+        group.bench_function("rounds_refine_all_after_coarse_region_edit", |b| {
+            b.iter_batched(
+                || {
+                    let mut h = built.clone();
+                    let m = h.mesh();
+                    let region: Vec<halfedge::VertexId> =
+                        m.vertices().filter(|&v| m.position(v).x > mid.x).collect();
+                    for &v in &region {
+                        let p = h.mesh().position(v);
+                        let ramp = ((p.x - mid.x) / (hi.x - mid.x)).powi(2);
+                        let q = p + glam::DVec3::Z * (0.05 * (hi.z - lo.z) * ramp);
+                        h.mesh_mut().set_position(v, q);
+                    }
+                    h.mark_region(&region).unwrap();
+                    h
+                },
+                |mut h| {
+                    h.refine_to(0).unwrap();
+                    h
+                },
+                BatchSize::LargeInput,
+            )
+        });
+    }
     // Issue 13: a frontier defined on the full mesh and made to hold at every level
     // (label the two sides of a plane through the middle, `constrain_to_labels`: the
     // records replayed, those near the frontier planned again), against
