@@ -13,7 +13,8 @@
 //! the vertex was before the edit) moves to the mean of its neighbours' (a Jacobi step of
 //! the displacement's uniform Laplacian, the exact and outside vertices its boundary),
 //! for at most [`MAX_ROUNDS`] rounds per depth (fewer when the neighbourhoods are so large
-//! that they would take more than [`MAX_WORK`] vertex updates). The depth and round that
+//! that they would take more than [`MAX_WORK`] vertex updates, and a depth is given up
+//! after [`STALLED_ROUNDS`] rounds that turn no fewer faces over). The depth and round that
 //! turn the fewest faces over are kept (the positions as they were when none turns fewer).
 
 use glam::DVec3;
@@ -31,6 +32,8 @@ const DEPTHS: [usize; 4] = [2, 4, 8, 16];
 const MAX_WORK: usize = 20_000_000;
 /// Rounds at least, whatever the size of the relaxed neighbourhoods.
 const MIN_ROUNDS: usize = 8;
+/// A depth is given up after this many rounds without turning fewer faces over.
+const STALLED_ROUNDS: usize = 60;
 
 impl Hierarchy {
     /// Unfolds the faces a refinement after an edit turned over against where they were
@@ -121,26 +124,37 @@ impl Hierarchy {
             }
         }
         let deepest = &sets[sets.len() - 1];
-        // Turned faces are counted over the faces around the deepest set (the others are
-        // as they were whatever the depth).
-        let mut around: Vec<crate::FaceId> = deepest
-            .iter()
-            .filter_map(|&i| mesh.vertex_at(i))
-            .flat_map(|v| mesh.adjacent_faces(v))
-            .collect();
-        around.sort_unstable_by_key(|&f| mesh.face_index(f));
-        around.dedup();
-        let count = |positions: &[DVec3]| around.iter().filter(|&&f| turned(positions, f)).count();
+        // The faces around a set of vertices: the only ones whose turn relaxing them
+        // changes.
+        let around = |set: &[usize]| -> Vec<crate::FaceId> {
+            let mut faces: Vec<crate::FaceId> = set
+                .iter()
+                .filter_map(|&i| mesh.vertex_at(i))
+                .flat_map(|v| mesh.adjacent_faces(v))
+                .collect();
+            faces.sort_unstable_by_key(|&f| mesh.face_index(f));
+            faces.dedup();
+            faces
+        };
+        let count = |faces: &[crate::FaceId], positions: &[DVec3]| {
+            faces.iter().filter(|&&f| turned(positions, f)).count()
+        };
         let original: Vec<DVec3> = deepest.iter().map(|&i| positions[i]).collect();
         let put = |positions: &mut [DVec3], values: &[DVec3]| {
             for (&i, &p) in deepest.iter().zip(values) {
                 positions[i] = p;
             }
         };
-        let mut best = (count(&positions), original.clone());
+        // Turned faces, counted as the change from the original around each depth's set
+        // (faces further out are as they were whatever the depth).
+        let mut best: (isize, Vec<DVec3>) = (0, original.clone());
+        let mut unfolded = false;
         for relaxed in &sets {
             put(&mut positions, &original);
+            let faces = around(relaxed);
+            let base = count(&faces, &positions) as isize;
             let rounds = MAX_ROUNDS.min((MAX_WORK / relaxed.len().max(1)).max(MIN_ROUNDS));
+            let mut since_best = 0;
             for _ in 0..rounds {
                 let moved: Vec<Option<DVec3>> = relaxed
                     .iter()
@@ -161,15 +175,23 @@ impl Hierarchy {
                         positions[i] = p;
                     }
                 }
-                let turned_now = count(&positions);
-                if turned_now < best.0 {
-                    best = (turned_now, deepest.iter().map(|&i| positions[i]).collect());
+                let now = count(&faces, &positions);
+                let change = now as isize - base;
+                if change < best.0 {
+                    best = (change, deepest.iter().map(|&i| positions[i]).collect());
+                    since_best = 0;
+                } else {
+                    since_best += 1;
                 }
-                if turned_now == 0 {
+                if now == 0 {
+                    unfolded = true;
+                    break;
+                }
+                if since_best >= STALLED_ROUNDS {
                     break;
                 }
             }
-            if best.0 == 0 {
+            if unfolded {
                 break;
             }
         }
