@@ -96,7 +96,7 @@ impl Hierarchy {
         if bookmark.applied > self.records.len()
             || bookmark.positions.len() != self.mesh.positions.len()
         {
-            // Cannot happen for a bookmark of this hierarchy and generation.
+            // Cannot happen for a bookmark of this hierarchy whose records were kept.
             return refuse("the bookmark does not fit the hierarchy");
         }
         if bookmark.applied < self.applied {
