@@ -454,14 +454,16 @@ impl Document {
                     // Back to a position the hierarchy has been at, exactly; when the
                     // bookmark no longer fits (cannot happen with LIFO steps), a walk
                     // there with the positions put back.
-                    let back = h.return_to(&bookmark).is_ok()
-                        || h.seek(bookmark.applied()).is_ok_and(|()| {
+                    let back = h.return_to(&bookmark).is_ok() || {
+                        let walked = h.seek(bookmark.applied()).is_ok();
+                        if walked {
                             let target = h.mesh_mut().positions_mut();
                             if target.len() == bookmark.positions().len() {
                                 target.copy_from_slice(bookmark.positions());
                             }
-                            true
-                        });
+                        }
+                        walked
+                    };
                     if back {
                         self.bump_all();
                         now
