@@ -16,10 +16,15 @@
 //! that they would take more than [`MAX_WORK`] vertex updates, and a depth is given up
 //! after [`STALLED_ROUNDS`] rounds that turn no fewer faces over). The depth and round that
 //! turn the fewest faces over are kept (the positions as they were when none turns fewer).
+//! Faces the relaxation leaves turned (a step too steep for it: a coarse vertex moved by a
+//! coarse edge's share next to fine vertices that stay or land exactly) are then drawn
+//! back by ramps: from their exactly moved corners towards those corners' motion
+//! ([`retreat_from_exact`]), then around each face towards where it was
+//! ([`retreat_around`]); a ramp is kept only if it turns fewer faces over.
 
 use glam::DVec3;
 
-use super::{DetailMode, Hierarchy, IN_REGION};
+use super::{DetailMode, Hierarchy, IN_REGION, UNMARKED};
 
 /// Rounds of relaxation at most.
 const MAX_ROUNDS: usize = 200;
@@ -39,9 +44,11 @@ impl Hierarchy {
     /// Unfolds the faces a refinement after an edit turned over against where they were
     /// before the edit: the vertices of an edit's region placed by interpolation around
     /// them (up to sixteen rings deep) have their displacements relaxed towards their
-    /// neighbours', keeping the round that turns the fewest faces over; vertices outside
-    /// every region and vertices moved exactly by an affine or field mark stay bit for
-    /// bit (see the coarse edits guide). A walk finer
+    /// neighbours', keeping the round that turns the fewest faces over, and what that
+    /// leaves turned is drawn back by ramps from the exactly moved vertices beside it (a
+    /// ramp is kept only if it turns fewer faces over); vertices outside every region and
+    /// vertices moved exactly by an affine or field mark stay bit for bit (see the coarse
+    /// edits guide). A walk finer
     /// ([`seek`](Self::seek), [`go_to_level`](Self::go_to_level),
     /// [`refine_to`](Self::refine_to)) does this at its end; after refining one
     /// [`split_next`](Self::split_next) at a time, call it once at the level reached.
@@ -196,8 +203,232 @@ impl Hierarchy {
             }
         }
         put(&mut positions, &best.1);
+        if !unfolded {
+            // What the relaxation left turned: drawn back towards where it was.
+            let mut left: Vec<crate::FaceId> = around(deepest);
+            left.retain(|&f| turned(&positions, f));
+            // The corners of those faces that moved exactly: still (unmarked, where they
+            // were) or where their affine or field mark takes them (their mark's index).
+            let mut kinds: std::collections::BTreeMap<usize, Option<usize>> = Default::default();
+            for &f in &left {
+                for v in mesh.triangle(f) {
+                    let i = mesh.vertex_index(v);
+                    let Some(at_rest) = rest_of(i) else { continue };
+                    let mark = marks.of(i);
+                    let kind = if mark == UNMARKED {
+                        (positions[i] == at_rest).then_some(None)
+                    } else if mark == IN_REGION {
+                        None
+                    } else {
+                        marks.maps.get(mark as usize).and_then(|map| {
+                            let at = super::detail::Collapsed {
+                                p0: at_rest,
+                                p1: at_rest,
+                                placed: at_rest,
+                            };
+                            super::detail::Details::motion_placement(map, positions[i], at)
+                                .map(|_| Some(mark as usize))
+                        })
+                    };
+                    if let Some(kind) = kind {
+                        kinds.insert(i, kind);
+                    }
+                }
+            }
+            let exact = |i: usize, p: DVec3| -> Option<DVec3> {
+                match kinds.get(&i)? {
+                    None => Some(p),
+                    Some(k) => Some(marks.maps.get(*k)?.apply(p)),
+                }
+            };
+            retreat_from_exact(mesh, &mut positions, rest, &movable, &exact, &left);
+            retreat_around(mesh, &mut positions, rest, &movable, &left);
+        }
         self.mesh.positions = positions;
     }
+}
+
+/// Rings of the ramps [`retreat_from_exact`] tries.
+const RETREAT_RINGS: [usize; 4] = [2, 4, 8, 16];
+/// Rings of the ramps [`retreat_around`] tries: shorter, since they draw the edit's
+/// motion back towards where the vertices were (sixteen rings changed a Lee drag on one
+/// test mesh by half a percent of its diagonal to unfold two faces).
+const AROUND_RINGS: [usize; 3] = [2, 4, 8];
+/// Vertices [`retreat_around`] ramps at most over all faces (a refinement that left
+/// faces turned everywhere is not ramped face by face beyond that).
+const MAX_RETREAT_WORK: usize = 2_000_000;
+
+/// The faces of `faces` still turned over with a corner that moved exactly (stayed where
+/// it was before the edit, or follows its affine or field mark) are where the motion
+/// steps from that corner's to an edge's length more or less, too steep for the
+/// relaxation to unfold (a coarse vertex moved by a coarse edge's share next to fine
+/// vertices that stay or land exactly). `exact` gives such a corner's motion at a point
+/// (`p` ↦ where its mark takes `p`, or `p` for a still vertex), `None` for the others.
+/// The movable vertices up to `k` rings from those corners are drawn towards the motion
+/// of the nearest one (breadth first), all of the way next to it and not at all `k`
+/// rings out, for each `k` of [`RETREAT_RINGS`] (see [`ramp_best`]).
+fn retreat_from_exact(
+    mesh: &crate::Mesh,
+    positions: &mut [DVec3],
+    rest: &[[f64; 3]],
+    movable: &dyn Fn(usize) -> bool,
+    exact: &dyn Fn(usize, DVec3) -> Option<DVec3>,
+    faces: &[crate::FaceId],
+) {
+    let mut sources: Vec<usize> = faces
+        .iter()
+        .filter(|&&f| turned_at(positions, rest, corners(mesh, f)))
+        .flat_map(|&f| corners(mesh, f))
+        .filter(|&i| !movable(i) && rest_of(rest, i).is_some_and(|r| exact(i, r).is_some()))
+        .collect();
+    sources.sort_unstable();
+    sources.dedup();
+    let depth = RETREAT_RINGS[RETREAT_RINGS.len() - 1];
+    let reached = rings(mesh, sources, movable, rest, depth);
+    // Where each vertex goes all of the way: its nearest source's motion of its rest.
+    let targets: Vec<DVec3> = reached
+        .iter()
+        .map(|&(i, _, source)| {
+            let at_rest = rest_of(rest, i).unwrap_or(positions[i]);
+            exact(source, at_rest)
+                .filter(|t| t.is_finite())
+                .unwrap_or(positions[i])
+        })
+        .collect();
+    ramp_best(mesh, positions, rest, &reached, &targets, &RETREAT_RINGS);
+}
+
+/// For each face of `faces` still turned over (in order): the movable vertices up to `k`
+/// rings from its movable corners are drawn back towards where they were before the
+/// edit, all of the way at the corners and not at all `k` rings out, for each `k` of
+/// [`AROUND_RINGS`] (see [`ramp_best`]), until [`MAX_RETREAT_WORK`] vertices were
+/// ramped. What [`retreat_from_exact`] leaves: a fold beside vertices that moved
+/// exactly, or between interpolated ones.
+fn retreat_around(
+    mesh: &crate::Mesh,
+    positions: &mut [DVec3],
+    rest: &[[f64; 3]],
+    movable: &dyn Fn(usize) -> bool,
+    faces: &[crate::FaceId],
+) {
+    let depth = AROUND_RINGS[AROUND_RINGS.len() - 1];
+    let mut work = 0usize;
+    for &face in faces {
+        if work > MAX_RETREAT_WORK {
+            break;
+        }
+        if !turned_at(positions, rest, corners(mesh, face)) {
+            continue;
+        }
+        let from: Vec<usize> = corners(mesh, face)
+            .into_iter()
+            .filter(|&i| movable(i) && rest_of(rest, i).is_some())
+            .collect();
+        let reached = rings(mesh, from, movable, rest, depth);
+        work += reached.len();
+        let targets: Vec<DVec3> = reached
+            .iter()
+            .map(|&(i, _, _)| rest_of(rest, i).unwrap_or(positions[i]))
+            .collect();
+        ramp_best(mesh, positions, rest, &reached, &targets, &AROUND_RINGS);
+    }
+}
+
+/// The vertex slots of face `f`'s corners.
+#[inline]
+fn corners(mesh: &crate::Mesh, f: crate::FaceId) -> [usize; 3] {
+    mesh.triangle(f).map(|v| mesh.vertex_index(v))
+}
+
+/// Where vertex `i` was before the edit.
+#[inline]
+fn rest_of(rest: &[[f64; 3]], i: usize) -> Option<DVec3> {
+    rest.get(i).map(|&p| DVec3::from_array(p))
+}
+
+/// The movable vertices (with a position in `rest`) up to `depth` rings from the
+/// vertices `from`, breadth first: `(vertex, ring, the vertex of from it was reached
+/// from)`, a movable vertex of `from` itself at ring 0.
+fn rings(
+    mesh: &crate::Mesh,
+    from: Vec<usize>,
+    movable: &dyn Fn(usize) -> bool,
+    rest: &[[f64; 3]],
+    depth: usize,
+) -> Vec<(usize, usize, usize)> {
+    let mut origin: std::collections::BTreeMap<usize, usize> =
+        from.iter().map(|&i| (i, i)).collect();
+    let mut reached: Vec<(usize, usize, usize)> = from
+        .iter()
+        .filter(|&&i| movable(i))
+        .map(|&i| (i, 0, i))
+        .collect();
+    let mut frontier = from;
+    for ring in 1..=depth {
+        let mut next = Vec::new();
+        for &i in &frontier {
+            let Some(v) = mesh.vertex_at(i) else { continue };
+            let source = origin[&i];
+            for w in mesh.adjacent_vertices(v) {
+                let j = mesh.vertex_index(w);
+                if movable(j) && j < rest.len() && !origin.contains_key(&j) {
+                    origin.insert(j, source);
+                    next.push(j);
+                    reached.push((j, ring, source));
+                }
+            }
+        }
+        next.sort_unstable();
+        frontier = next;
+    }
+    reached
+}
+
+/// Draws the vertices `reached` (from [`rings`]) towards their `targets` by a ramp: at
+/// ring `r < k` a vertex keeps `r / k` of the way from its target to where it is, beyond
+/// it stays. Tries each `k` of `depths` and keeps the one that turns the fewest faces
+/// around those vertices over, if fewer than before; else nothing changes.
+fn ramp_best(
+    mesh: &crate::Mesh,
+    positions: &mut [DVec3],
+    rest: &[[f64; 3]],
+    reached: &[(usize, usize, usize)],
+    targets: &[DVec3],
+    depths: &[usize],
+) {
+    if reached.is_empty() {
+        return;
+    }
+    let mut fan: Vec<crate::FaceId> = reached
+        .iter()
+        .filter_map(|&(i, _, _)| mesh.vertex_at(i))
+        .flat_map(|v| mesh.adjacent_faces(v))
+        .collect();
+    fan.sort_unstable_by_key(|&f| mesh.face_index(f));
+    fan.dedup();
+    let count = |positions: &[DVec3]| {
+        fan.iter()
+            .filter(|&&f| turned_at(positions, rest, corners(mesh, f)))
+            .count()
+    };
+    let original: Vec<DVec3> = reached.iter().map(|&(i, _, _)| positions[i]).collect();
+    let ramp = |positions: &mut [DVec3], k: Option<usize>| {
+        for ((&(i, ring, _), &p), &t) in reached.iter().zip(&original).zip(targets) {
+            positions[i] = match k {
+                Some(k) if ring < k => t + (ring as f64 / k as f64) * (p - t),
+                _ => p,
+            };
+        }
+    };
+    let mut best = (count(positions), None);
+    for &k in depths {
+        ramp(positions, Some(k));
+        let now = count(positions);
+        if now < best.0 {
+            best = (now, Some(k));
+        }
+    }
+    ramp(positions, best.1);
 }
 
 /// True when the triangle of vertex slots `[a, b, c]` is turned over at `positions`
@@ -212,4 +443,127 @@ fn turned_at(positions: &[DVec3], rest: &[[f64; 3]], [a, b, c]: [usize; 3]) -> b
     let now = (positions[b] - positions[a]).cross(positions[c] - positions[a]);
     let then = (rb - ra).cross(rc - ra);
     now.dot(then) < 0.0
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Both retreats, in the order the unfolding runs them.
+    fn retreat(
+        mesh: &crate::Mesh,
+        positions: &mut [DVec3],
+        rest: &[[f64; 3]],
+        movable: &dyn Fn(usize) -> bool,
+        faces: &[crate::FaceId],
+    ) {
+        let still = |i: usize, p: DVec3| (!movable(i)).then_some(p);
+        retreat_from_exact(mesh, positions, rest, movable, &still, faces);
+        retreat_around(mesh, positions, rest, movable, faces);
+    }
+
+    /// Faces of `mesh` turned over at `positions` against `rest`.
+    fn turned(mesh: &crate::Mesh, positions: &[DVec3], rest: &[[f64; 3]]) -> usize {
+        mesh.faces()
+            .filter(|&f| {
+                turned_at(
+                    positions,
+                    rest,
+                    mesh.triangle(f).map(|v| mesh.vertex_index(v)),
+                )
+            })
+            .count()
+    }
+
+    #[test]
+    fn a_steep_step_next_to_still_vertices_is_spread_over_a_ramp() {
+        // A flat grid of spacing 1/40: the strip x < 0.25 stays, everything else is
+        // pushed by 0.3 (twelve columns) towards it: the faces between the two turn
+        // over, and only a ramp of more than twelve rings unfolds them.
+        let mesh = crate::generators::grid(41, 41, 1.0, 1.0);
+        let rest: Vec<[f64; 3]> = mesh.positions().iter().map(|p| p.to_array()).collect();
+        let movable = |i: usize| rest[i][0] >= 0.25;
+        let mut positions: Vec<DVec3> = mesh
+            .positions()
+            .iter()
+            .map(|&p| if p.x >= 0.25 { p - DVec3::X * 0.3 } else { p })
+            .collect();
+        let before = turned(&mesh, &positions, &rest);
+        assert!(before > 0);
+        let faces: Vec<crate::FaceId> = mesh
+            .faces()
+            .filter(|&f| {
+                turned_at(
+                    &positions,
+                    &rest,
+                    mesh.triangle(f).map(|v| mesh.vertex_index(v)),
+                )
+            })
+            .collect();
+        let still: Vec<DVec3> = positions.clone();
+        retreat(&mesh, &mut positions, &rest, &movable, &faces);
+        assert_eq!(
+            turned(&mesh, &positions, &rest),
+            0,
+            "{before} turned before"
+        );
+        for (i, (&p, &q)) in positions.iter().zip(&still).enumerate() {
+            if !movable(i) {
+                assert_eq!(
+                    p.to_array().map(f64::to_bits),
+                    q.to_array().map(f64::to_bits)
+                );
+            }
+        }
+        // Beyond the ramp (sixteen rings, x < 0.65) the push is kept.
+        let far = positions
+            .iter()
+            .zip(&rest)
+            .filter(|(_, r)| r[0] > 0.9)
+            .all(|(p, r)| (p.x - (r[0] - 0.3)).abs() < 1e-12);
+        assert!(far);
+    }
+
+    #[test]
+    fn a_fold_no_ramp_can_undo_is_left_as_it_is() {
+        // The vertices that may not move (x <= 0.5) are the ones mirrored across: no
+        // ramp of the movable ones undoes that; the count never grows and the others
+        // stay bit for bit.
+        let mesh = crate::generators::grid(6, 6, 1.0, 1.0);
+        let rest: Vec<[f64; 3]> = mesh.positions().iter().map(|p| p.to_array()).collect();
+        let movable = |i: usize| rest[i][0] > 0.5;
+        let mut positions: Vec<DVec3> = mesh
+            .positions()
+            .iter()
+            .map(|&p| {
+                if p.x <= 0.5 {
+                    DVec3::new(1.5 - p.x, p.y, p.z)
+                } else {
+                    p
+                }
+            })
+            .collect();
+        let faces: Vec<crate::FaceId> = mesh
+            .faces()
+            .filter(|&f| {
+                turned_at(
+                    &positions,
+                    &rest,
+                    mesh.triangle(f).map(|v| mesh.vertex_index(v)),
+                )
+            })
+            .collect();
+        let before = turned(&mesh, &positions, &rest);
+        let edited = positions.clone();
+        retreat(&mesh, &mut positions, &rest, &movable, &faces);
+        assert!(turned(&mesh, &positions, &rest) <= before);
+        for (i, (&p, &q)) in positions.iter().zip(&edited).enumerate() {
+            if !movable(i) {
+                assert_eq!(
+                    p.to_array().map(f64::to_bits),
+                    q.to_array().map(f64::to_bits)
+                );
+            }
+        }
+    }
 }
