@@ -463,16 +463,23 @@ mod tests {
     }
 
     /// Faces of `mesh` turned over at `positions` against `rest`.
-    fn turned(mesh: &crate::Mesh, positions: &[DVec3], rest: &[[f64; 3]]) -> usize {
+    fn turned(mesh: &crate::Mesh, positions: &[DVec3], rest: &[[f64; 3]]) -> Vec<crate::FaceId> {
         mesh.faces()
-            .filter(|&f| {
-                turned_at(
-                    positions,
-                    rest,
-                    mesh.triangle(f).map(|v| mesh.vertex_index(v)),
-                )
-            })
-            .count()
+            .filter(|&f| turned_at(positions, rest, corners(mesh, f)))
+            .collect()
+    }
+
+    /// Asserts that the vertices `movable` rejects are bit for bit as in `before`.
+    fn assert_unmoved(positions: &[DVec3], before: &[DVec3], movable: &dyn Fn(usize) -> bool) {
+        for (i, (&p, &q)) in positions.iter().zip(before).enumerate() {
+            if !movable(i) {
+                assert_eq!(
+                    p.to_array().map(f64::to_bits),
+                    q.to_array().map(f64::to_bits),
+                    "{i}"
+                );
+            }
+        }
     }
 
     #[test]
@@ -488,33 +495,17 @@ mod tests {
             .iter()
             .map(|&p| if p.x >= 0.25 { p - DVec3::X * 0.3 } else { p })
             .collect();
-        let before = turned(&mesh, &positions, &rest);
-        assert!(before > 0);
-        let faces: Vec<crate::FaceId> = mesh
-            .faces()
-            .filter(|&f| {
-                turned_at(
-                    &positions,
-                    &rest,
-                    mesh.triangle(f).map(|v| mesh.vertex_index(v)),
-                )
-            })
-            .collect();
+        let faces = turned(&mesh, &positions, &rest);
+        assert!(!faces.is_empty());
         let still: Vec<DVec3> = positions.clone();
         retreat(&mesh, &mut positions, &rest, &movable, &faces);
         assert_eq!(
-            turned(&mesh, &positions, &rest),
+            turned(&mesh, &positions, &rest).len(),
             0,
-            "{before} turned before"
+            "{} turned before",
+            faces.len()
         );
-        for (i, (&p, &q)) in positions.iter().zip(&still).enumerate() {
-            if !movable(i) {
-                assert_eq!(
-                    p.to_array().map(f64::to_bits),
-                    q.to_array().map(f64::to_bits)
-                );
-            }
-        }
+        assert_unmoved(&positions, &still, &movable);
         // Beyond the ramp (sixteen rings, x < 0.65) the push is kept.
         let far = positions
             .iter()
@@ -543,27 +534,11 @@ mod tests {
                 }
             })
             .collect();
-        let faces: Vec<crate::FaceId> = mesh
-            .faces()
-            .filter(|&f| {
-                turned_at(
-                    &positions,
-                    &rest,
-                    mesh.triangle(f).map(|v| mesh.vertex_index(v)),
-                )
-            })
-            .collect();
-        let before = turned(&mesh, &positions, &rest);
+        let faces = turned(&mesh, &positions, &rest);
+        assert!(!faces.is_empty());
         let edited = positions.clone();
         retreat(&mesh, &mut positions, &rest, &movable, &faces);
-        assert!(turned(&mesh, &positions, &rest) <= before);
-        for (i, (&p, &q)) in positions.iter().zip(&edited).enumerate() {
-            if !movable(i) {
-                assert_eq!(
-                    p.to_array().map(f64::to_bits),
-                    q.to_array().map(f64::to_bits)
-                );
-            }
-        }
+        assert!(turned(&mesh, &positions, &rest).len() <= faces.len());
+        assert_unmoved(&positions, &edited, &movable);
     }
 }
