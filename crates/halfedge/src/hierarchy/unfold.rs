@@ -20,7 +20,9 @@
 //! coarse edge's share next to fine vertices that stay or land exactly) are then drawn
 //! back by ramps: from their exactly moved corners towards those corners' motion
 //! ([`retreat_from_exact`]), then around each face towards where it was
-//! ([`retreat_around`]); a ramp is kept only if it turns fewer faces over.
+//! ([`retreat_around`]); and last each interpolated corner of a face still turned is
+//! moved towards its neighbours' centroid ([`untangle`]). Each step is kept only if it
+//! turns fewer faces over.
 
 use glam::DVec3;
 
@@ -44,9 +46,10 @@ impl Hierarchy {
     /// Unfolds the faces a refinement after an edit turned over against where they were
     /// before the edit: the vertices of an edit's region placed by interpolation around
     /// them (up to sixteen rings deep) have their displacements relaxed towards their
-    /// neighbours', keeping the round that turns the fewest faces over, and what that
-    /// leaves turned is drawn back by ramps from the exactly moved vertices beside it (a
-    /// ramp is kept only if it turns fewer faces over); vertices outside every region and
+    /// neighbours', keeping the round that turns the fewest faces over; what that leaves
+    /// turned is drawn back by ramps from the exactly moved vertices beside it and then
+    /// untangled towards its neighbours' centroids (each step kept only if it turns fewer
+    /// faces over); vertices outside every region and
     /// vertices moved exactly by an affine or field mark stay bit for bit (see the coarse
     /// edits guide). A walk finer
     /// ([`seek`](Self::seek), [`go_to_level`](Self::go_to_level),
@@ -243,6 +246,7 @@ impl Hierarchy {
             };
             retreat_from_exact(mesh, &mut positions, rest, &movable, &exact, &left);
             retreat_around(mesh, &mut positions, rest, &movable, &left);
+            untangle(mesh, &mut positions, rest, &movable, &left);
         }
         self.mesh.positions = positions;
     }
@@ -331,6 +335,55 @@ fn retreat_around(
             .map(|&(i, _, _)| rest_of(rest, i).unwrap_or(positions[i]))
             .collect();
         ramp_best(mesh, positions, rest, &reached, &targets, &AROUND_RINGS);
+    }
+}
+
+/// For each face of `faces` still turned over (in order), each of its movable corners is
+/// moved towards the centroid of its neighbours (a quarter, half, three quarters or all
+/// of the way), keeping the move that turns the fewest faces around it over if fewer than
+/// before: the classic untangling step, for a fold among interpolated vertices that no
+/// displacement ramp undoes.
+fn untangle(
+    mesh: &crate::Mesh,
+    positions: &mut [DVec3],
+    rest: &[[f64; 3]],
+    movable: &dyn Fn(usize) -> bool,
+    faces: &[crate::FaceId],
+) {
+    for &face in faces {
+        if !turned_at(positions, rest, corners(mesh, face)) {
+            continue;
+        }
+        for i in corners(mesh, face) {
+            let Some(v) = mesh.vertex_at(i).filter(|_| movable(i)) else {
+                continue;
+            };
+            let (mut sum, mut n) = (DVec3::ZERO, 0usize);
+            for w in mesh.adjacent_vertices(v) {
+                sum += positions[mesh.vertex_index(w)];
+                n += 1;
+            }
+            let centroid = sum / n.max(1) as f64;
+            if n == 0 || !centroid.is_finite() {
+                continue;
+            }
+            let fan: Vec<crate::FaceId> = mesh.adjacent_faces(v).collect();
+            let count = |positions: &[DVec3]| {
+                fan.iter()
+                    .filter(|&&f| turned_at(positions, rest, corners(mesh, f)))
+                    .count()
+            };
+            let now = positions[i];
+            let mut best = (count(positions), now);
+            for t in [0.25, 0.5, 0.75, 1.0] {
+                positions[i] = now + t * (centroid - now);
+                let turned = count(positions);
+                if turned < best.0 {
+                    best = (turned, positions[i]);
+                }
+            }
+            positions[i] = best.1;
+        }
     }
 }
 
@@ -449,7 +502,7 @@ fn turned_at(positions: &[DVec3], rest: &[[f64; 3]], [a, b, c]: [usize; 3]) -> b
 mod tests {
     use super::*;
 
-    /// Both retreats, in the order the unfolding runs them.
+    /// The steps after the relaxation, in the order the unfolding runs them.
     fn retreat(
         mesh: &crate::Mesh,
         positions: &mut [DVec3],
@@ -460,6 +513,7 @@ mod tests {
         let still = |i: usize, p: DVec3| (!movable(i)).then_some(p);
         retreat_from_exact(mesh, positions, rest, movable, &still, faces);
         retreat_around(mesh, positions, rest, movable, faces);
+        untangle(mesh, positions, rest, movable, faces);
     }
 
     /// Faces of `mesh` turned over at `positions` against `rest`.
@@ -540,5 +594,25 @@ mod tests {
         retreat(&mesh, &mut positions, &rest, &movable, &faces);
         assert!(turned(&mesh, &positions, &rest).len() <= faces.len());
         assert_unmoved(&positions, &edited, &movable);
+    }
+
+    #[test]
+    fn a_vertex_thrown_across_its_ring_far_from_where_it_was_is_untangled() {
+        // Everything moved far (5 units) and is movable, and one vertex is thrown across
+        // its ring: drawing it back towards where it was before the edit folds more, but
+        // its neighbours' centroid unfolds it. Nothing else moves.
+        let mesh = crate::generators::grid(10, 10, 1.0, 1.0);
+        let rest: Vec<[f64; 3]> = mesh.positions().iter().map(|p| p.to_array()).collect();
+        let movable = |_: usize| true;
+        let shift = DVec3::new(5.0, 0.0, 0.0);
+        let mut positions: Vec<DVec3> = mesh.positions().iter().map(|&p| p + shift).collect();
+        let thrown = 5 * 11 + 5;
+        positions[thrown] += DVec3::new(0.25, 0.0, 0.0);
+        let faces = turned(&mesh, &positions, &rest);
+        assert!(!faces.is_empty());
+        let edited = positions.clone();
+        retreat(&mesh, &mut positions, &rest, &movable, &faces);
+        assert!(turned(&mesh, &positions, &rest).is_empty());
+        assert_unmoved(&positions, &edited, &|i| i == thrown);
     }
 }
