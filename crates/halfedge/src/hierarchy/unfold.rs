@@ -49,9 +49,8 @@ impl Hierarchy {
     /// neighbours', keeping the round that turns the fewest faces over; what that leaves
     /// turned is drawn back by ramps from the exactly moved vertices beside it and then
     /// untangled towards its neighbours' centroids (each step kept only if it turns fewer
-    /// faces over); vertices outside every region and
-    /// vertices moved exactly by an affine or field mark stay bit for bit (see the coarse
-    /// edits guide). A walk finer
+    /// faces over); vertices outside every region and vertices moved exactly by an affine
+    /// or field mark stay bit for bit (see the coarse edits guide). A walk finer
     /// ([`seek`](Self::seek), [`go_to_level`](Self::go_to_level),
     /// [`refine_to`](Self::refine_to)) does this at its end; after refining one
     /// [`split_next`](Self::split_next) at a time, call it once at the level reached.
@@ -207,7 +206,7 @@ impl Hierarchy {
         }
         put(&mut positions, &best.1);
         if !unfolded {
-            // What the relaxation left turned: drawn back towards where it was.
+            // What the relaxation left turned: ramps, then the untangling step.
             let mut left: Vec<crate::FaceId> = around(deepest);
             left.retain(|&f| turned(&positions, f));
             // The corners of those faces that moved exactly: still (unmarked, where they
