@@ -7,9 +7,7 @@
 //!
 //! The default tier runs on generated meshes (closed, open, genus one, two components,
 //! flat) and asserts all four targets there. The real-mesh tier (`--include-ignored`)
-//! asserts the first three on the shared meshes; the flip target fails there in a few
-//! measurements (see the ignore reason) and is asserted by the ignored
-//! `known_failure_*` test.
+//! asserts them on the shared meshes at level 3 with both methods.
 
 mod common;
 #[path = "../examples/coarse_edit/measure.rs"]
@@ -337,17 +335,16 @@ fn shared_reports() -> Vec<(String, Report)> {
 
 #[test]
 #[ignore = "real-mesh tier: needs ../shared/meshes; cargo test --release -- --include-ignored"]
-fn coarse_edits_keep_their_regions_land_their_handles_and_stay_close_on_the_shared_meshes() {
+fn coarse_edits_meet_the_four_targets_on_the_shared_meshes() {
     let reports = shared_reports();
     assert_all(&reports, "outside_moved = 0", Report::region_is_exact);
     assert_all(&reports, "handle_error <= 1e-9", Report::handles_land);
+    assert_all(
+        &reports,
+        "flips_coarse_path <= flips_full_res",
+        Report::no_extra_flips,
+    );
     assert_all(&reports, "rms_vs_full_res <= 0.01", Report::is_close);
-}
-
-#[test]
-#[ignore = "known failure (issue 12): 1 of 144 runs (cow's rounds lee: an interpolated vertex beside two that stay outside the area moves 2.7 times as far as at full resolution, and no unfolding step turns fewer faces) flips 1 more fine face than the full-resolution edit; needs ../shared/meshes; cargo test --release -- --ignored known_failure"]
-fn known_failure_coarse_edits_meet_the_targets_on_the_shared_meshes() {
-    assert_all(&shared_reports(), "the targets", Report::meets_targets);
 }
 
 /// `--edit bk-refine` on `mesh` at `levels` with both methods: the JSON objects.

@@ -21,8 +21,8 @@
 //! back by ramps: from their exactly moved corners towards those corners' motion
 //! ([`retreat_from_exact`]), then around each face towards where it was
 //! ([`retreat_around`]); and last each interpolated corner of a face still turned is
-//! moved towards its neighbours' centroid ([`untangle`]). Each step is kept only if it
-//! turns fewer faces over.
+//! moved towards its neighbours' centroid or into the kernel of its star
+//! ([`untangle`]). Each step is kept only if it turns fewer faces over.
 
 use glam::DVec3;
 
@@ -48,8 +48,9 @@ impl Hierarchy {
     /// them (up to sixteen rings deep) have their displacements relaxed towards their
     /// neighbours', keeping the round that turns the fewest faces over; what that leaves
     /// turned is drawn back by ramps from the exactly moved vertices beside it and then
-    /// untangled towards its neighbours' centroids (each step kept only if it turns fewer
-    /// faces over); vertices outside every region and vertices moved exactly by an affine
+    /// untangled, a vertex at a time, towards its neighbours' centroid or into the kernel
+    /// of its star (each step kept only if it turns fewer faces over); vertices outside
+    /// every region and vertices moved exactly by an affine
     /// or field mark stay bit for bit (see the coarse edits guide). A walk finer
     /// ([`seek`](Self::seek), [`go_to_level`](Self::go_to_level),
     /// [`refine_to`](Self::refine_to)) does this at its end; after refining one
@@ -339,9 +340,10 @@ fn retreat_around(
 
 /// For each face of `faces` still turned over (in order), each of its movable corners is
 /// moved towards the centroid of its neighbours (a quarter, half, three quarters or all
-/// of the way), keeping the move that turns the fewest faces around it over if fewer than
-/// before: the classic untangling step, for a fold among interpolated vertices that no
-/// displacement ramp undoes.
+/// of the way) or to the nearest point of its star's kernel ([`into_kernel`]; the
+/// centroid is outside it when the star is not convex), keeping the move that turns the
+/// fewest faces around it over if fewer than before: the untangling step, for a fold
+/// that no displacement ramp undoes.
 fn untangle(
     mesh: &crate::Mesh,
     positions: &mut [DVec3],
@@ -374,17 +376,76 @@ fn untangle(
             };
             let now = positions[i];
             let mut best = (count(positions), now);
-            for t in [0.25, 0.5, 0.75, 1.0] {
-                positions[i] = now + t * (centroid - now);
+            let kernel = into_kernel(mesh, positions, rest, i, &fan);
+            let candidates = [0.25, 0.5, 0.75, 1.0]
+                .map(|t| now + t * (centroid - now))
+                .into_iter()
+                .chain(kernel);
+            for candidate in candidates {
+                positions[i] = candidate;
                 let turned = count(positions);
                 if turned < best.0 {
-                    best = (turned, positions[i]);
+                    best = (turned, candidate);
                 }
             }
             positions[i] = best.1;
         }
     }
 }
+
+/// The point nearest to vertex `i`'s position (found by cyclic projections, at most
+/// [`KERNEL_SWEEPS`] sweeps) where every face of its `fan` points the way it did before
+/// the edit, with a small margin. With its neighbours fixed, face `(i, a, b)`'s normal
+/// dotted with its normal before the edit `r` is `r · (a × b) + (r × (b − a)) · p`,
+/// linear in `i`'s position `p`: each face is a half-space, and the point is in their
+/// intersection (the kernel of the vertex's star). `None` when the projections do not
+/// reach it (the kernel is empty or thin) or a value is not finite.
+fn into_kernel(
+    mesh: &crate::Mesh,
+    positions: &[DVec3],
+    rest: &[[f64; 3]],
+    i: usize,
+    fan: &[crate::FaceId],
+) -> Option<DVec3> {
+    // Each face as (g, h): g · p + h is its normal now dotted with its normal before.
+    let mut halfspaces = Vec::with_capacity(fan.len());
+    for &f in fan {
+        let c = corners(mesh, f);
+        let k = c.iter().position(|&j| j == i)?;
+        let (a, b) = (c[(k + 1) % 3], c[(k + 2) % 3]);
+        // The normal before the edit: (a − i) × (b − i), the order of the face's corners.
+        let (ri, ra, rb) = (rest_of(rest, i)?, rest_of(rest, a)?, rest_of(rest, b)?);
+        let r = (ra - ri).cross(rb - ri);
+        let (pa, pb) = (positions[a], positions[b]);
+        let g = r.cross(pb - pa);
+        let h = r.dot(pa.cross(pb));
+        // Margin: a fortieth of the face's size now, in the dot product's units.
+        let margin = 0.025 * r.length() * (pb - pa).length_squared();
+        halfspaces.push((g, h, margin));
+    }
+    let mut p = positions[i];
+    for _ in 0..KERNEL_SWEEPS {
+        let mut inside = true;
+        for &(g, h, margin) in &halfspaces {
+            let value = g.dot(p) + h;
+            if value < margin {
+                inside = false;
+                // Onto twice the margin, so that rounding does not leave it just short.
+                let g2 = g.length_squared();
+                if g2 > 0.0 {
+                    p += ((2.0 * margin - value) / g2) * g;
+                }
+            }
+        }
+        if inside {
+            return p.is_finite().then_some(p);
+        }
+    }
+    None
+}
+
+/// Sweeps of cyclic projections [`into_kernel`] makes at most.
+const KERNEL_SWEEPS: usize = 64;
 
 /// The vertex slots of face `f`'s corners.
 #[inline]
@@ -613,5 +674,39 @@ mod tests {
         retreat(&mesh, &mut positions, &rest, &movable, &faces);
         assert!(turned(&mesh, &positions, &rest).is_empty());
         assert_unmoved(&positions, &edited, &|i| i == thrown);
+    }
+
+    #[test]
+    fn a_vertex_whose_star_turned_reflex_is_projected_into_its_kernel() {
+        // A hexagon fan; now one neighbour is pulled in past the centre, so the star is
+        // no longer convex and its centroid lies outside the kernel: the centre vertex,
+        // at rest or at the centroid, turns a face over. Projecting it into the kernel
+        // (the half-spaces of its faces) unfolds the fan; the ring stays.
+        let rest: Vec<DVec3> = std::iter::once(DVec3::ZERO)
+            .chain((0..6).map(|k| {
+                let a = k as f64 * std::f64::consts::TAU / 6.0;
+                DVec3::new(a.cos(), a.sin(), 0.0)
+            }))
+            .collect();
+        let triangles: Vec<[u32; 3]> = (0..6u32).map(|k| [0, 1 + k, 1 + (k + 1) % 6]).collect();
+        let mesh = crate::Mesh::from_triangles(&rest, &triangles).unwrap().0;
+        let rest: Vec<[f64; 3]> = rest.iter().map(|p| p.to_array()).collect();
+        let mut positions: Vec<DVec3> = rest.iter().map(|&p| DVec3::from_array(p)).collect();
+        positions[6] = DVec3::new(0.3, 0.5, 0.0);
+        let faces = turned(&mesh, &positions, &rest);
+        assert_eq!(faces.len(), 1);
+        let movable = |i: usize| i == 0;
+        let centroid = positions[1..].iter().sum::<DVec3>() / 6.0;
+        let mut at_centroid = positions.clone();
+        at_centroid[0] = centroid;
+        assert!(!turned(&mesh, &at_centroid, &rest).is_empty());
+        let edited = positions.clone();
+        untangle(&mesh, &mut positions, &rest, &movable, &faces);
+        assert!(
+            turned(&mesh, &positions, &rest).is_empty(),
+            "{}",
+            positions[0]
+        );
+        assert_unmoved(&positions, &edited, &movable);
     }
 }
