@@ -340,7 +340,7 @@ fn retreat_around(
 
 /// For each face of `faces` still turned over (in order), each of its movable corners is
 /// moved towards the centroid of its neighbours (a quarter, half, three quarters or all
-/// of the way) or to the nearest point of its star's kernel ([`into_kernel`]; the
+/// of the way) or to a point of its star's kernel near it ([`into_kernel`]; the
 /// centroid is outside it when the star is not convex), keeping the move that turns the
 /// fewest faces around it over if fewer than before: the untangling step, for a fold
 /// that no displacement ramp undoes.
@@ -393,7 +393,7 @@ fn untangle(
     }
 }
 
-/// The point nearest to vertex `i`'s position (found by cyclic projections, at most
+/// A point near vertex `i`'s position (reached from it by cyclic projections, at most
 /// [`KERNEL_SWEEPS`] sweeps) where every face of its `fan` points the way it did before
 /// the edit, with a small margin. With its neighbours fixed, face `(i, a, b)`'s normal
 /// dotted with its normal before the edit `r` is `r · (a × b) + (r × (b − a)) · p`,
