@@ -136,18 +136,9 @@ impl Hierarchy {
         let deepest = &sets[sets.len() - 1];
         // The faces around a set of vertices: the only ones whose turn relaxing them
         // changes.
-        let around = |set: &[usize]| -> Vec<crate::FaceId> {
-            let mut faces: Vec<crate::FaceId> = set
-                .iter()
-                .filter_map(|&i| mesh.vertex_at(i))
-                .flat_map(|v| mesh.adjacent_faces(v))
-                .collect();
-            faces.sort_unstable_by_key(|&f| mesh.face_index(f));
-            faces.dedup();
-            faces
-        };
+        let around = |set: &[usize]| faces_around(mesh, set.iter().copied());
         let count = |faces: &[crate::FaceId], positions: &[DVec3]| {
-            faces.iter().filter(|&&f| turned(positions, f)).count()
+            count_turned(mesh, positions, rest, faces)
         };
         let original: Vec<DVec3> = deepest.iter().map(|&i| positions[i]).collect();
         let put = |positions: &mut [DVec3], values: &[DVec3]| {
@@ -369,11 +360,7 @@ fn untangle(
                 continue;
             }
             let fan: Vec<crate::FaceId> = mesh.adjacent_faces(v).collect();
-            let count = |positions: &[DVec3]| {
-                fan.iter()
-                    .filter(|&&f| turned_at(positions, rest, corners(mesh, f)))
-                    .count()
-            };
+            let count = |positions: &[DVec3]| count_turned(mesh, positions, rest, &fan);
             let now = positions[i];
             let mut best = (count(positions), now);
             let kernel = into_kernel(mesh, positions, rest, i, &fan);
@@ -447,6 +434,30 @@ fn into_kernel(
 /// Sweeps of cyclic projections [`into_kernel`] makes at most.
 const KERNEL_SWEEPS: usize = 64;
 
+/// The faces around the vertex slots `vertices`, each once, in face order.
+fn faces_around(mesh: &crate::Mesh, vertices: impl Iterator<Item = usize>) -> Vec<crate::FaceId> {
+    let mut faces: Vec<crate::FaceId> = vertices
+        .filter_map(|i| mesh.vertex_at(i))
+        .flat_map(|v| mesh.adjacent_faces(v))
+        .collect();
+    faces.sort_unstable_by_key(|&f| mesh.face_index(f));
+    faces.dedup();
+    faces
+}
+
+/// How many of `faces` are turned over at `positions` against `rest`.
+fn count_turned(
+    mesh: &crate::Mesh,
+    positions: &[DVec3],
+    rest: &[[f64; 3]],
+    faces: &[crate::FaceId],
+) -> usize {
+    faces
+        .iter()
+        .filter(|&&f| turned_at(positions, rest, corners(mesh, f)))
+        .count()
+}
+
 /// The vertex slots of face `f`'s corners.
 #[inline]
 fn corners(mesh: &crate::Mesh, f: crate::FaceId) -> [usize; 3] {
@@ -512,18 +523,8 @@ fn ramp_best(
     if reached.is_empty() {
         return;
     }
-    let mut fan: Vec<crate::FaceId> = reached
-        .iter()
-        .filter_map(|&(i, _, _)| mesh.vertex_at(i))
-        .flat_map(|v| mesh.adjacent_faces(v))
-        .collect();
-    fan.sort_unstable_by_key(|&f| mesh.face_index(f));
-    fan.dedup();
-    let count = |positions: &[DVec3]| {
-        fan.iter()
-            .filter(|&&f| turned_at(positions, rest, corners(mesh, f)))
-            .count()
-    };
+    let fan = faces_around(mesh, reached.iter().map(|&(i, _, _)| i));
+    let count = |positions: &[DVec3]| count_turned(mesh, positions, rest, &fan);
     let original: Vec<DVec3> = reached.iter().map(|&(i, _, _)| positions[i]).collect();
     let ramp = |positions: &mut [DVec3], k: Option<usize>| {
         for ((&(i, ring, _), &p), &t) in reached.iter().zip(&original).zip(targets) {
