@@ -197,7 +197,8 @@ struct Args {
     /// docs for the defaults).
     #[arg(long, default_value_t = 1.0)]
     amount: f64,
-    /// Write both results here as PLY (coarse-path.ply, full-res.ply).
+    /// Write the input and both results here as PLY (input.ply, coarse-path.ply,
+    /// full-res.ply; same vertex order in all three).
     #[arg(long)]
     out: Option<PathBuf>,
 }
@@ -269,6 +270,7 @@ fn run(args: &Args) -> Result<serde_json::Value, Failure> {
                     hint: "pass a writable --out folder".into(),
                 })
         };
+        write("input.ply", &prepared.input)?;
         write("coarse-path.ply", &measured.coarse_path)?;
         write("full-res.ply", &measured.full_res)?;
     }

@@ -235,12 +235,46 @@ impl Hierarchy {
                     Some(k) => Some(marks.maps.get(*k)?.apply(p)),
                 }
             };
-            retreat_from_exact(mesh, &mut positions, rest, &movable, &exact, &left);
-            retreat_around(mesh, &mut positions, rest, &movable, &left);
-            untangle(mesh, &mut positions, rest, &movable, &left);
+            untangle_what_is_left(
+                mesh,
+                &mut positions,
+                rest,
+                &movable,
+                &exact,
+                around(deepest),
+            );
         }
         self.mesh.positions = positions;
     }
+}
+
+/// The steps after the relaxation, on the faces of `watched` (the faces it could change)
+/// that are still turned over: [`retreat_from_exact`], [`retreat_around`], [`untangle`].
+/// A step may turn a face over further out while it unfolds more (what it keeps turns
+/// fewer over in all), so each one takes every face still turned among `watched` and
+/// the faces the steps before it could change.
+fn untangle_what_is_left(
+    mesh: &crate::Mesh,
+    positions: &mut [DVec3],
+    rest: &[[f64; 3]],
+    movable: &dyn Fn(usize) -> bool,
+    exact: &dyn Fn(usize, DVec3) -> Option<DVec3>,
+    mut watched: Vec<crate::FaceId>,
+) {
+    let mut still_turned = |positions: &[DVec3], touched: Vec<crate::FaceId>| {
+        watched.extend(touched);
+        watched.sort_unstable_by_key(|&f| mesh.face_index(f));
+        watched.dedup();
+        let mut left = watched.clone();
+        left.retain(|&f| turned_at(positions, rest, corners(mesh, f)));
+        left
+    };
+    let left = still_turned(positions, Vec::new());
+    let touched = retreat_from_exact(mesh, positions, rest, movable, exact, &left);
+    let left = still_turned(positions, touched);
+    let touched = retreat_around(mesh, positions, rest, movable, &left);
+    let left = still_turned(positions, touched);
+    untangle(mesh, positions, rest, movable, &left);
 }
 
 /// Rings of the ramps [`retreat_from_exact`] tries.
@@ -261,7 +295,8 @@ const MAX_RETREAT_WORK: usize = 2_000_000;
 /// (`p` ↦ where its mark takes `p`, or `p` for a still vertex), `None` for the others.
 /// The movable vertices up to `k` rings from those corners are drawn towards the motion
 /// of the nearest one (breadth first), all of the way next to it and not at all `k`
-/// rings out, for each `k` of [`RETREAT_RINGS`] (see [`ramp_best`]).
+/// rings out, for each `k` of [`RETREAT_RINGS`] (see [`ramp_best`]). Returns the faces
+/// that could have changed.
 fn retreat_from_exact(
     mesh: &crate::Mesh,
     positions: &mut [DVec3],
@@ -269,7 +304,7 @@ fn retreat_from_exact(
     movable: &dyn Fn(usize) -> bool,
     exact: &dyn Fn(usize, DVec3) -> Option<DVec3>,
     faces: &[crate::FaceId],
-) {
+) -> Vec<crate::FaceId> {
     let mut sources: Vec<usize> = faces
         .iter()
         .filter(|&&f| turned_at(positions, rest, corners(mesh, f)))
@@ -290,7 +325,7 @@ fn retreat_from_exact(
                 .unwrap_or(positions[i])
         })
         .collect();
-    ramp_best(mesh, positions, rest, &reached, &targets, &RETREAT_RINGS);
+    ramp_best(mesh, positions, rest, &reached, &targets, &RETREAT_RINGS)
 }
 
 /// For each face of `faces` still turned over (in order): the movable vertices up to `k`
@@ -298,16 +333,17 @@ fn retreat_from_exact(
 /// edit, all of the way at the corners and not at all `k` rings out, for each `k` of
 /// [`AROUND_RINGS`] (see [`ramp_best`]), until [`MAX_RETREAT_WORK`] vertices were
 /// ramped. What [`retreat_from_exact`] leaves: a fold beside vertices that moved
-/// exactly, or between interpolated ones.
+/// exactly, or between interpolated ones. Returns the faces that could have changed.
 fn retreat_around(
     mesh: &crate::Mesh,
     positions: &mut [DVec3],
     rest: &[[f64; 3]],
     movable: &dyn Fn(usize) -> bool,
     faces: &[crate::FaceId],
-) {
+) -> Vec<crate::FaceId> {
     let depth = AROUND_RINGS[AROUND_RINGS.len() - 1];
     let mut work = 0usize;
+    let mut touched = Vec::new();
     for &face in faces {
         if work > MAX_RETREAT_WORK {
             break;
@@ -325,8 +361,16 @@ fn retreat_around(
             .iter()
             .map(|&(i, _, _)| rest_of(rest, i).unwrap_or(positions[i]))
             .collect();
-        ramp_best(mesh, positions, rest, &reached, &targets, &AROUND_RINGS);
+        touched.extend(ramp_best(
+            mesh,
+            positions,
+            rest,
+            &reached,
+            &targets,
+            &AROUND_RINGS,
+        ));
     }
+    touched
 }
 
 /// For each face of `faces` still turned over (in order), each of its movable corners is
@@ -511,7 +555,8 @@ fn rings(
 /// Draws the vertices `reached` (from [`rings`]) towards their `targets` by a ramp: at
 /// ring `r < k` a vertex keeps `r / k` of the way from its target to where it is, beyond
 /// it stays. Tries each `k` of `depths` and keeps the one that turns the fewest faces
-/// around those vertices over, if fewer than before; else nothing changes.
+/// around those vertices over, if fewer than before; else nothing changes. Returns the
+/// faces around the vertices `reached` (those counted).
 fn ramp_best(
     mesh: &crate::Mesh,
     positions: &mut [DVec3],
@@ -519,9 +564,9 @@ fn ramp_best(
     reached: &[(usize, usize, usize)],
     targets: &[DVec3],
     depths: &[usize],
-) {
+) -> Vec<crate::FaceId> {
     if reached.is_empty() {
-        return;
+        return Vec::new();
     }
     let fan = faces_around(mesh, reached.iter().map(|&(i, _, _)| i));
     let count = |positions: &[DVec3]| count_turned(mesh, positions, rest, &fan);
@@ -543,6 +588,7 @@ fn ramp_best(
         }
     }
     ramp(positions, best.1);
+    fan
 }
 
 /// True when the triangle of vertex slots `[a, b, c]` is turned over at `positions`
@@ -572,9 +618,7 @@ mod tests {
         faces: &[crate::FaceId],
     ) {
         let still = |i: usize, p: DVec3| (!movable(i)).then_some(p);
-        retreat_from_exact(mesh, positions, rest, movable, &still, faces);
-        retreat_around(mesh, positions, rest, movable, faces);
-        untangle(mesh, positions, rest, movable, faces);
+        untangle_what_is_left(mesh, positions, rest, movable, &still, faces.to_vec());
     }
 
     /// Faces of `mesh` turned over at `positions` against `rest`.
@@ -628,6 +672,57 @@ mod tests {
             .filter(|(_, r)| r[0] > 0.9)
             .all(|(p, r)| (p.x - (r[0] - 0.3)).abs() < 1e-12);
         assert!(far);
+    }
+
+    #[test]
+    fn faces_a_ramp_turns_over_further_out_are_worked_on_too() {
+        // The steep step of the test above, and further out (x in 0.45..0.5, on the row
+        // y = 0.5 and the one beside it) a push that grows by 0.9 of the distance, which
+        // leaves the faces there thin but not turned. The ramp that unfolds the step
+        // scales the push down by ring, which turns some of those faces over (fewer than
+        // it unfolds): the later steps must take them too, not only the faces turned
+        // before the ramp.
+        let mesh = crate::generators::grid(41, 41, 1.0, 1.0);
+        let rest: Vec<[f64; 3]> = mesh.positions().iter().map(|p| p.to_array()).collect();
+        let movable = |i: usize| rest[i][0] >= 0.25;
+        let push = |p: DVec3| {
+            let bump = if (p.y - 0.5).abs() < 0.02 {
+                0.9 * (p.x.clamp(0.45, 0.5) - 0.45)
+            } else {
+                0.0
+            };
+            -(0.3 + bump)
+        };
+        let edited: Vec<DVec3> = mesh
+            .positions()
+            .iter()
+            .map(|&p| {
+                if p.x >= 0.25 {
+                    p + DVec3::X * push(p)
+                } else {
+                    p
+                }
+            })
+            .collect();
+        let faces = turned(&mesh, &edited, &rest);
+        assert!(!faces.is_empty());
+        // The ramp alone: the step unfolds, faces further out turn over.
+        let mut ramped = edited.clone();
+        let still = |i: usize, p: DVec3| (!movable(i)).then_some(p);
+        retreat_from_exact(&mesh, &mut ramped, &rest, &movable, &still, &faces);
+        let after_ramp = turned(&mesh, &ramped, &rest);
+        assert!(after_ramp.iter().all(|f| !faces.contains(f)));
+        assert!(!after_ramp.is_empty() && after_ramp.len() < faces.len());
+        // All the steps: the later ones unfold some of those.
+        let mut positions = edited.clone();
+        retreat(&mesh, &mut positions, &rest, &movable, &faces);
+        let left = turned(&mesh, &positions, &rest).len();
+        assert!(
+            left < after_ramp.len(),
+            "{left} turned at the end, {} after the ramp",
+            after_ramp.len()
+        );
+        assert_unmoved(&positions, &edited, &movable);
     }
 
     #[test]
