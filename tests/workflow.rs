@@ -47,10 +47,16 @@ fn run_workflow(input: &std::path::Path, tag: &str) -> (PathBuf, String) {
     (out, stdout)
 }
 
-/// The workflow's result read back: same connectivity as the input, valid, pictures
-/// not blank; a step left out is explained in a note naming a flag.
+/// The workflow's result read back: same connectivity as the input (welded, when the
+/// job welded it), valid, pictures not blank; a step left out is explained in a note naming a flag.
 fn check_run(input: &std::path::Path, out: &std::path::Path, stdout: &str) -> usize {
     let (before, _) = halfedge::io::read(input).unwrap();
+    // A mesh the job welded (its note says so) is compared welded.
+    let before = if stdout.contains("note: welded") {
+        before.welded(0.0).unwrap().0
+    } else {
+        before
+    };
     let stem = input.file_stem().unwrap().to_str().unwrap();
     let (after, _) = halfedge::io::read(out.join(format!("{stem}-edited.ply"))).unwrap();
     after.check().unwrap();
@@ -248,6 +254,60 @@ fn workflow_edits_the_main_body_when_a_loose_part_is_furthest_out() {
         assert!(!row.contains("skipped"), "{row}\n{stdout}");
     }
     assert!(stdout.contains("largest component"), "{stdout}");
+    std::fs::remove_dir_all(&out).ok();
+    std::fs::remove_file(&input).ok();
+}
+
+#[test]
+fn workflow_welds_a_triangle_soup_and_edits_it() {
+    // A data mesh written as a soup (every face on its own copies of its corners, as
+    // STL exports are): nothing could be simplified or edited across its cuts. The job
+    // welds it back, says so, and makes every edit; with --weld off it keeps the soup.
+    let data = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("data/blob.obj");
+    let (mesh, _) = halfedge::io::read(&data).unwrap();
+    let (positions, triangles) = mesh.to_arrays();
+    let corners: Vec<[f64; 3]> = triangles
+        .iter()
+        .flatten()
+        .map(|&i| positions[i as usize])
+        .collect();
+    let faces: Vec<[u32; 3]> = (0..triangles.len() as u32)
+        .map(|f| [3 * f, 3 * f + 1, 3 * f + 2])
+        .collect();
+    let (soup, _) = halfedge::Mesh::from_arrays(&corners, &faces).unwrap();
+    let input = std::env::temp_dir().join(format!("multires-soup-{}.obj", std::process::id()));
+    halfedge::io::write(&input, &soup).unwrap();
+    let (out, stdout) = run_workflow(&input, "soup");
+    assert!(stdout.contains("note: welded"), "{stdout}");
+    let moved = check_run(&input, &out, &stdout);
+    assert!(moved > 0, "{stdout}");
+    let stem = input.file_stem().unwrap().to_str().unwrap();
+    let (after, _) = halfedge::io::read(out.join(format!("{stem}-edited.ply"))).unwrap();
+    assert_eq!(
+        (after.n_vertices(), after.n_faces()),
+        (mesh.n_vertices(), mesh.n_faces())
+    );
+    for step in ["Lee drag", "B&K rotate", "taper"] {
+        let row = stdout.lines().find(|l| l.starts_with(step)).unwrap();
+        assert!(!row.contains("skipped"), "{row}\n{stdout}");
+    }
+    std::fs::remove_dir_all(&out).ok();
+    let kept = Command::new(common::example_binary("workflow"))
+        .arg(&input)
+        .args(["--weld", "off", "--out"])
+        .arg(&out)
+        .args(["--picture", "160"])
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&kept.stdout);
+    assert!(
+        kept.status.success() && !stdout.contains("note: welded"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains(&format!("{} component(s)", soup.n_faces())),
+        "{stdout}"
+    );
     std::fs::remove_dir_all(&out).ok();
     std::fs::remove_file(&input).ok();
 }

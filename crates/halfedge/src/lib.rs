@@ -15,7 +15,8 @@
 //! - [`selection`] (nearest and extreme vertices, Euclidean and edge-path balls,
 //!   components, grow / shrink / select linked) and [`bvh`] (picking along a ray, the
 //!   nearest point of the surface).
-//! - Plain arrays in and out: [`Mesh::from_arrays`] / [`Mesh::to_arrays`].
+//! - Plain arrays in and out: [`Mesh::from_arrays`] / [`Mesh::to_arrays`]; [`weld`]ing
+//!   vertices at the same place (triangle soups, seams) with [`Mesh::welded`].
 //!
 //! ```
 //! use halfedge::generators;
@@ -52,6 +53,7 @@ pub mod selection;
 mod split;
 mod topology;
 pub mod vertex_data;
+pub mod weld;
 
 pub use attributes::{Attribute, AttributeValue, Element};
 pub use binding::{MeshBinding, StaleBinding};
@@ -67,5 +69,6 @@ pub use mesh::Mesh;
 pub use selection::{Component, Selection};
 pub use topology::TopologyReport;
 pub use vertex_data::VertexData;
+pub use weld::WeldReport;
 
 pub use glam::DVec3;

@@ -35,6 +35,20 @@ use glam::DVec3;
 use halfedge::labels::LABEL_ATTRIBUTE;
 use halfedge::{BuildReport, Hierarchy, Label, LevelBookmark, Mesh, VertexId};
 
+/// A mesh file read for the viewer: the mesh, how it was built, and how many vertices
+/// were welded onto others at the same position (a triangle soup or a mesh cut along
+/// seams is welded into its surface, `Mesh::welded_seams`; 0 when nothing was).
+///
+/// # Errors
+/// The reader's error, as text naming the file.
+pub fn read_mesh(path: &std::path::Path) -> Result<(Mesh, BuildReport, usize), String> {
+    let (mesh, report) = halfedge::io::read(path).map_err(|e| e.to_string())?;
+    Ok(match mesh.welded_seams().map_err(|e| e.to_string())? {
+        Some((welded, weld)) => (welded, weld.build, weld.merged_vertices),
+        None => (mesh, report, 0),
+    })
+}
+
 /// What the document holds: a plain mesh, or a hierarchy and its mesh.
 enum Content {
     Plain(Box<Mesh>),
@@ -534,6 +548,39 @@ mod tests {
 
     fn doc() -> Document {
         Document::new(generators::icosphere(1), None, None)
+    }
+
+    #[test]
+    fn a_soup_file_is_read_as_its_surface() {
+        let sphere = generators::icosphere(2);
+        let (positions, triangles) = sphere.to_arrays();
+        let corners: Vec<[f64; 3]> = triangles
+            .iter()
+            .flatten()
+            .map(|&i| positions[i as usize])
+            .collect();
+        let faces: Vec<[u32; 3]> = (0..triangles.len() as u32)
+            .map(|f| [3 * f, 3 * f + 1, 3 * f + 2])
+            .collect();
+        let (soup, _) = Mesh::from_arrays(&corners, &faces).unwrap();
+        let path = std::env::temp_dir().join(format!("viewer-soup-{}.ply", std::process::id()));
+        halfedge::io::write(&path, &soup).unwrap();
+        let (mesh, report, welded) = read_mesh(&path).unwrap();
+        std::fs::remove_file(&path).ok();
+        assert_eq!(welded, corners.len() - sphere.n_vertices());
+        assert_eq!(
+            (mesh.n_vertices(), mesh.n_faces()),
+            (sphere.n_vertices(), sphere.n_faces())
+        );
+        let topology = mesh.topology_report();
+        assert_eq!((topology.components, topology.boundary_loops), (1, 0));
+        assert_eq!(report.duplicated_vertices, 0);
+        // A mesh with nothing to weld is read as it is.
+        let path = std::env::temp_dir().join(format!("viewer-sphere-{}.ply", std::process::id()));
+        halfedge::io::write(&path, &sphere).unwrap();
+        let (mesh, _, welded) = read_mesh(&path).unwrap();
+        std::fs::remove_file(&path).ok();
+        assert_eq!((welded, mesh.to_arrays()), (0, sphere.to_arrays()));
     }
 
     #[test]

@@ -105,8 +105,9 @@ pub fn run(args: Args) -> ! {
     // A picture opens in the image view, over a mesh of its own.
     let picture = args.file.as_ref().filter(|p| image_view::is_png(p));
     let (mesh, source, report) = match args.file.as_ref().filter(|_| picture.is_none()) {
-        Some(path) => match halfedge::io::read(path) {
-            Ok((mesh, report)) => (mesh, Some(path.clone()), Some(report)),
+        // A soup or a mesh cut along seams is read as its surface.
+        Some(path) => match document::read_mesh(path) {
+            Ok((mesh, report, _)) => (mesh, Some(path.clone()), Some(report)),
             Err(e) => {
                 eprintln!("viewer: {e}");
                 std::process::exit(2);

@@ -196,13 +196,19 @@ impl App {
             self.image = Some(image);
             return Ok(());
         }
-        let (mesh, report) = halfedge::io::read(path).map_err(|e| e.to_string())?;
+        let (mesh, report, welded) = crate::document::read_mesh(path)?;
         let elapsed = start.elapsed();
         self.doc.replace(mesh, Some(path.to_owned()), Some(report));
         self.image = None;
         self.after_new_mesh();
         self.last_op = Some(("load".into(), elapsed));
         let mut msg = format!("Loaded {}", self.describe_mesh());
+        if welded > 0 {
+            msg += &format!(
+                " ({welded} vertices welded onto others at the same position: the file's \
+                 faces were on separate copies of them)"
+            );
+        }
         if report.duplicated_vertices > 0 || report.dropped_faces > 0 {
             msg += &format!(
                 " ({} vertices duplicated, {} faces dropped to make it manifold)",
