@@ -113,33 +113,45 @@ impl Hierarchy {
         // The vertices relaxed: the movable ones of the turned faces and their movable
         // neighbours some rings deep (so that the step spreads), for each depth of
         // [`DEPTHS`] (the deepest set holds the others).
-        let mut grown: Vec<usize> = flipped
-            .iter()
-            .flat_map(|&f| mesh.triangle(f))
-            .map(|v| mesh.vertex_index(v))
-            .collect();
+        // (Breadth first, through every vertex: a ring is the unvisited neighbours of
+        // the one before.)
+        // (The mesh's positions are out of it here: its vertex slots are `positions`'.)
+        let mut visited = vec![false; positions.len()];
+        let mut frontier: Vec<usize> = Vec::new();
+        let mut visit = |i: usize| {
+            visited
+                .get_mut(i)
+                .is_some_and(|seen| !std::mem::replace(seen, true))
+        };
+        for i in flipped.iter().flat_map(|&f| corners(mesh, f)) {
+            if visit(i) {
+                frontier.push(i);
+            }
+        }
+        let mut grown = frontier.clone();
         let mut sets: Vec<Vec<usize>> = Vec::with_capacity(DEPTHS.len());
         for ring in 1..=DEPTHS[DEPTHS.len() - 1] {
-            let next: Vec<usize> = grown
-                .iter()
-                .filter_map(|&i| mesh.vertex_at(i))
-                .flat_map(|v| mesh.adjacent_vertices(v))
-                .map(|w| mesh.vertex_index(w))
-                .collect();
-            grown.extend(next);
-            grown.sort_unstable();
-            grown.dedup();
+            let mut next = Vec::new();
+            for v in frontier.iter().filter_map(|&i| mesh.vertex_at(i)) {
+                for w in mesh.adjacent_vertices(v) {
+                    let j = mesh.vertex_index(w);
+                    if visit(j) {
+                        next.push(j);
+                    }
+                }
+            }
+            grown.extend_from_slice(&next);
+            frontier = next;
             if DEPTHS.contains(&ring) {
-                sets.push(grown.iter().copied().filter(|&i| movable(i)).collect());
+                let mut set: Vec<usize> = grown.iter().copied().filter(|&i| movable(i)).collect();
+                set.sort_unstable();
+                sets.push(set);
             }
         }
         let deepest = &sets[sets.len() - 1];
         // The faces around a set of vertices: the only ones whose turn relaxing them
         // changes.
         let around = |set: &[usize]| faces_around(mesh, set.iter().copied());
-        let count = |faces: &[crate::FaceId], positions: &[DVec3]| {
-            count_turned(mesh, positions, rest, faces)
-        };
         let original: Vec<DVec3> = deepest.iter().map(|&i| positions[i]).collect();
         let put = |positions: &mut [DVec3], values: &[DVec3]| {
             for (&i, &p) in deepest.iter().zip(values) {
@@ -152,31 +164,14 @@ impl Hierarchy {
         let mut unfolded = false;
         for relaxed in &sets {
             put(&mut positions, &original);
-            let faces = around(relaxed);
-            let base = count(&faces, &positions) as isize;
+            let faces = TurnTest::new(mesh, rest, &around(relaxed));
+            let stencil = Stencil::new(mesh, rest, relaxed);
+            let base = faces.count(&positions) as isize;
             let rounds = MAX_ROUNDS.min((MAX_WORK / relaxed.len().max(1)).max(MIN_ROUNDS));
             let mut since_best = 0;
             for _ in 0..rounds {
-                let moved: Vec<Option<DVec3>> = relaxed
-                    .iter()
-                    .map(|&i| {
-                        let v = mesh.vertex_at(i)?;
-                        let (mut sum, mut n) = (DVec3::ZERO, 0usize);
-                        for w in mesh.adjacent_vertices(v) {
-                            let j = mesh.vertex_index(w);
-                            sum += positions[j] - rest_of(j)?;
-                            n += 1;
-                        }
-                        let at_rest = rest_of(i)?;
-                        (n > 0).then(|| at_rest + sum / n as f64)
-                    })
-                    .collect();
-                for (&i, p) in relaxed.iter().zip(&moved) {
-                    if let Some(p) = p.filter(|p| p.is_finite()) {
-                        positions[i] = p;
-                    }
-                }
-                let now = count(&faces, &positions);
+                stencil.relax(&mut positions, rest);
+                let now = faces.count(&positions);
                 let change = now as isize - base;
                 if change < best.0 {
                     best = (change, deepest.iter().map(|&i| positions[i]).collect());
@@ -245,6 +240,115 @@ impl Hierarchy {
             );
         }
         self.mesh.positions = positions;
+    }
+}
+
+/// The relaxation's Jacobi step over a set of vertices, its neighbourhoods gathered once
+/// (in the circulators' order, so that every sum is the one walking the mesh makes).
+struct Stencil {
+    /// The vertices that take a step: those with a position before the edit, at least
+    /// one neighbour, and every neighbour with one.
+    vertices: Vec<usize>,
+    /// Where each was before the edit.
+    at_rest: Vec<DVec3>,
+    /// `neighbours[start[k]..start[k + 1]]`: vertex `k`'s neighbours.
+    start: Vec<usize>,
+    neighbours: Vec<usize>,
+}
+
+impl Stencil {
+    fn new(mesh: &crate::Mesh, rest: &[[f64; 3]], set: &[usize]) -> Self {
+        let mut stencil = Stencil {
+            vertices: Vec::with_capacity(set.len()),
+            at_rest: Vec::with_capacity(set.len()),
+            start: vec![0],
+            neighbours: Vec::with_capacity(6 * set.len()),
+        };
+        for &i in set {
+            let (Some(v), Some(at_rest)) = (mesh.vertex_at(i), rest_of(rest, i)) else {
+                continue;
+            };
+            let mark = stencil.neighbours.len();
+            let mut complete = true;
+            for w in mesh.adjacent_vertices(v) {
+                let j = mesh.vertex_index(w);
+                complete &= j < rest.len();
+                stencil.neighbours.push(j);
+            }
+            if !complete || stencil.neighbours.len() == mark {
+                stencil.neighbours.truncate(mark);
+                continue;
+            }
+            stencil.vertices.push(i);
+            stencil.at_rest.push(at_rest);
+            stencil.start.push(stencil.neighbours.len());
+        }
+        stencil
+    }
+
+    /// One Jacobi step: each vertex's displacement from where it was before the edit
+    /// becomes the mean of its neighbours' (all computed from `positions` as they are,
+    /// then written; a value that is not finite is not written).
+    fn relax(&self, positions: &mut [DVec3], rest: &[[f64; 3]]) {
+        use rayon::prelude::*;
+        let now = &*positions;
+        let moved: Vec<DVec3> = (0..self.vertices.len())
+            .into_par_iter()
+            .with_min_len(1024)
+            .map(|k| {
+                let ring = &self.neighbours[self.start[k]..self.start[k + 1]];
+                let mut sum = DVec3::ZERO;
+                for &j in ring {
+                    sum += now[j] - DVec3::from_array(rest[j]);
+                }
+                self.at_rest[k] + sum / ring.len() as f64
+            })
+            .collect();
+        for (&i, p) in self.vertices.iter().zip(moved) {
+            if p.is_finite() {
+                positions[i] = p;
+            }
+        }
+    }
+}
+
+/// Counts the faces of a set turned over (as [`turned_at`]), their corners and normals
+/// before the edit gathered once (faces with a corner without a position before the
+/// edit are never turned and left out).
+struct TurnTest {
+    corners: Vec<[usize; 3]>,
+    before: Vec<DVec3>,
+}
+
+impl TurnTest {
+    fn new(mesh: &crate::Mesh, rest: &[[f64; 3]], faces: &[crate::FaceId]) -> Self {
+        let mut test = TurnTest {
+            corners: Vec::with_capacity(faces.len()),
+            before: Vec::with_capacity(faces.len()),
+        };
+        for &f in faces {
+            let [a, b, c] = corners(mesh, f);
+            if let (Some(ra), Some(rb), Some(rc)) =
+                (rest_of(rest, a), rest_of(rest, b), rest_of(rest, c))
+            {
+                test.corners.push([a, b, c]);
+                test.before.push((rb - ra).cross(rc - ra));
+            }
+        }
+        test
+    }
+
+    fn count(&self, positions: &[DVec3]) -> usize {
+        use rayon::prelude::*;
+        self.corners
+            .par_iter()
+            .with_min_len(4096)
+            .zip(&self.before)
+            .filter(|&(&[a, b, c], then)| {
+                let now = (positions[b] - positions[a]).cross(positions[c] - positions[a]);
+                now.dot(*then) < 0.0
+            })
+            .count()
     }
 }
 
