@@ -152,29 +152,25 @@ impl Hierarchy {
         // The faces around a set of vertices: the only ones whose turn relaxing them
         // changes.
         let around = |set: &[usize]| faces_around(mesh, set.iter().copied());
-        let original: Vec<DVec3> = deepest.iter().map(|&i| positions[i]).collect();
-        let put = |positions: &mut [DVec3], values: &[DVec3]| {
-            for (&i, &p) in deepest.iter().zip(values) {
-                positions[i] = p;
-            }
-        };
         // Turned faces, counted as the change from the original around each depth's set
-        // (faces further out are as they were whatever the depth).
-        let mut best: (isize, Vec<DVec3>) = (0, original.clone());
+        // (faces further out are as they were whatever the depth). The positions stay as
+        // they are while the relaxation runs on its own copy of the stepping vertices'.
+        let mut best: (isize, Option<(Relaxation, Vec<DVec3>)>) = (0, None);
         let mut unfolded = false;
         for relaxed in &sets {
-            put(&mut positions, &original);
-            let faces = TurnTest::new(mesh, rest, &around(relaxed));
-            let stencil = Stencil::new(mesh, rest, relaxed);
-            let base = faces.count(&positions) as isize;
+            let relaxation = Relaxation::new(mesh, &positions, rest, relaxed, &around(relaxed));
+            let mut now_at = relaxation.start();
+            let base = relaxation.count(&now_at) as isize;
             let rounds = MAX_ROUNDS.min((MAX_WORK / relaxed.len().max(1)).max(MIN_ROUNDS));
             let mut since_best = 0;
+            let mut improved: Option<Vec<DVec3>> = None;
             for _ in 0..rounds {
-                stencil.relax(&mut positions, rest);
-                let now = faces.count(&positions);
+                relaxation.step(&mut now_at);
+                let now = relaxation.count(&now_at);
                 let change = now as isize - base;
                 if change < best.0 {
-                    best = (change, deepest.iter().map(|&i| positions[i]).collect());
+                    best.0 = change;
+                    improved = Some(now_at.clone());
                     since_best = 0;
                 } else {
                     since_best += 1;
@@ -187,11 +183,16 @@ impl Hierarchy {
                     break;
                 }
             }
+            if let Some(at) = improved {
+                best.1 = Some((relaxation, at));
+            }
             if unfolded {
                 break;
             }
         }
-        put(&mut positions, &best.1);
+        if let Some((relaxation, at)) = &best.1 {
+            relaxation.write(&mut positions, at);
+        }
         if !unfolded {
             // What the relaxation left turned: ramps, then the untangling step.
             let mut left: Vec<crate::FaceId> = around(deepest);
@@ -243,112 +244,168 @@ impl Hierarchy {
     }
 }
 
-/// The relaxation's Jacobi step over a set of vertices, its neighbourhoods gathered once
-/// (in the circulators' order, so that every sum is the one walking the mesh makes).
-struct Stencil {
-    /// The vertices that take a step: those with a position before the edit, at least
-    /// one neighbour, and every neighbour with one.
+/// The relaxation of one set of vertices on a compact copy: the vertices that take a
+/// step ("stepping": a position before the edit, at least one neighbour, and every
+/// neighbour with one) numbered `0..n`; every other vertex stays where it is while the
+/// relaxation runs, so its displacement (for the steps) and position (for the turn
+/// tests) are gathered once. Neighbours are kept in the circulators' order and every
+/// value is computed as walking the mesh would, so the results are the same bit for bit.
+struct Relaxation {
+    /// The stepping vertices' slots.
     vertices: Vec<usize>,
     /// Where each was before the edit.
     at_rest: Vec<DVec3>,
-    /// `neighbours[start[k]..start[k + 1]]`: vertex `k`'s neighbours.
+    /// Where each is when the relaxation starts.
+    first: Vec<DVec3>,
+    /// `neighbours[start[k]..start[k + 1]]`: vertex `k`'s neighbours, a stepping vertex
+    /// by its number below `n`, another as `n + s` (its index `s` in the still arrays).
     start: Vec<usize>,
-    neighbours: Vec<usize>,
+    neighbours: Vec<u32>,
+    /// Displacements (from before the edit) and positions of the vertices read that do
+    /// not step.
+    still_displacement: Vec<DVec3>,
+    still_position: Vec<DVec3>,
+    /// The faces around the set that can turn over (every corner has a position before
+    /// the edit), corners numbered as `neighbours`, and their normals before the edit.
+    corners: Vec<[u32; 3]>,
+    before: Vec<DVec3>,
 }
 
-impl Stencil {
-    fn new(mesh: &crate::Mesh, rest: &[[f64; 3]], set: &[usize]) -> Self {
-        let mut stencil = Stencil {
-            vertices: Vec::with_capacity(set.len()),
-            at_rest: Vec::with_capacity(set.len()),
-            start: vec![0],
-            neighbours: Vec::with_capacity(6 * set.len()),
-        };
+impl Relaxation {
+    fn new(
+        mesh: &crate::Mesh,
+        positions: &[DVec3],
+        rest: &[[f64; 3]],
+        set: &[usize],
+        faces: &[crate::FaceId],
+    ) -> Self {
+        // Which vertices step, and their numbers; then the other vertices the steps and
+        // the turn tests read, numbered from `n` on (one dense table over the slots).
+        const UNSEEN: u32 = u32::MAX;
+        let mut number = vec![UNSEEN; positions.len()];
+        let mut vertices = Vec::with_capacity(set.len());
+        let mut start = vec![0];
+        let mut rings: Vec<usize> = Vec::with_capacity(6 * set.len());
         for &i in set {
-            let (Some(v), Some(at_rest)) = (mesh.vertex_at(i), rest_of(rest, i)) else {
+            let (Some(v), Some(_)) = (mesh.vertex_at(i), rest_of(rest, i)) else {
                 continue;
             };
-            let mark = stencil.neighbours.len();
-            let mut complete = true;
-            for w in mesh.adjacent_vertices(v) {
-                let j = mesh.vertex_index(w);
-                complete &= j < rest.len();
-                stencil.neighbours.push(j);
-            }
-            if !complete || stencil.neighbours.len() == mark {
-                stencil.neighbours.truncate(mark);
+            let mark = rings.len();
+            rings.extend(mesh.adjacent_vertices(v).map(|w| mesh.vertex_index(w)));
+            if rings.len() == mark || rings[mark..].iter().any(|&j| j >= rest.len()) {
+                rings.truncate(mark);
                 continue;
             }
-            stencil.vertices.push(i);
-            stencil.at_rest.push(at_rest);
-            stencil.start.push(stencil.neighbours.len());
+            number[i] = vertices.len() as u32;
+            vertices.push(i);
+            start.push(rings.len());
         }
-        stencil
+        let n = vertices.len() as u32;
+        let (mut still_displacement, mut still_position) = (Vec::new(), Vec::new());
+        let mut numbered = |i: usize| -> u32 {
+            if number[i] == UNSEEN {
+                number[i] = n + still_position.len() as u32;
+                still_position.push(positions[i]);
+                still_displacement.push(rest_of(rest, i).map_or(DVec3::ZERO, |r| positions[i] - r));
+            }
+            number[i]
+        };
+        let neighbours: Vec<u32> = rings.iter().map(|&j| numbered(j)).collect();
+        let mut corners = Vec::with_capacity(faces.len());
+        let mut before = Vec::with_capacity(faces.len());
+        for &f in faces {
+            let [a, b, c] = self::corners(mesh, f);
+            let (Some(ra), Some(rb), Some(rc)) =
+                (rest_of(rest, a), rest_of(rest, b), rest_of(rest, c))
+            else {
+                continue;
+            };
+            corners.push([numbered(a), numbered(b), numbered(c)]);
+            before.push((rb - ra).cross(rc - ra));
+        }
+        let at_rest = vertices
+            .iter()
+            .map(|&i| DVec3::from_array(rest[i]))
+            .collect();
+        let first = vertices.iter().map(|&i| positions[i]).collect();
+        Relaxation {
+            vertices,
+            at_rest,
+            first,
+            start,
+            neighbours,
+            still_displacement,
+            corners,
+            before,
+            still_position,
+        }
     }
 
-    /// One Jacobi step: each vertex's displacement from where it was before the edit
-    /// becomes the mean of its neighbours' (all computed from `positions` as they are,
-    /// then written; a value that is not finite is not written).
-    fn relax(&self, positions: &mut [DVec3], rest: &[[f64; 3]]) {
+    /// The stepping vertices' positions when the relaxation starts.
+    fn start(&self) -> Vec<DVec3> {
+        self.first.clone()
+    }
+
+    /// One Jacobi step: each stepping vertex's displacement from where it was before the
+    /// edit becomes the mean of its neighbours' (all computed from `at` as it is, then
+    /// written; a value that is not finite is not written).
+    fn step(&self, at: &mut [DVec3]) {
         use rayon::prelude::*;
-        let now = &*positions;
-        let moved: Vec<DVec3> = (0..self.vertices.len())
+        let n = self.vertices.len();
+        let now = &*at;
+        let moved: Vec<DVec3> = (0..n)
             .into_par_iter()
             .with_min_len(1024)
             .map(|k| {
                 let ring = &self.neighbours[self.start[k]..self.start[k + 1]];
                 let mut sum = DVec3::ZERO;
                 for &j in ring {
-                    sum += now[j] - DVec3::from_array(rest[j]);
+                    let j = j as usize;
+                    sum += if j < n {
+                        now[j] - self.at_rest[j]
+                    } else {
+                        self.still_displacement[j - n]
+                    };
                 }
                 self.at_rest[k] + sum / ring.len() as f64
             })
             .collect();
-        for (&i, p) in self.vertices.iter().zip(moved) {
-            if p.is_finite() {
-                positions[i] = p;
+        for (p, q) in at.iter_mut().zip(moved) {
+            if q.is_finite() {
+                *p = q;
             }
         }
     }
-}
 
-/// Counts the faces of a set turned over (as [`turned_at`]), their corners and normals
-/// before the edit gathered once (faces with a corner without a position before the
-/// edit are never turned and left out).
-struct TurnTest {
-    corners: Vec<[usize; 3]>,
-    before: Vec<DVec3>,
-}
-
-impl TurnTest {
-    fn new(mesh: &crate::Mesh, rest: &[[f64; 3]], faces: &[crate::FaceId]) -> Self {
-        let mut test = TurnTest {
-            corners: Vec::with_capacity(faces.len()),
-            before: Vec::with_capacity(faces.len()),
-        };
-        for &f in faces {
-            let [a, b, c] = corners(mesh, f);
-            if let (Some(ra), Some(rb), Some(rc)) =
-                (rest_of(rest, a), rest_of(rest, b), rest_of(rest, c))
-            {
-                test.corners.push([a, b, c]);
-                test.before.push((rb - ra).cross(rc - ra));
-            }
-        }
-        test
-    }
-
-    fn count(&self, positions: &[DVec3]) -> usize {
+    /// How many of the faces are turned over (as [`turned_at`]) with the stepping
+    /// vertices `at`.
+    fn count(&self, at: &[DVec3]) -> usize {
         use rayon::prelude::*;
+        let n = self.vertices.len();
+        let position = |k: u32| {
+            let k = k as usize;
+            if k < n {
+                at[k]
+            } else {
+                self.still_position[k - n]
+            }
+        };
         self.corners
             .par_iter()
             .with_min_len(4096)
             .zip(&self.before)
             .filter(|&(&[a, b, c], then)| {
-                let now = (positions[b] - positions[a]).cross(positions[c] - positions[a]);
-                now.dot(*then) < 0.0
+                let (pa, pb, pc) = (position(a), position(b), position(c));
+                (pb - pa).cross(pc - pa).dot(*then) < 0.0
             })
             .count()
+    }
+
+    /// Puts the stepping vertices at `at`.
+    fn write(&self, positions: &mut [DVec3], at: &[DVec3]) {
+        for (&i, &p) in self.vertices.iter().zip(at) {
+            positions[i] = p;
+        }
     }
 }
 
