@@ -424,8 +424,7 @@ fn untangle_what_is_left(
 ) {
     let mut still_turned = |positions: &[DVec3], touched: Vec<crate::FaceId>| {
         watched.extend(touched);
-        watched.sort_unstable_by_key(|&f| mesh.face_index(f));
-        watched.dedup();
+        sort_faces(mesh, &mut watched);
         let mut left = watched.clone();
         left.retain(|&f| turned_at(positions, rest, corners(mesh, f)));
         left
@@ -645,9 +644,33 @@ fn faces_around(mesh: &crate::Mesh, vertices: impl Iterator<Item = usize>) -> Ve
         .filter_map(|i| mesh.vertex_at(i))
         .flat_map(|v| mesh.adjacent_faces(v))
         .collect();
-    faces.sort_unstable_by_key(|&f| mesh.face_index(f));
-    faces.dedup();
+    sort_faces(mesh, &mut faces);
     faces
+}
+
+/// Sorts `faces` by face index and drops repeats: for a list that is a large part of
+/// the mesh, by a bit per face slot (linear), else by sorting.
+fn sort_faces(mesh: &crate::Mesh, faces: &mut Vec<crate::FaceId>) {
+    let slots = mesh.face_slots();
+    if faces.len() < slots / 16 {
+        faces.sort_unstable_by_key(|&f| mesh.face_index(f));
+        faces.dedup();
+        return;
+    }
+    let mut bits = vec![0u64; slots.div_ceil(64)];
+    for &f in faces.iter() {
+        let i = mesh.face_index(f);
+        bits[i / 64] |= 1 << (i % 64);
+    }
+    faces.clear();
+    for (w, &word) in bits.iter().enumerate() {
+        let mut word = word;
+        while word != 0 {
+            let i = 64 * w + word.trailing_zeros() as usize;
+            word &= word - 1;
+            faces.extend(mesh.face_at(i));
+        }
+    }
 }
 
 /// How many of `faces` are turned over at `positions` against `rest`.
@@ -685,7 +708,7 @@ fn rings(
     rest: &[[f64; 3]],
     depth: usize,
 ) -> Vec<(usize, usize, usize)> {
-    let mut origin: std::collections::BTreeMap<usize, usize> =
+    let mut origin: std::collections::HashMap<usize, usize> =
         from.iter().map(|&i| (i, i)).collect();
     let mut reached: Vec<(usize, usize, usize)> = from
         .iter()
