@@ -14,15 +14,18 @@
 //! centroid unless given; a positive angle turns clockwise on screen, since `y` points
 //! down). `IN.png` may be `pattern:WxH`, the procedurally drawn test picture
 //! (`edit::image_edit::test_pattern`). `--overlay` writes the input with the handle
-//! (orange) and fixed (blue) polygons drawn on it. Prints one JSON line with timings and
-//! counts; errors go to stderr.
+//! (orange) and fixed (blue) polygons drawn on it. A 16-bit PNG is edited and written at
+//! 16 bits (`edit::image_edit::Picture::read_png`). Prints one JSON line with timings and
+//! counts (`bits`: 8 or 16); errors go to stderr.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
 
 use clap::Parser;
-use edit::image_edit::{test_pattern, ImageOptions, ImageSession, Mask, Raster};
+use edit::image_edit::{
+    test_pattern, ImageOptions, ImageSessionOf, Mask, Picture, Raster, RasterOf, Sample,
+};
 use edit::shape::{CurveOptions, ShapeCurve, ShapeFunction};
 use glam::{DMat3, DVec2};
 
@@ -104,24 +107,31 @@ fn parse_shape(s: &str) -> Result<ShapeFunction, String> {
     })
 }
 
-fn read_input(input: &str) -> Result<Raster, Box<dyn std::error::Error>> {
+/// The input picture at its own depth (8 or 16 bits per channel).
+fn read_input(input: &str) -> Result<Picture, Box<dyn std::error::Error>> {
     if let Some(size) = input.strip_prefix("pattern:") {
         let (w, h) = size
             .split_once('x')
             .ok_or_else(|| format!("expected pattern:WxH, got {input:?}"))?;
-        return Ok(test_pattern(w.trim().parse()?, h.trim().parse()?)?);
+        return Ok(Picture::Eight(test_pattern(
+            w.trim().parse()?,
+            h.trim().parse()?,
+        )?));
     }
-    Ok(Raster::read_png(input)?)
+    Ok(Picture::read_png(input)?)
 }
 
-/// Draws the closed polygon in `colour` (its first channels) one pixel wide.
-fn draw_polygon(image: &mut Raster, polygon: &[DVec2], colour: [u8; 3]) {
+/// Draws the closed polygon in `colour` (8-bit values of its first channels, scaled to
+/// the picture's depth) one pixel wide.
+fn draw_polygon<S: Sample>(image: &mut RasterOf<S>, polygon: &[DVec2], colour: [u8; 3]) {
     let c = image.channels() as usize;
-    let value: Vec<u8> = match c {
+    let colour = colour.map(|v| S::from_f32(f32::from(v) / 255.0 * S::MAX));
+    let opaque = S::from_f32(S::MAX);
+    let value: Vec<S> = match c {
         1 => vec![colour[1]],
-        2 => vec![colour[1], 255],
+        2 => vec![colour[1], opaque],
         3 => colour.to_vec(),
-        _ => vec![colour[0], colour[1], colour[2], 255],
+        _ => vec![colour[0], colour[1], colour[2], opaque],
     };
     for k in 0..polygon.len() {
         let (a, b) = (polygon[k], polygon[(k + 1) % polygon.len()]);
@@ -150,8 +160,46 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
     let fixed_polygon = args.fixed.as_deref().map(parse_polygon).transpose()?;
 
     let clock = Instant::now();
-    let image = read_input(&args.input)?;
+    let picture = read_input(&args.input)?;
     let read_ms = clock.elapsed().as_secs_f64() * 1e3;
+    let inputs = Inputs {
+        args: &args,
+        shape,
+        translate,
+        handle_polygon,
+        fixed_polygon,
+        read_ms,
+    };
+    // A 16-bit picture is edited and written at 16 bits.
+    match picture {
+        Picture::Eight(image) => edit(image, inputs),
+        Picture::Sixteen(image) => edit(image, inputs),
+    }
+}
+
+/// What [`edit`] needs besides the picture.
+struct Inputs<'a> {
+    args: &'a Args,
+    shape: ShapeFunction,
+    translate: DVec2,
+    handle_polygon: Vec<DVec2>,
+    fixed_polygon: Option<Vec<DVec2>>,
+    read_ms: f64,
+}
+
+/// The edit of a picture of any depth, written at that depth, and its JSON report.
+fn edit<S: Sample>(
+    image: RasterOf<S>,
+    inputs: Inputs<'_>,
+) -> Result<(), Box<dyn std::error::Error>> {
+    let Inputs {
+        args,
+        shape,
+        translate,
+        handle_polygon,
+        fixed_polygon,
+        read_ms,
+    } = inputs;
     let (w, h) = (image.width(), image.height());
 
     let clock = Instant::now();
@@ -183,7 +231,7 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
         grid_step: args.grid_step,
         shape,
     };
-    let mut session = ImageSession::new(image, handle, fixed, options)?;
+    let mut session = ImageSessionOf::new(image, handle, fixed, options)?;
     let prepare_ms = clock.elapsed().as_secs_f64() * 1e3;
 
     let pivot = match &args.pivot {
@@ -212,6 +260,7 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
         "width": w,
         "height": h,
         "channels": out.channels(),
+        "bits": 8 * std::mem::size_of::<S>(),
         "grid": [nx, ny],
         "handle_pixels": handle_pixels,
         "fixed_pixels": fixed_pixels,

@@ -39,8 +39,8 @@ mod session;
 
 pub use mask::Mask;
 pub use pattern::test_pattern;
-pub use raster::Raster;
-pub use session::{ImageOptions, ImageSession, RenderStats};
+pub use raster::{Picture, Raster, Raster16, RasterOf, Sample};
+pub use session::{ImageOptions, ImageSession, ImageSession16, ImageSessionOf, RenderStats};
 
 use std::path::PathBuf;
 

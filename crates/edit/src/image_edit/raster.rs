@@ -1,18 +1,197 @@
-//! 8-bit grey, grey + alpha, RGB and RGBA pictures, PNG in and out, bilinear sampling.
+//! Grey, grey + alpha, RGB and RGBA pictures of 8 or 16 bits per channel, PNG in and
+//! out, bilinear sampling.
 
 use std::path::Path;
 
 use super::{ImageEditError, ImageResult};
 
-/// A picture of `width × height` pixels, `channels` bytes each (1 grey, 2 grey + alpha,
-/// 3 RGB, 4 RGBA), rows top to bottom: the input and output of an image edit
-/// (Bendels & Klein, Sec. 7). 16-bit PNGs are read as 8-bit.
+/// The sample type of a [`Raster`]: `u8` (8 bits per channel, the default) or `u16`
+/// (16 bits, as 16-bit PNGs hold them). Sealed: only these two.
+pub trait Sample:
+    Copy + Default + PartialEq + Eq + std::fmt::Debug + Send + Sync + 'static + sealed::Sealed
+{
+    /// The largest value (full intensity, opaque).
+    const MAX: f32;
+    /// The value as `f32`.
+    fn to_f32(self) -> f32;
+    /// The value nearest to `v`, saturating to `0..=MAX` (NaN gives 0).
+    fn from_f32(v: f32) -> Self;
+    /// The samples and channel count of a decoded picture at this depth (palettes
+    /// expanded; another depth converted by the `image` crate).
+    #[doc(hidden)]
+    fn decode(image: image::DynamicImage) -> (u8, Vec<Self>);
+    /// Writes `data` (`channels` samples per pixel) as a PNG of this depth.
+    #[doc(hidden)]
+    fn encode(
+        path: &Path,
+        data: &[Self],
+        width: u32,
+        height: u32,
+        channels: u8,
+    ) -> image::ImageResult<()>;
+}
+
+mod sealed {
+    pub trait Sealed {}
+    impl Sealed for u8 {}
+    impl Sealed for u16 {}
+}
+
+impl Sample for u8 {
+    const MAX: f32 = 255.0;
+    #[inline(always)]
+    fn to_f32(self) -> f32 {
+        f32::from(self)
+    }
+    #[inline(always)]
+    fn from_f32(v: f32) -> Self {
+        // `as` saturates (NaN to 0).
+        (v + 0.5) as u8
+    }
+    fn decode(image: image::DynamicImage) -> (u8, Vec<Self>) {
+        use image::DynamicImage as D;
+        match image {
+            D::ImageLuma8(b) => (1, b.into_raw()),
+            D::ImageLumaA8(b) => (2, b.into_raw()),
+            D::ImageRgb8(b) => (3, b.into_raw()),
+            D::ImageRgba8(b) => (4, b.into_raw()),
+            D::ImageLuma16(_) => (1, image.to_luma8().into_raw()),
+            D::ImageLumaA16(_) => (2, image.to_luma_alpha8().into_raw()),
+            D::ImageRgb16(_) | D::ImageRgb32F(_) => (3, image.to_rgb8().into_raw()),
+            _ => (4, image.to_rgba8().into_raw()),
+        }
+    }
+    fn encode(
+        path: &Path,
+        data: &[Self],
+        width: u32,
+        height: u32,
+        channels: u8,
+    ) -> image::ImageResult<()> {
+        let color = match channels {
+            1 => image::ExtendedColorType::L8,
+            2 => image::ExtendedColorType::La8,
+            3 => image::ExtendedColorType::Rgb8,
+            _ => image::ExtendedColorType::Rgba8,
+        };
+        image::save_buffer_with_format(path, data, width, height, color, image::ImageFormat::Png)
+    }
+}
+
+impl Sample for u16 {
+    const MAX: f32 = 65535.0;
+    #[inline(always)]
+    fn to_f32(self) -> f32 {
+        f32::from(self)
+    }
+    #[inline(always)]
+    fn from_f32(v: f32) -> Self {
+        // `as` saturates (NaN to 0).
+        (v + 0.5) as u16
+    }
+    fn decode(image: image::DynamicImage) -> (u8, Vec<Self>) {
+        use image::DynamicImage as D;
+        match image {
+            D::ImageLuma16(b) => (1, b.into_raw()),
+            D::ImageLumaA16(b) => (2, b.into_raw()),
+            D::ImageRgb16(b) => (3, b.into_raw()),
+            D::ImageRgba16(b) => (4, b.into_raw()),
+            D::ImageLuma8(_) => (1, image.to_luma16().into_raw()),
+            D::ImageLumaA8(_) => (2, image.to_luma_alpha16().into_raw()),
+            D::ImageRgb8(_) | D::ImageRgb32F(_) => (3, image.to_rgb16().into_raw()),
+            _ => (4, image.to_rgba16().into_raw()),
+        }
+    }
+    fn encode(
+        path: &Path,
+        data: &[Self],
+        width: u32,
+        height: u32,
+        channels: u8,
+    ) -> image::ImageResult<()> {
+        use image::{ImageBuffer, Luma, LumaA, Rgb, Rgba};
+        let data = data.to_vec();
+        let size = || {
+            image::ImageError::Parameter(image::error::ParameterError::from_kind(
+                image::error::ParameterErrorKind::DimensionMismatch,
+            ))
+        };
+        match channels {
+            1 => ImageBuffer::<Luma<u16>, _>::from_raw(width, height, data)
+                .ok_or_else(size)?
+                .save(path),
+            2 => ImageBuffer::<LumaA<u16>, _>::from_raw(width, height, data)
+                .ok_or_else(size)?
+                .save(path),
+            3 => ImageBuffer::<Rgb<u16>, _>::from_raw(width, height, data)
+                .ok_or_else(size)?
+                .save(path),
+            _ => ImageBuffer::<Rgba<u16>, _>::from_raw(width, height, data)
+                .ok_or_else(size)?
+                .save(path),
+        }
+    }
+}
+
+/// A picture of `width × height` pixels, `channels` samples each (1 grey, 2 grey +
+/// alpha, 3 RGB, 4 RGBA) of type `S`, rows top to bottom: the input and output of an
+/// image edit (Bendels & Klein, Sec. 7). [`Raster`] holds 8 bits per channel,
+/// [`Raster16`] 16.
 #[derive(Clone, Debug, PartialEq, Eq)]
-pub struct Raster {
+pub struct RasterOf<S: Sample> {
     width: u32,
     height: u32,
     channels: u8,
-    data: Vec<u8>,
+    data: Vec<S>,
+}
+
+/// A picture of 8 bits per channel (what most PNGs hold).
+pub type Raster = RasterOf<u8>;
+
+/// A picture of 16 bits per channel (16-bit PNGs: scans, medical and scientific
+/// pictures).
+pub type Raster16 = RasterOf<u16>;
+
+/// A PNG read at its own depth: 8 bits per channel or 16 ([`Picture::read_png`]).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Picture {
+    /// 8 bits per channel (and palette pictures, expanded).
+    Eight(Raster),
+    /// 16 bits per channel.
+    Sixteen(Raster16),
+}
+
+impl Picture {
+    /// Reads a PNG, keeping 16-bit samples as 16-bit ([`Raster::read_png`] reduces them
+    /// to 8 bits).
+    ///
+    /// # Errors
+    /// [`ImageEditError::Png`] when the file cannot be read or decoded;
+    /// [`ImageEditError::TooLarge`] above [`super::MAX_PIXELS`] pixels.
+    pub fn read_png(path: impl AsRef<Path>) -> ImageResult<Self> {
+        let decoded = decode_png(path.as_ref())?;
+        use image::DynamicImage as D;
+        Ok(match decoded {
+            D::ImageLuma16(_) | D::ImageLumaA16(_) | D::ImageRgb16(_) | D::ImageRgba16(_) => {
+                Picture::Sixteen(RasterOf::from_decoded(decoded)?)
+            }
+            _ => Picture::Eight(RasterOf::from_decoded(decoded)?),
+        })
+    }
+}
+
+/// Decodes the PNG at `path` (errors name the file).
+fn decode_png(path: &Path) -> ImageResult<image::DynamicImage> {
+    let wrap = |source: image::ImageError| ImageEditError::Png {
+        path: path.to_path_buf(),
+        source,
+    };
+    image::ImageReader::open(path)
+        .map_err(|e| wrap(e.into()))?
+        .with_guessed_format()
+        .map_err(|e| wrap(e.into()))?
+        .decode()
+        .map_err(wrap)
 }
 
 /// `width × height × channels`, checked.
@@ -31,14 +210,14 @@ fn byte_len(width: u32, height: u32, channels: u8) -> ImageResult<usize> {
         })
 }
 
-impl Raster {
-    /// A picture from its bytes (row-major, channels interleaved).
+impl<S: Sample> RasterOf<S> {
+    /// A picture from its samples (row-major, channels interleaved).
     ///
     /// # Errors
     /// [`ImageEditError::Channels`] for a channel count outside 1..=4,
     /// [`ImageEditError::TooLarge`] above [`super::MAX_PIXELS`] pixels,
     /// [`ImageEditError::DataLength`] when `data` has another length.
-    pub fn new(width: u32, height: u32, channels: u8, data: Vec<u8>) -> ImageResult<Self> {
+    pub fn new(width: u32, height: u32, channels: u8, data: Vec<S>) -> ImageResult<Self> {
         let expected = byte_len(width, height, channels)?;
         if data.len() != expected {
             return Err(ImageEditError::DataLength {
@@ -58,7 +237,7 @@ impl Raster {
     ///
     /// # Errors
     /// As [`Raster::new`].
-    pub fn filled(width: u32, height: u32, value: &[u8]) -> ImageResult<Self> {
+    pub fn filled(width: u32, height: u32, value: &[S]) -> ImageResult<Self> {
         let channels = u8::try_from(value.len()).unwrap_or(u8::MAX);
         let len = byte_len(width, height, channels)?;
         let data = value.iter().copied().cycle().take(len).collect();
@@ -75,7 +254,7 @@ impl Raster {
     pub fn height(&self) -> u32 {
         self.height
     }
-    /// Bytes per pixel: 1 grey, 2 grey + alpha, 3 RGB, 4 RGBA.
+    /// Samples per pixel: 1 grey, 2 grey + alpha, 3 RGB, 4 RGBA.
     #[must_use]
     pub fn channels(&self) -> u8 {
         self.channels
@@ -85,18 +264,18 @@ impl Raster {
     pub fn has_alpha(&self) -> bool {
         self.channels % 2 == 0
     }
-    /// The bytes, row-major, channels interleaved.
+    /// The samples, row-major, channels interleaved.
     #[must_use]
-    pub fn data(&self) -> &[u8] {
+    pub fn data(&self) -> &[S] {
         &self.data
     }
-    /// The bytes, mutable.
-    pub fn data_mut(&mut self) -> &mut [u8] {
+    /// The samples, mutable.
+    pub fn data_mut(&mut self) -> &mut [S] {
         &mut self.data
     }
     /// The pixel at `(x, y)`, or `None` outside the picture.
     #[must_use]
-    pub fn pixel(&self, x: u32, y: u32) -> Option<&[u8]> {
+    pub fn pixel(&self, x: u32, y: u32) -> Option<&[S]> {
         if x >= self.width || y >= self.height {
             return None;
         }
@@ -106,7 +285,7 @@ impl Raster {
     }
     /// Sets the pixel at `(x, y)`; outside the picture, or with a value of another
     /// channel count, nothing happens.
-    pub fn set_pixel(&mut self, x: u32, y: u32, value: &[u8]) {
+    pub fn set_pixel(&mut self, x: u32, y: u32, value: &[S]) {
         if x >= self.width || y >= self.height || value.len() != self.channels as usize {
             return;
         }
@@ -115,66 +294,41 @@ impl Raster {
         self.data[i..i + c].copy_from_slice(value);
     }
 
-    /// Reads a PNG (any bit depth and colour type; 16-bit samples are reduced to
-    /// 8-bit, palettes expanded).
+    /// Reads a PNG at this raster's depth, any bit depth and colour type: palettes
+    /// expanded; a [`Raster`] reduces 16-bit samples to 8 bits, a [`Raster16`] widens
+    /// 8-bit samples (× 257). [`Picture::read_png`] keeps a file's own depth.
     ///
     /// # Errors
-    /// [`ImageEditError::Png`] when the file cannot be read or decoded.
+    /// [`ImageEditError::Png`] when the file cannot be read or decoded;
+    /// [`ImageEditError::TooLarge`] above [`super::MAX_PIXELS`] pixels.
     pub fn read_png(path: impl AsRef<Path>) -> ImageResult<Self> {
-        let path = path.as_ref();
-        let wrap = |source: image::ImageError| ImageEditError::Png {
-            path: path.to_path_buf(),
-            source,
-        };
-        let decoded = image::ImageReader::open(path)
-            .map_err(|e| wrap(e.into()))?
-            .with_guessed_format()
-            .map_err(|e| wrap(e.into()))?
-            .decode()
-            .map_err(wrap)?;
+        Self::from_decoded(decode_png(path.as_ref())?)
+    }
+
+    /// The raster of a decoded picture, at this depth.
+    fn from_decoded(decoded: image::DynamicImage) -> ImageResult<Self> {
         let (width, height) = (decoded.width(), decoded.height());
-        use image::DynamicImage as D;
-        let (channels, data) = match decoded {
-            D::ImageLuma8(b) => (1, b.into_raw()),
-            D::ImageLumaA8(b) => (2, b.into_raw()),
-            D::ImageRgb8(b) => (3, b.into_raw()),
-            D::ImageRgba8(b) => (4, b.into_raw()),
-            D::ImageLuma16(_) => (1, decoded.to_luma8().into_raw()),
-            D::ImageLumaA16(_) => (2, decoded.to_luma_alpha8().into_raw()),
-            D::ImageRgb16(_) | D::ImageRgb32F(_) => (3, decoded.to_rgb8().into_raw()),
-            _ => (4, decoded.to_rgba8().into_raw()),
-        };
+        let (channels, data) = S::decode(decoded);
         Self::new(width, height, channels, data)
     }
 
-    /// Writes a PNG with the picture's channels (grey, grey + alpha, RGB or RGBA).
+    /// Writes a PNG with the picture's channels (grey, grey + alpha, RGB or RGBA) and
+    /// depth (8 or 16 bits).
     ///
     /// # Errors
     /// [`ImageEditError::Png`] when the file cannot be written.
     pub fn write_png(&self, path: impl AsRef<Path>) -> ImageResult<()> {
         let path = path.as_ref();
-        let color = match self.channels {
-            1 => image::ExtendedColorType::L8,
-            2 => image::ExtendedColorType::La8,
-            3 => image::ExtendedColorType::Rgb8,
-            _ => image::ExtendedColorType::Rgba8,
-        };
-        image::save_buffer_with_format(
-            path,
-            &self.data,
-            self.width,
-            self.height,
-            color,
-            image::ImageFormat::Png,
-        )
-        .map_err(|source| ImageEditError::Png {
-            path: path.to_path_buf(),
-            source,
+        S::encode(path, &self.data, self.width, self.height, self.channels).map_err(|source| {
+            ImageEditError::Png {
+                path: path.to_path_buf(),
+                source,
+            }
         })
     }
 
     /// Bilinear sample at `(x, y)` (pixel centres at integers, clamped to the
-    /// picture) into `out` (`channels` values in 0..=255, not rounded). With alpha the
+    /// picture) into `out` (`channels` values in `0..=S::MAX`, not rounded). With alpha the
     /// colour channels are interpolated premultiplied and divided back (where all four
     /// taps are transparent, straight).
     ///
@@ -207,12 +361,12 @@ impl Raster {
                 out[k] = taps
                     .iter()
                     .zip(&weights)
-                    .map(|(&i, &wt)| wt * f64::from(d[i + k]))
+                    .map(|(&i, &wt)| wt * f64::from(d[i + k].to_f32()))
                     .sum();
             }
         } else {
             let a = c - 1;
-            let alphas = taps.map(|i| f64::from(d[i + a]));
+            let alphas = taps.map(|i| f64::from(d[i + a].to_f32()));
             let alpha: f64 = alphas.iter().zip(&weights).map(|(x, w)| x * w).sum();
             out[a] = alpha;
             for k in 0..a {
@@ -221,14 +375,14 @@ impl Raster {
                         .iter()
                         .zip(&weights)
                         .zip(&alphas)
-                        .map(|((&i, &wt), &al)| wt * al * f64::from(d[i + k]))
+                        .map(|((&i, &wt), &al)| wt * al * f64::from(d[i + k].to_f32()))
                         .sum();
                     premultiplied / alpha
                 } else {
                     // Wholly transparent: the straight mean keeps the stored colour.
                     taps.iter()
                         .zip(&weights)
-                        .map(|(&i, &wt)| wt * f64::from(d[i + k]))
+                        .map(|(&i, &wt)| wt * f64::from(d[i + k].to_f32()))
                         .sum()
                 };
             }
@@ -236,7 +390,7 @@ impl Raster {
     }
 }
 
-impl Raster {
+impl<S: Sample> RasterOf<S> {
     /// [`Raster::sample_bilinear`] for `C` channels in `f32` arithmetic, unrolled: the
     /// resampling's inner loop. Agrees with the `f64` version to about 1e-4.
     #[inline(always)]
@@ -251,7 +405,7 @@ impl Raster {
         let (dx, dy) = (if w > 1 { C } else { 0 }, if h > 1 { row } else { 0 });
         let i00 = y0 * row + x0 * C;
         let d = &self.data;
-        let tap = |i: usize| -> [f32; C] { std::array::from_fn(|k| f32::from(d[i + k])) };
+        let tap = |i: usize| -> [f32; C] { std::array::from_fn(|k| d[i + k].to_f32()) };
         let (p00, p10, p01, p11) = (tap(i00), tap(i00 + dx), tap(i00 + dy), tap(i00 + dy + dx));
         let (w00, w10) = ((1.0 - fx) * (1.0 - fy), fx * (1.0 - fy));
         let (w01, w11) = ((1.0 - fx) * fy, fx * fy);

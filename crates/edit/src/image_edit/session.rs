@@ -6,7 +6,7 @@ use rayon::prelude::*;
 
 use super::edt::squared_distances_at;
 use super::mask::Mask;
-use super::raster::Raster;
+use super::raster::{RasterOf, Sample};
 use super::{ImageEditError, ImageResult};
 use crate::blend::blend_ratio;
 use crate::matrix::{embed_affine2, AffinePower};
@@ -49,11 +49,13 @@ const BAND: usize = 16;
 /// triangles, so no pixel centre falls between them.
 const INSIDE: f64 = 1e-9;
 
-/// A Bendels & Klein image edit: the picture, its regions, the grid mesh with its
-/// weights, and the current handle transform (see the module docs of [`super`]).
+/// A Bendels & Klein image edit of a picture of samples `S`: the picture, its regions,
+/// the grid mesh with its weights, and the current handle transform (see the module
+/// docs of [`super`]). [`ImageSession`] edits 8-bit pictures, [`ImageSession16`] 16-bit
+/// ones.
 #[derive(Clone, Debug)]
-pub struct ImageSession {
-    source: Raster,
+pub struct ImageSessionOf<S: Sample> {
+    source: RasterOf<S>,
     handle: Mask,
     fixed: Mask,
     xs: Vec<u32>,
@@ -78,7 +80,13 @@ fn grid_line(len: u32, step: u32) -> Vec<u32> {
     line
 }
 
-impl ImageSession {
+/// The edit of an 8-bit picture ([`super::Raster`]).
+pub type ImageSession = ImageSessionOf<u8>;
+
+/// The edit of a 16-bit picture ([`super::Raster16`]).
+pub type ImageSession16 = ImageSessionOf<u16>;
+
+impl<S: Sample> ImageSessionOf<S> {
     /// Sets up the edit of `image` with the `handle` and `fixed` masks: builds the grid,
     /// the two exact distance fields at its vertices and the weights. Every grid vertex
     /// on a handle pixel is handle, on a fixed pixel fixed, the others deformable.
@@ -89,7 +97,7 @@ impl ImageSession {
     /// [`ImageEditError::EmptyRegion`], [`ImageEditError::Overlap`],
     /// [`ImageEditError::HandleTouchesFixed`].
     pub fn new(
-        image: Raster,
+        image: RasterOf<S>,
         handle: Mask,
         fixed: Mask,
         options: ImageOptions,
@@ -149,7 +157,7 @@ impl ImageSession {
 
     /// The input picture.
     #[must_use]
-    pub fn source(&self) -> &Raster {
+    pub fn source(&self) -> &RasterOf<S> {
         &self.source
     }
     /// The handle mask.
@@ -334,7 +342,7 @@ impl ImageSession {
 
     /// The edited picture (see [`ImageSession::render_into`]).
     #[must_use]
-    pub fn render(&self) -> Raster {
+    pub fn render(&self) -> RasterOf<S> {
         let mut out = self.source.clone();
         self.draw(&mut out);
         out
@@ -347,8 +355,8 @@ impl ImageSession {
     ///
     /// # Errors
     /// [`ImageEditError::OutputMismatch`] for another size or channel count.
-    pub fn render_into(&self, out: &mut Raster) -> ImageResult<RenderStats> {
-        let shape = |r: &Raster| (r.width(), r.height(), r.channels());
+    pub fn render_into(&self, out: &mut RasterOf<S>) -> ImageResult<RenderStats> {
+        let shape = |r: &RasterOf<S>| (r.width(), r.height(), r.channels());
         if shape(out) != shape(&self.source) {
             return Err(ImageEditError::OutputMismatch {
                 got: shape(out),
@@ -362,7 +370,7 @@ impl ImageSession {
         Ok(self.draw(out))
     }
 
-    fn draw(&self, out: &mut Raster) -> RenderStats {
+    fn draw(&self, out: &mut RasterOf<S>) -> RenderStats {
         let h = self.source.height() as usize;
         let (nx, ny) = (self.xs.len(), self.ys.len());
         // The cells that moved, binned by the bands of rows their deformed bounding
@@ -404,7 +412,7 @@ impl ImageSession {
 
     /// Draws the binned cells band by band in parallel, for `C` channels; returns the
     /// number of pixels drawn.
-    fn draw_bands<const C: usize>(&self, out: &mut Raster, bins: &[Vec<u32>]) -> usize {
+    fn draw_bands<const C: usize>(&self, out: &mut RasterOf<S>, bins: &[Vec<u32>]) -> usize {
         let (w, h) = (self.source.width() as usize, self.source.height() as usize);
         let fixed = self.fixed.bits();
         let source = &self.source;
@@ -448,8 +456,8 @@ impl ImageSession {
                                 );
                                 for (dst, &v) in out_row[x * C..(x + 1) * C].iter_mut().zip(&value)
                                 {
-                                    // `as` saturates to 0..=255 (NaN to 0).
-                                    *dst = (v + 0.5) as u8;
+                                    // Rounded, saturating (NaN to 0).
+                                    *dst = S::from_f32(v);
                                 }
                             }
                         }

@@ -514,3 +514,112 @@ fn bad_input_is_refused_and_refusals_change_nothing() {
     ));
     assert_eq!(wrong, Raster::filled(32, 32, &[0, 0, 0, 0]).unwrap());
 }
+
+/// A 16-bit RGB version of the 256² test picture: each 8-bit value `v` becomes
+/// `257 v` plus a low byte that varies across the picture, so 8 bits cannot hold it.
+fn sixteen_bit_picture() -> Raster16 {
+    let rgb = test_pattern(256, 256).unwrap();
+    let data = rgb
+        .data()
+        .iter()
+        .enumerate()
+        .map(|(i, &v)| (u16::from(v) * 257).saturating_add((i % 97) as u16 * 3))
+        .collect();
+    Raster16::new(256, 256, 3, data).unwrap()
+}
+
+#[test]
+fn a_sixteen_bit_picture_is_edited_at_sixteen_bits() {
+    let image = sixteen_bit_picture();
+    let centre = DVec2::new(127.5, 127.5);
+    let handle = Mask::polygon(256, 256, &circle(centre, 30.0, 48)).unwrap();
+    let fixed = Mask::outside_polygon(256, 256, &circle(centre, 100.0, 96)).unwrap();
+    let options = ImageOptions {
+        grid_step: 4,
+        shape: ShapeFunction::Smoothstep,
+    };
+    let mut session = ImageSession16::new(image.clone(), handle, fixed, options).unwrap();
+    // A whole-pixel translation: the handle's inside is copied sample for sample.
+    session
+        .apply(DMat3::from_translation(DVec2::new(8.0, -5.0)))
+        .unwrap();
+    let out = session.render();
+    let (mut fixed_pixels, mut copied) = (0, 0);
+    for y in 0..256 {
+        for x in 0..256 {
+            if session.fixed_mask().contains(x, y) {
+                assert_eq!(out.pixel(x, y), image.pixel(x, y), "fixed ({x}, {y})");
+                fixed_pixels += 1;
+            }
+            // Well inside the moved handle (its source 4 pixels inside the circle).
+            let source = DVec2::new(f64::from(x) - 8.0, f64::from(y) + 5.0);
+            if source.distance(centre) < 26.0 {
+                assert_eq!(
+                    out.pixel(x, y),
+                    image.pixel(source.x as u32, source.y as u32),
+                    "handle ({x}, {y})"
+                );
+                copied += 1;
+            }
+        }
+    }
+    assert!(
+        fixed_pixels > 20_000 && copied > 1_500,
+        "{fixed_pixels} {copied}"
+    );
+    // The blend between them keeps 16-bit values (not multiples of 257).
+    let changed: Vec<u16> = out
+        .data()
+        .iter()
+        .zip(image.data())
+        .filter(|(a, b)| a != b)
+        .map(|(&a, _)| a)
+        .collect();
+    assert!(changed.len() > 1_000);
+    assert!(changed.iter().filter(|&&v| v % 257 != 0).count() > changed.len() / 2);
+}
+
+#[test]
+fn sixteen_bit_pngs_keep_their_depth() {
+    let image = sixteen_bit_picture();
+    let path = std::env::temp_dir().join(format!("edit-16-bit-{}.png", std::process::id()));
+    image.write_png(&path).unwrap();
+    let read = Picture::read_png(&path).unwrap();
+    let eight = Raster::read_png(&path).unwrap();
+    let widened = Raster16::read_png(&path).unwrap();
+    std::fs::remove_file(&path).ok();
+    assert_eq!(read, Picture::Sixteen(image.clone()));
+    assert_eq!(widened, image);
+    // Read as 8 bits: every sample within one level of the 16-bit one.
+    assert_eq!(eight.data().len(), image.data().len());
+    for (&a, &b) in eight.data().iter().zip(image.data()) {
+        assert!(
+            (f32::from(a) * 257.0 - f32::from(b)).abs() <= 257.0,
+            "{a} {b}"
+        );
+    }
+    // An 8-bit file stays 8-bit, and reads widened as 16 bits (× 257).
+    let small = test_pattern(16, 8).unwrap();
+    let path = std::env::temp_dir().join(format!("edit-8-bit-{}.png", std::process::id()));
+    small.write_png(&path).unwrap();
+    let read = Picture::read_png(&path).unwrap();
+    let widened = Raster16::read_png(&path).unwrap();
+    std::fs::remove_file(&path).ok();
+    assert_eq!(read, Picture::Eight(small.clone()));
+    assert!(widened
+        .data()
+        .iter()
+        .zip(small.data())
+        .all(|(&w, &s)| w == u16::from(s) * 257));
+}
+
+#[test]
+fn samples_round_and_saturate() {
+    assert_eq!(u8::from_f32(254.6), 255);
+    assert_eq!(u8::from_f32(300.0), 255);
+    assert_eq!(u8::from_f32(-3.0), 0);
+    assert_eq!(u8::from_f32(f32::NAN), 0);
+    assert_eq!(u16::from_f32(1234.4), 1234);
+    assert_eq!(u16::from_f32(70_000.0), 65_535);
+    assert_eq!(u16::from_f32(f32::NAN), 0);
+}
