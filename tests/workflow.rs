@@ -265,15 +265,7 @@ fn workflow_welds_a_triangle_soup_and_edits_it() {
     // welds it back, says so, and makes every edit; with --weld off it keeps the soup.
     let data = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("data/blob.obj");
     let (mesh, _) = halfedge::io::read(&data).unwrap();
-    let (positions, triangles) = mesh.to_arrays();
-    let corners: Vec<[f64; 3]> = triangles
-        .iter()
-        .flatten()
-        .map(|&i| positions[i as usize])
-        .collect();
-    let faces: Vec<[u32; 3]> = (0..triangles.len() as u32)
-        .map(|f| [3 * f, 3 * f + 1, 3 * f + 2])
-        .collect();
+    let (corners, faces) = halfedge::generators::triangle_soup(&mesh);
     let (soup, _) = halfedge::Mesh::from_arrays(&corners, &faces).unwrap();
     let input = std::env::temp_dir().join(format!("multires-soup-{}.obj", std::process::id()));
     halfedge::io::write(&input, &soup).unwrap();

@@ -2,8 +2,6 @@
 //! a torus (genus 1), several meshes as one (several components) — and 1-to-4 midpoint
 //! subdivision (used to make meshes of millions of triangles from real ones).
 
-use std::collections::HashMap;
-
 use glam::DVec3;
 
 use crate::Mesh;
@@ -197,25 +195,36 @@ pub fn subdivide(mesh: &Mesh) -> Mesh {
         .0
 }
 
-/// Welds vertices with identical positions (bit-for-bit) and returns the triangle soup
-/// of `mesh` re-indexed onto the welded vertices: a helper for tests that build meshes
-/// from pieces.
+/// Welds vertices with identical positions (bit-for-bit, `-0.0` and `0.0` alike) and
+/// returns the triangles of `mesh` re-indexed onto the welded vertices, without building
+/// a mesh: a helper for tests that build meshes from pieces ([`Mesh::welded`] builds
+/// the welded mesh).
 pub fn weld_exact(mesh: &Mesh) -> (Vec<DVec3>, Vec<[u32; 3]>) {
-    let mut map: HashMap<[u64; 3], u32> = HashMap::new();
-    let mut positions = Vec::new();
-    let mut index = vec![0u32; mesh.vertex_slots()];
-    for v in mesh.vertices() {
-        let p = mesh.position(v);
-        let key = p.to_array().map(f64::to_bits);
-        let i = *map.entry(key).or_insert_with(|| {
-            positions.push(p);
-            (positions.len() - 1) as u32
-        });
-        index[mesh.vertex_index(v)] = i;
-    }
-    let triangles = mesh
-        .faces()
-        .map(|f| mesh.triangle(f).map(|v| index[mesh.vertex_index(v)]))
+    let (positions, triangles) = mesh.to_arrays();
+    let points: Vec<DVec3> = positions.iter().map(|&p| DVec3::from_array(p)).collect();
+    let (kept, index) = crate::weld::weld_exact(&points);
+    let triangles = triangles
+        .iter()
+        .map(|t| t.map(|i| index[i as usize]))
         .collect();
-    (positions, triangles)
+    (
+        kept.iter().map(|&i| points[i as usize]).collect(),
+        triangles,
+    )
+}
+
+/// `mesh` as a triangle soup, as STL files and some exporters write meshes: every face
+/// on its own three copies of its corners (positions and triangles, faces in
+/// [`Mesh::faces`] order). [`Mesh::welded`] makes the mesh again.
+pub fn triangle_soup(mesh: &Mesh) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
+    let (positions, triangles) = mesh.to_arrays();
+    let corners = triangles
+        .iter()
+        .flatten()
+        .map(|&i| positions[i as usize])
+        .collect();
+    let faces = (0..triangles.len() as u32)
+        .map(|f| [3 * f, 3 * f + 1, 3 * f + 2])
+        .collect();
+    (corners, faces)
 }

@@ -12,12 +12,8 @@
 //! use halfedge::{generators, Mesh};
 //! // An icosphere as a soup: every triangle on its own copies of its corners.
 //! let sphere = generators::icosphere(1);
-//! let (positions, triangles) = sphere.to_arrays();
-//! let soup_positions: Vec<[f64; 3]> =
-//!     triangles.iter().flatten().map(|&i| positions[i as usize]).collect();
-//! let soup_triangles: Vec<[u32; 3]> =
-//!     (0..triangles.len() as u32).map(|f| [3 * f, 3 * f + 1, 3 * f + 2]).collect();
-//! let (soup, _) = Mesh::from_arrays(&soup_positions, &soup_triangles).unwrap();
+//! let (corners, triangles) = generators::triangle_soup(&sphere);
+//! let (soup, _) = Mesh::from_arrays(&corners, &triangles).unwrap();
 //! assert_eq!(soup.topology_report().components, 80);
 //!
 //! let (welded, report) = soup.welded(0.0).unwrap();
@@ -156,7 +152,7 @@ impl Mesh {
 /// vertices (indices into `points`, in order) and every point's kept vertex's new
 /// index. By a parallel sort of the positions' bits, so a mesh of millions of vertices
 /// takes a few tens of milliseconds.
-fn weld_exact(points: &[DVec3]) -> (Vec<u32>, Vec<u32>) {
+pub(crate) fn weld_exact(points: &[DVec3]) -> (Vec<u32>, Vec<u32>) {
     use rayon::prelude::*;
     // `+ 0.0` turns -0.0 into 0.0 and leaves every other value as it is.
     let key = |p: DVec3| (p + DVec3::ZERO).to_array().map(f64::to_bits);
@@ -273,24 +269,20 @@ mod tests {
     use super::*;
     use crate::generators;
 
-    /// `mesh` as a triangle soup: every face on its own copies of its corners.
+    /// `mesh` as a triangle soup ([`generators::triangle_soup`]), each coordinate moved
+    /// by a deterministic offset of at most `jitter`.
     fn soup(mesh: &Mesh, jitter: f64) -> Mesh {
-        let (positions, triangles) = mesh.to_arrays();
+        let (corners, faces) = generators::triangle_soup(mesh);
         let mut k = 0u64;
-        let points: Vec<[f64; 3]> = triangles
+        let points: Vec<[f64; 3]> = corners
             .iter()
-            .flatten()
-            .map(|&i| {
-                // A deterministic offset of at most `jitter` per coordinate.
+            .map(|p| {
                 k = k
                     .wrapping_mul(6364136223846793005)
                     .wrapping_add(1442695040888963407);
                 let unit = (k >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
-                positions[i as usize].map(|x| x + 2.0 * jitter * unit)
+                p.map(|x| x + 2.0 * jitter * unit)
             })
-            .collect();
-        let faces: Vec<[u32; 3]> = (0..triangles.len() as u32)
-            .map(|f| [3 * f, 3 * f + 1, 3 * f + 2])
             .collect();
         Mesh::from_arrays(&points, &faces).unwrap().0
     }

@@ -553,15 +553,7 @@ mod tests {
     #[test]
     fn a_soup_file_is_read_as_its_surface() {
         let sphere = generators::icosphere(2);
-        let (positions, triangles) = sphere.to_arrays();
-        let corners: Vec<[f64; 3]> = triangles
-            .iter()
-            .flatten()
-            .map(|&i| positions[i as usize])
-            .collect();
-        let faces: Vec<[u32; 3]> = (0..triangles.len() as u32)
-            .map(|f| [3 * f, 3 * f + 1, 3 * f + 2])
-            .collect();
+        let (corners, faces) = generators::triangle_soup(&sphere);
         let (soup, _) = Mesh::from_arrays(&corners, &faces).unwrap();
         let path = std::env::temp_dir().join(format!("viewer-soup-{}.ply", std::process::id()));
         halfedge::io::write(&path, &soup).unwrap();

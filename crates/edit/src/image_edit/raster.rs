@@ -37,101 +37,71 @@ mod sealed {
     impl Sealed for u16 {}
 }
 
-impl Sample for u8 {
-    const MAX: f32 = 255.0;
-    #[inline(always)]
-    fn to_f32(self) -> f32 {
-        f32::from(self)
-    }
-    #[inline(always)]
-    fn from_f32(v: f32) -> Self {
-        // `as` saturates (NaN to 0).
-        (v + 0.5) as u8
-    }
-    fn decode(image: image::DynamicImage) -> (u8, Vec<Self>) {
-        use image::DynamicImage as D;
-        match image {
-            D::ImageLuma8(b) => (1, b.into_raw()),
-            D::ImageLumaA8(b) => (2, b.into_raw()),
-            D::ImageRgb8(b) => (3, b.into_raw()),
-            D::ImageRgba8(b) => (4, b.into_raw()),
-            D::ImageLuma16(_) => (1, image.to_luma8().into_raw()),
-            D::ImageLumaA16(_) => (2, image.to_luma_alpha8().into_raw()),
-            D::ImageRgb16(_) | D::ImageRgb32F(_) => (3, image.to_rgb8().into_raw()),
-            _ => (4, image.to_rgba8().into_raw()),
+/// `Sample` for one sample type: its largest value and the `image` crate's conversions
+/// to it (`$luma` … `$rgba`: `DynamicImage::to_luma8` … for `u8`).
+macro_rules! sample {
+    ($t:ty, $max:expr, $luma:ident, $luma_alpha:ident, $rgb:ident, $rgba:ident) => {
+        impl Sample for $t {
+            const MAX: f32 = $max;
+            #[inline(always)]
+            fn to_f32(self) -> f32 {
+                f32::from(self)
+            }
+            #[inline(always)]
+            fn from_f32(v: f32) -> Self {
+                // `as` saturates (NaN to 0).
+                (v + 0.5) as $t
+            }
+            fn decode(image: image::DynamicImage) -> (u8, Vec<Self>) {
+                match image.color().channel_count() {
+                    1 => (1, image.$luma().into_raw()),
+                    2 => (2, image.$luma_alpha().into_raw()),
+                    3 => (3, image.$rgb().into_raw()),
+                    _ => (4, image.$rgba().into_raw()),
+                }
+            }
+            fn encode(
+                path: &Path,
+                data: &[Self],
+                width: u32,
+                height: u32,
+                channels: u8,
+            ) -> image::ImageResult<()> {
+                use image::{ImageBuffer, Luma, LumaA, Rgb, Rgba};
+                let data = data.to_vec();
+                let mismatch = || {
+                    image::ImageError::Parameter(image::error::ParameterError::from_kind(
+                        image::error::ParameterErrorKind::DimensionMismatch,
+                    ))
+                };
+                match channels {
+                    1 => ImageBuffer::<Luma<$t>, _>::from_raw(width, height, data)
+                        .ok_or_else(mismatch)?
+                        .save_with_format(path, image::ImageFormat::Png),
+                    2 => ImageBuffer::<LumaA<$t>, _>::from_raw(width, height, data)
+                        .ok_or_else(mismatch)?
+                        .save_with_format(path, image::ImageFormat::Png),
+                    3 => ImageBuffer::<Rgb<$t>, _>::from_raw(width, height, data)
+                        .ok_or_else(mismatch)?
+                        .save_with_format(path, image::ImageFormat::Png),
+                    _ => ImageBuffer::<Rgba<$t>, _>::from_raw(width, height, data)
+                        .ok_or_else(mismatch)?
+                        .save_with_format(path, image::ImageFormat::Png),
+                }
+            }
         }
-    }
-    fn encode(
-        path: &Path,
-        data: &[Self],
-        width: u32,
-        height: u32,
-        channels: u8,
-    ) -> image::ImageResult<()> {
-        let color = match channels {
-            1 => image::ExtendedColorType::L8,
-            2 => image::ExtendedColorType::La8,
-            3 => image::ExtendedColorType::Rgb8,
-            _ => image::ExtendedColorType::Rgba8,
-        };
-        image::save_buffer_with_format(path, data, width, height, color, image::ImageFormat::Png)
-    }
+    };
 }
 
-impl Sample for u16 {
-    const MAX: f32 = 65535.0;
-    #[inline(always)]
-    fn to_f32(self) -> f32 {
-        f32::from(self)
-    }
-    #[inline(always)]
-    fn from_f32(v: f32) -> Self {
-        // `as` saturates (NaN to 0).
-        (v + 0.5) as u16
-    }
-    fn decode(image: image::DynamicImage) -> (u8, Vec<Self>) {
-        use image::DynamicImage as D;
-        match image {
-            D::ImageLuma16(b) => (1, b.into_raw()),
-            D::ImageLumaA16(b) => (2, b.into_raw()),
-            D::ImageRgb16(b) => (3, b.into_raw()),
-            D::ImageRgba16(b) => (4, b.into_raw()),
-            D::ImageLuma8(_) => (1, image.to_luma16().into_raw()),
-            D::ImageLumaA8(_) => (2, image.to_luma_alpha16().into_raw()),
-            D::ImageRgb8(_) | D::ImageRgb32F(_) => (3, image.to_rgb16().into_raw()),
-            _ => (4, image.to_rgba16().into_raw()),
-        }
-    }
-    fn encode(
-        path: &Path,
-        data: &[Self],
-        width: u32,
-        height: u32,
-        channels: u8,
-    ) -> image::ImageResult<()> {
-        use image::{ImageBuffer, Luma, LumaA, Rgb, Rgba};
-        let data = data.to_vec();
-        let size = || {
-            image::ImageError::Parameter(image::error::ParameterError::from_kind(
-                image::error::ParameterErrorKind::DimensionMismatch,
-            ))
-        };
-        match channels {
-            1 => ImageBuffer::<Luma<u16>, _>::from_raw(width, height, data)
-                .ok_or_else(size)?
-                .save(path),
-            2 => ImageBuffer::<LumaA<u16>, _>::from_raw(width, height, data)
-                .ok_or_else(size)?
-                .save(path),
-            3 => ImageBuffer::<Rgb<u16>, _>::from_raw(width, height, data)
-                .ok_or_else(size)?
-                .save(path),
-            _ => ImageBuffer::<Rgba<u16>, _>::from_raw(width, height, data)
-                .ok_or_else(size)?
-                .save(path),
-        }
-    }
-}
+sample!(u8, 255.0, to_luma8, to_luma_alpha8, to_rgb8, to_rgba8);
+sample!(
+    u16,
+    65535.0,
+    to_luma16,
+    to_luma_alpha16,
+    to_rgb16,
+    to_rgba16
+);
 
 /// A picture of `width × height` pixels, `channels` samples each (1 grey, 2 grey +
 /// alpha, 3 RGB, 4 RGBA) of type `S`, rows top to bottom: the input and output of an
