@@ -205,6 +205,51 @@ fn coarse_edits_end_like_full_resolution_edits_on_generated_meshes() {
 }
 
 #[test]
+fn coarse_edits_meet_the_targets_far_from_the_origin_and_at_any_scale() {
+    // The capsule placed 10⁷ units away (as georeferenced scans are: positions round to
+    // about 10⁻⁹ there), and shrunk to a micrometre: every edit at level 3 with rounds
+    // still makes its measurements and meets the four targets. (The example's check of
+    // the rigid parts asked for 1e-12 of the diagonal whatever the coordinates, and its
+    // FFD lattice had a thickness floor of 1e-9 units: the first refused every rigid
+    // edit far away, the second made the micrometre FFD a different edit.)
+    let capsule = bumpy_capsule();
+    let moved = |f: &dyn Fn(DVec3) -> DVec3| {
+        let mut mesh = capsule.clone();
+        for p in mesh.positions_mut() {
+            *p = f(*p);
+        }
+        mesh
+    };
+    let far = moved(&|p| p + DVec3::new(1.0e7, -3.0e6, 2.0e6));
+    let tiny = moved(&|p| p * 1e-6);
+    let mut reports = Vec::new();
+    for (name, mesh) in [("far", &far), ("tiny", &tiny)] {
+        let prepared = measure::prepare(mesh.clone(), Method::Rounds, DetailMode::LocalFrame, 3)
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        for edit in EditKind::ALL {
+            let report = measure::measure(&prepared, &Options::new(edit))
+                .unwrap_or_else(|e| panic!("{name} {}: {e}", edit.name()))
+                .report;
+            reports.push((name.to_string(), report));
+        }
+    }
+    assert_all(&reports, "all four targets", Report::meets_targets);
+    // The same edits as on the capsule where it is: the same regions.
+    let prepared = measure::prepare(capsule, Method::Rounds, DetailMode::LocalFrame, 3).unwrap();
+    for (name, r) in &reports {
+        let here = measure::measure(&prepared, &Options::new(r.edit))
+            .unwrap()
+            .report;
+        assert_eq!(
+            r.region_vertices,
+            here.region_vertices,
+            "{name} {}",
+            r.edit.name()
+        );
+    }
+}
+
+#[test]
 fn a_flat_region_twists_from_the_boundary_and_refuses_a_seed_inside() {
     // On a flat open patch the rule's region (three rings in from the rim) is enclosed by
     // its frontier: nothing reaches beyond it along any axis a twist or taper could use.

@@ -561,13 +561,20 @@ struct Applied {
 }
 
 /// Checks that `map` takes every listed vertex from `before` to `after` (to 1e-12 of
-/// the diagonal): the affine part found from the edit's parameters is the one the
-/// library applied.
+/// the diagonal, plus the rounding of coordinates far from the origin: a mesh placed
+/// 10⁷ units away, as georeferenced scans are, rounds its positions to about 10⁻⁹): the
+/// affine part found from the edit's parameters is the one the library applied.
 fn verify(rigid: &Rigid, before: &[DVec3], after: &[DVec3], diagonal: f64) -> Result<(), Failure> {
     for &i in &rigid.vertices {
         let i = i as usize;
-        let off = (rigid.map.transform_point3(before[i]) - after[i]).length();
-        if off > 1e-12 * diagonal {
+        let target = rigid.map.transform_point3(before[i]);
+        let off = (target - after[i]).length();
+        let magnitude = before[i]
+            .abs()
+            .max(after[i].abs())
+            .max(target.abs())
+            .max_element();
+        if off > 1e-12 * diagonal + 64.0 * f64::EPSILON * magnitude {
             return Err(Failure::new(
                 format!(
                     "vertex {i} was not moved by the edit's affine map (off by {:.3e} of the diagonal)",
@@ -1466,7 +1473,8 @@ fn ffd_edit(
         .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), l| {
             (lo.min(l), hi.max(l))
         });
-    let size = (hi - lo).max(DVec3::splat(1e-9));
+    // (a flat footprint gets a thickness of a millionth of its extent, at any scale)
+    let size = (hi - lo).max(DVec3::splat(1e-6 * (hi - lo).max_element()));
     let margin = 0.05;
     let min = [lo.x - margin * size.x, lo.z - margin * size.z];
     let max = [hi.x + margin * size.x, hi.z + margin * size.z];

@@ -118,6 +118,11 @@ pub enum Mode {
     Local,
 }
 
+/// How many units in the last place of the lattice's largest coordinate a foot may be
+/// off along the surface and still count as attached ([`AttachOptions::tolerance`] is
+/// added to it).
+const ROUNDING_ULPS: f64 = 64.0;
+
 /// Most Newton iterations per vertex [`Ffd::attach`] accepts (a bound on its time).
 pub const MAX_ATTACH_ITERATIONS: usize = 10_000;
 
@@ -133,7 +138,8 @@ pub struct AttachOptions {
     /// Newton iterations per vertex at most (at most [`MAX_ATTACH_ITERATIONS`]).
     pub max_iterations: usize,
     /// A vertex is attached when its offset from the foot is along the normal to within
-    /// `tolerance ×` the size of the shape surface's control net.
+    /// `tolerance ×` the size of the shape surface's control net (plus the rounding of
+    /// coordinates as large as the net's, for a lattice far from the origin).
     pub tolerance: f64,
 }
 
@@ -212,17 +218,24 @@ impl Ffd {
             return Err(EditError::EmptySubMesh);
         }
         let slots = mesh.vertex_slots();
-        let patches = Patches::new(shape.degree(), shape.count(), shape.control_points());
+        // Feet are found about the frame's origin, so that a lattice far from the world's
+        // origin keeps the precision of its own size.
+        let origin = frame.origin;
+        let local: Vec<DVec3> = shape.control_points().iter().map(|&p| p - origin).collect();
+        let patches = Patches::new(shape.degree(), shape.count(), &local);
         let spans = patches.spans();
         let samples =
             attach::Samples::new(&patches, [sample_count(spans[0]), sample_count(spans[1])]);
-        let (lo, hi) = shape
-            .control_points()
+        let (lo, hi) = local
             .iter()
             .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), p| {
                 (lo.min(*p), hi.max(*p))
             });
-        let tolerance = options.tolerance * (hi - lo).length().max(f64::MIN_POSITIVE);
+        // (plus the rounding of positions far from the origin: a lattice 10⁷ units away
+        // cannot place a foot closer than about 10⁻⁹)
+        let magnitude = lo.abs().max(hi.abs()).max_element();
+        let tolerance = options.tolerance * (hi - lo).length().max(f64::MIN_POSITIVE)
+            + ROUNDING_ULPS * f64::EPSILON * magnitude;
 
         let positions = mesh.positions();
         let indices = selected.to_indices();
@@ -233,7 +246,7 @@ impl Ffd {
                 attach::foot(
                     &patches,
                     &samples,
-                    positions[i as usize],
+                    positions[i as usize] - origin,
                     options.max_iterations,
                 )
             })
@@ -566,15 +579,16 @@ impl Ffd {
 
     /// The surfaces with pinned control points at their rest positions, as patches.
     fn effective_patches(&self) -> (Patches<DVec3>, Patches<f64>) {
+        // (about the frame's origin, as the feet were found)
+        let frame = self.frame;
         let shape: Vec<DVec3> = self
             .shape
             .control_points()
             .iter()
             .zip(self.shape_rest.control_points())
             .zip(&self.pinned_shape)
-            .map(|((&p, &r), &fixed)| if fixed { r } else { p })
+            .map(|((&p, &r), &fixed)| (if fixed { r } else { p }) - frame.origin)
             .collect();
-        let frame = self.frame;
         let height: Vec<f64> = self
             .height
             .control_points()
@@ -632,6 +646,7 @@ impl Ffd {
             }
         }
         let (shape, height) = self.effective_patches();
+        let origin = self.frame.origin;
         // Computed apart and checked before any position is written.
         let new: Vec<DVec3> = mesh
             .positions()
@@ -645,7 +660,7 @@ impl Ffd {
                 let (s, s_s, s_t) = shape.first_local(u, v);
                 let n = s_t.cross(s_s).normalize_or_zero();
                 let hy = height.value(u, v);
-                s + (hy * h) * n
+                origin + (s + (hy * h) * n)
             })
             .collect();
         check_finite_positions("the deformation", &[], &new)?;
