@@ -38,7 +38,8 @@ mod sealed {
 }
 
 /// `Sample` for one sample type: its largest value and the `image` crate's conversions
-/// to it (`$luma` … `$rgba`: `DynamicImage::to_luma8` … for `u8`).
+/// to it (`$luma` … `$rgba`: `DynamicImage::into_luma8` … for `u8`, which keep the
+/// buffer of a picture already of that type).
 macro_rules! sample {
     ($t:ty, $max:expr, $luma:ident, $luma_alpha:ident, $rgb:ident, $rgba:ident) => {
         impl Sample for $t {
@@ -93,7 +94,14 @@ macro_rules! sample {
     };
 }
 
-sample!(u8, 255.0, to_luma8, to_luma_alpha8, to_rgb8, to_rgba8);
+sample!(
+    u8,
+    255.0,
+    into_luma8,
+    into_luma_alpha8,
+    into_rgb8,
+    into_rgba8
+);
 sample!(
     u16,
     65535.0,

@@ -159,7 +159,7 @@ impl Hierarchy {
         let mut unfolded = false;
         for relaxed in &sets {
             let relaxation = Relaxation::new(mesh, &positions, rest, relaxed, &around(relaxed));
-            let mut now_at = relaxation.start();
+            let mut now_at = relaxation.start(&positions);
             let base = relaxation.count(&now_at) as isize;
             let rounds = MAX_ROUNDS.min((MAX_WORK / relaxed.len().max(1)).max(MIN_ROUNDS));
             let mut since_best = 0;
@@ -195,8 +195,12 @@ impl Hierarchy {
         }
         if !unfolded {
             // What the relaxation left turned: ramps, then the untangling step.
-            let mut left: Vec<crate::FaceId> = around(deepest);
-            left.retain(|&f| turned(&positions, f));
+            let watched = around(deepest);
+            let left: Vec<crate::FaceId> = watched
+                .iter()
+                .copied()
+                .filter(|&f| turned(&positions, f))
+                .collect();
             // The corners of those faces that moved exactly: still (unmarked, where they
             // were) or where their affine or field mark takes them (their mark's index).
             let mut kinds: std::collections::BTreeMap<usize, Option<usize>> = Default::default();
@@ -231,14 +235,7 @@ impl Hierarchy {
                     Some(k) => Some(marks.maps.get(*k)?.apply(p)),
                 }
             };
-            untangle_what_is_left(
-                mesh,
-                &mut positions,
-                rest,
-                &movable,
-                &exact,
-                around(deepest),
-            );
+            untangle_what_is_left(mesh, &mut positions, rest, &movable, &exact, watched);
         }
         self.mesh.positions = positions;
     }
@@ -255,8 +252,6 @@ struct Relaxation {
     vertices: Vec<usize>,
     /// Where each was before the edit.
     at_rest: Vec<DVec3>,
-    /// Where each is when the relaxation starts.
-    first: Vec<DVec3>,
     /// `neighbours[start[k]..start[k + 1]]`: vertex `k`'s neighbours, a stepping vertex
     /// by its number below `n`, another as `n + s` (its index `s` in the still arrays).
     start: Vec<usize>,
@@ -327,11 +322,9 @@ impl Relaxation {
             .iter()
             .map(|&i| DVec3::from_array(rest[i]))
             .collect();
-        let first = vertices.iter().map(|&i| positions[i]).collect();
         Relaxation {
             vertices,
             at_rest,
-            first,
             start,
             neighbours,
             still_displacement,
@@ -341,9 +334,10 @@ impl Relaxation {
         }
     }
 
-    /// The stepping vertices' positions when the relaxation starts.
-    fn start(&self) -> Vec<DVec3> {
-        self.first.clone()
+    /// The stepping vertices' positions when the relaxation starts (the positions are
+    /// not written until the best round is).
+    fn start(&self, positions: &[DVec3]) -> Vec<DVec3> {
+        self.vertices.iter().map(|&i| positions[i]).collect()
     }
 
     /// One Jacobi step: each stepping vertex's displacement from where it was before the
