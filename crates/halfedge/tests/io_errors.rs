@@ -454,6 +454,38 @@ fn malformed_obj() {
     assert_format(&e, "zero.obj", &["line 4", "index 0"]);
 }
 
+/// A line ending in `\\` goes on on the next (the OBJ format's continuation, which
+/// exporters write for long polygons; OpenMesh 1.2.1 reads only the first part): a
+/// hexagon written over three lines, with CRLF line ends and white space after a `\\`,
+/// reads as the hexagon on one line, and errors after it still name the file's line.
+#[test]
+fn obj_lines_continued_with_a_backslash() {
+    let vertices = "v 0 0 0\nv 1 0 0\nv 2 1 0\nv 1 2 0\nv 0 2 0\nv -1 1 0\n";
+    let one_line = format!("{vertices}f 1 2 3 4 5 6\n");
+    let continued = format!("{vertices}f 1 2 \\\n3 4 \\  \n5 6\n").replace('\n', "\r\n");
+    let read = |text: &str| {
+        io::read_obj_from_bytes(text.as_bytes(), Path::new("x.obj"))
+            .unwrap()
+            .0
+    };
+    let (a, b) = (read(&one_line), read(&continued));
+    assert_eq!(b.n_faces(), 4, "the hexagon fanned into four triangles");
+    let triangles = |m: &halfedge::Mesh| -> Vec<_> {
+        m.faces()
+            .map(|f| m.triangle(f).map(|v| m.vertex_index(v)))
+            .collect()
+    };
+    assert_eq!(triangles(&a), triangles(&b));
+    // The continued face is lines 7–9; the bad face after it is line 10.
+    let dir = temp_dir("continued");
+    let bad = format!("{vertices}f 1 2 \\\n3 4 \\\n5 6\nf 1 2 x\n");
+    let e = read_error(&dir, "continued.obj", bad.as_bytes());
+    assert_format(&e, "continued.obj", &["line 10", "'x'"]);
+    // A `\\` on the last line continues into nothing.
+    let last = format!("{vertices}f 4 5 6 \\");
+    assert_eq!(read(&last).n_faces(), 1);
+}
+
 #[test]
 #[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
 fn truncated_large_binary_ply_across_read_chunks() {

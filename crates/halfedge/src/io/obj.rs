@@ -8,9 +8,11 @@
 //!
 //! As in OpenMesh's OBJ reader, a face that names a vertex more than once keeps the
 //! first mention of each vertex (`f 1 2 4 2 3` is read as `f 1 2 4 3`) and is dropped
-//! when fewer than three vertices remain; polylines (`l`) are ignored. Every error names
-//! the line.
+//! when fewer than three vertices remain; polylines (`l`) are ignored. A line ending in
+//! `\` continues on the next one, as the OBJ format says (OpenMesh 1.2.1 reads only the
+//! first part of such a face). Every error names the line.
 
+use std::borrow::Cow;
 use std::path::Path;
 
 use glam::DVec3;
@@ -64,7 +66,7 @@ pub fn read_obj_from_bytes(bytes: &[u8], path: &Path) -> Result<(Mesh, BuildRepo
             }
             _ => {}
         }
-        body.push_str(line);
+        body.push_str(&line);
         body.push('\n');
     }
     if n_vertices == 0 {
@@ -153,13 +155,40 @@ pub fn read_obj_from_bytes(bytes: &[u8], path: &Path) -> Result<(Mesh, BuildRepo
 
 /// The lines tobj is given, numbered from 1 as in the file: all but `o`, `g`, `usemtl`
 /// and `mtllib` (the file is read as one object) and `l` (polylines, which OpenMesh
-/// ignores and tobj would read as faces).
-fn kept_lines(text: &str) -> impl Iterator<Item = (usize, &str)> {
-    text.lines().enumerate().filter_map(|(i, line)| {
-        match line.split_whitespace().next().unwrap_or("") {
-            "o" | "g" | "usemtl" | "mtllib" | "l" => None,
-            _ => Some((i + 1, line)),
+/// ignores and tobj would read as faces). A line ending in `\` goes on on the next line
+/// (the OBJ format's continuation, which exporters write for long faces); the joined
+/// line has the number of its first.
+fn kept_lines(text: &str) -> impl Iterator<Item = (usize, Cow<'_, str>)> {
+    logical_lines(text).filter(|(_, line)| {
+        !matches!(
+            line.split_whitespace().next().unwrap_or(""),
+            "o" | "g" | "usemtl" | "mtllib" | "l"
+        )
+    })
+}
+
+/// The lines of `text` numbered from 1, each joined with the lines after it while it
+/// ends in `\` (before trailing white space), the `\` replaced by a space; borrowed
+/// when nothing is joined.
+fn logical_lines(text: &str) -> impl Iterator<Item = (usize, Cow<'_, str>)> {
+    let mut lines = text.lines().enumerate();
+    std::iter::from_fn(move || {
+        let (i, first) = lines.next()?;
+        let Some(head) = first.trim_end().strip_suffix('\\') else {
+            return Some((i + 1, Cow::Borrowed(first)));
+        };
+        let mut joined = String::from(head);
+        for (_, next) in lines.by_ref() {
+            joined.push(' ');
+            match next.trim_end().strip_suffix('\\') {
+                Some(more) => joined.push_str(more),
+                None => {
+                    joined.push_str(next);
+                    break;
+                }
+            }
         }
+        Some((i + 1, Cow::Owned(joined)))
     })
 }
 
@@ -192,7 +221,7 @@ fn load_tobj(source: &str) -> std::result::Result<tobj::Model, tobj::LoadError> 
 /// the line is the first one whose addition makes tobj fail on the kept lines up to it
 /// (found by bisection, only on this error path).
 fn tobj_error(text: &str, e: tobj::LoadError, format: &dyn Fn(String) -> Error) -> Error {
-    let lines: Vec<(usize, &str)> = kept_lines(text).collect();
+    let lines: Vec<(usize, Cow<'_, str>)> = kept_lines(text).collect();
     let fails = |k: usize| {
         let mut prefix = String::new();
         for (_, l) in &lines[..k] {
@@ -240,10 +269,10 @@ fn without_colours(source: &str) -> String {
 
 /// A face's indices without repeats, the first of each kept in order (OpenMesh's OBJ
 /// reader: `f 1 2 4 2 3` is the polygon `1 2 4 3`); borrowed when nothing repeats.
-fn without_repeats(face: &[u32]) -> std::borrow::Cow<'_, [u32]> {
+fn without_repeats(face: &[u32]) -> Cow<'_, [u32]> {
     let repeats = (1..face.len()).any(|i| face[..i].contains(&face[i]));
     if !repeats {
-        return std::borrow::Cow::Borrowed(face);
+        return Cow::Borrowed(face);
     }
     let mut kept: Vec<u32> = Vec::with_capacity(face.len());
     for &i in face {
@@ -251,7 +280,7 @@ fn without_repeats(face: &[u32]) -> std::borrow::Cow<'_, [u32]> {
             kept.push(i);
         }
     }
-    std::borrow::Cow::Owned(kept)
+    Cow::Owned(kept)
 }
 
 /// The 1-based vertex index of a face token (`v`, `v/vt`, `v//vn`, `v/vt/vn`); negative
