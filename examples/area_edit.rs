@@ -12,7 +12,8 @@
 //! creature's snout). Where the disk around it is not an editing area (it reaches the
 //! boundary of an open mesh, wraps around a handle), the disk is halved down to 16
 //! vertices, then the other extreme vertices and the vertex farthest from the boundary
-//! are tried, and a note says what was used.
+//! are tried, and a note says what was used. A triangle soup or a mesh with seams is
+//! welded first (`--weld`, as in the workflow; `--vertex` still names the file's vertex).
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -21,6 +22,10 @@ use clap::Parser;
 
 #[path = "support/picks.rs"]
 mod picks;
+#[path = "support/progress.rs"]
+mod progress;
+#[path = "support/weld.rs"]
+mod weld;
 use edit::area::{EditingArea, EditingSession, FrameKind, SessionOptions};
 use halfedge::VertexId;
 
@@ -48,6 +53,8 @@ struct Args {
     /// temporary folder.
     #[arg(long)]
     output: Option<PathBuf>,
+    #[arg(long, default_value = "auto", value_parser = weld::parse, help = weld::HELP)]
+    weld: weld::Weld,
 }
 
 fn default_mesh() -> PathBuf {
@@ -64,7 +71,9 @@ fn main() {
 fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
     let path = args.mesh.unwrap_or_else(default_mesh);
     let t = Instant::now();
-    let (mut mesh, _) = halfedge::io::read(&path)?;
+    let (mesh, report) = progress::read(&path)?;
+    let large = progress::is_large(mesh.n_faces());
+    let (mut mesh, _, welding) = weld::apply(mesh, report, args.weld, large)?;
     println!(
         "loaded {} ({} vertices, {} faces) in {:.1?}",
         path.display(),
@@ -72,19 +81,29 @@ fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
         mesh.n_faces(),
         t.elapsed()
     );
+    if let Some(welding) = &welding {
+        println!("note: {}", welding.note);
+    }
     // Where to drag: the given vertex, or the largest component's vertex furthest along
     // +z, then its other extreme vertices, then the vertex farthest from the boundary
     // (on an open mesh the extreme vertices are often on the boundary).
     let candidates: Vec<(VertexId, String)> = match args.vertex {
-        Some(i) => vec![(
-            mesh.vertex_at(i).ok_or_else(|| {
+        Some(i) => {
+            // The file's vertex `i`, where welding put it.
+            let welded = match &welding {
+                Some(w) => w.vertex_map.get(i).map(|&j| j as usize),
+                None => Some(i),
+            };
+            let vertex = welded.and_then(|j| mesh.vertex_at(j)).ok_or_else(|| {
                 format!(
-                    "vertex {i} does not exist (the mesh has {} vertex slots)",
-                    mesh.vertex_slots()
+                    "vertex {i} does not exist (the file has {} vertices)",
+                    welding
+                        .as_ref()
+                        .map_or(mesh.vertex_slots(), |w| w.vertex_map.len())
                 )
-            })?,
-            format!("vertex {i}"),
-        )],
+            })?;
+            vec![(vertex, format!("vertex {i}"))]
+        }
         None => {
             let list = picks::drag_candidates(&mesh);
             if list.is_empty() {

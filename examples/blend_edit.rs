@@ -9,9 +9,11 @@
 //! draws the handle border and the fixed border as closed loops through vertices
 //! picked around it (radii `--handle-radius` and `--fixed-radius`, as fractions of the
 //! bounding-box diagonal; halved twice at most where the loops do not close and nest,
-//! then edge-path balls around the vertex instead, with a note), rotates the handle by `--angle` degrees about an axis through
+//! then edge-path balls around the vertex instead, then rings of edges around it, with a
+//! note), rotates the handle by `--angle` degrees about an axis through
 //! the fixed border's centre (then moves it by `--pull`), refines stretched triangles,
-//! writes the mesh (OBJ or PLY, by extension) and prints the timings of each step.
+//! writes the mesh (OBJ or PLY, by extension) and prints the timings of each step. A
+//! triangle soup or a mesh with seams is welded first (`--weld`, as in the workflow).
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -20,6 +22,8 @@ use clap::Parser;
 
 #[path = "support/progress.rs"]
 mod progress;
+#[path = "support/weld.rs"]
+mod weld;
 use edit::blend::{BlendOptions, BlendSession, DistanceKind, RefineOptions};
 use edit::regions::Regions;
 use edit::shape::ShapeFunction;
@@ -58,6 +62,8 @@ struct Args {
     /// Refine edges longer than this multiple of the mean edge length (0: no refinement).
     #[arg(long, default_value_t = 2.0)]
     refine: f64,
+    #[arg(long, default_value = "auto", value_parser = weld::parse, help = weld::HELP)]
+    weld: weld::Weld,
 }
 
 fn parse_vec(s: &str) -> Result<DVec3, String> {
@@ -111,14 +117,18 @@ fn main() {
 
 fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
     let clock = Instant::now();
-    let (mut mesh, _) = progress::read(&args.mesh)?;
+    let (mesh, report) = progress::read(&args.mesh)?;
     let large = progress::is_large(mesh.n_faces());
+    let (mut mesh, _, welding) = weld::apply(mesh, report, args.weld, large)?;
     println!(
         "loaded {} vertices, {} faces in {:.3} s",
         mesh.n_vertices(),
         mesh.n_faces(),
         clock.elapsed().as_secs_f64()
     );
+    if let Some(welding) = welding {
+        println!("note: {}", welding.note);
+    }
     let (lo, hi) = mesh.bounding_box().ok_or("empty mesh")?;
     let diagonal = lo.distance(hi);
     let direction = args
@@ -178,6 +188,30 @@ fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
             }
         }
     }
+    if regions.is_none() {
+        // Edges longer than the radii (a long cylinder's, a CAD part's) put a handle
+        // vertex beside a fixed one in every ball: rings of edges around the tip instead.
+        for (handle_rings, fixed_rings) in [(1, 4), (0, 3), (0, 2)] {
+            let mut handle = Selection::from_vertices(&mesh, &[tip])?;
+            handle.grow(&mesh, handle_rings)?;
+            let mut near = Selection::from_vertices(&mesh, &[tip])?;
+            near.grow(&mesh, fixed_rings)?;
+            let fixed: Vec<VertexId> = mesh
+                .vertices()
+                .filter(|&v| !near.contains(&mesh, v))
+                .collect();
+            if let Ok(r) = Regions::from_sets(&mesh, &handle.vertices(&mesh), &fixed) {
+                if !r.deformable().is_empty() {
+                    let how = format!(
+                        "the tip and {handle_rings} ring(s) around it, fixed beyond \
+                         {fixed_rings} rings"
+                    );
+                    regions = Some((r, how, true, 0.0, 0.0));
+                    break;
+                }
+            }
+        }
+    }
     let Some((regions, how, adapted, rh, rf)) = regions else {
         return Err(format!(
             "{}: the loops drawn at --handle-radius and --fixed-radius around the extreme \
@@ -188,11 +222,16 @@ fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
     };
     if adapted {
         println!(
-            "note: the loops at {} / {} of the diagonal could not be used ({}); used {how} at \
-             {rh:.4} / {rf:.4} (--handle-radius, --fixed-radius, --direction)",
+            "note: the loops at {} / {} of the diagonal could not be used ({}); used {how}{} \
+             (--handle-radius, --fixed-radius, --direction)",
             args.handle_radius,
             args.fixed_radius,
-            first_failure.as_deref().unwrap_or("?")
+            first_failure.as_deref().unwrap_or("?"),
+            if rh > 0.0 {
+                format!(" at {rh:.4} / {rf:.4}")
+            } else {
+                String::new()
+            }
         );
     }
     println!(

@@ -1,6 +1,8 @@
 //! Deforms a mesh with the methods of issue 6 and writes the result as OBJ:
 //! a Barr twist and taper along the mesh's longest axis, then Taubin smoothing, then a
-//! shape/height-surface FFD bend; prints what each step cost.
+//! shape/height-surface FFD bend; prints what each step cost. A triangle soup or a mesh
+//! with seams is welded first (`--weld`, as in the workflow: smoothing would otherwise
+//! pull the copies of a seam's vertices apart).
 //!
 //! ```text
 //! cargo run --release --example deform -- data/creature.obj --out creature-deformed.obj
@@ -13,6 +15,8 @@ use clap::Parser;
 
 #[path = "support/progress.rs"]
 mod progress;
+#[path = "support/weld.rs"]
+mod weld;
 use edit::barr::{deform, Profile, Taper, Twist};
 use edit::ffd::{AttachOptions, Ffd, Frame};
 use edit::selection::Vertices;
@@ -39,6 +43,8 @@ struct Args {
     /// FFD bend angle in degrees.
     #[arg(long, default_value_t = 45.0)]
     bend: f64,
+    #[arg(long, default_value = "auto", value_parser = weld::parse, help = weld::HELP)]
+    weld: weld::Weld,
 }
 
 /// Runs a step, under a spinner when `show` (large meshes), and prints its time.
@@ -64,14 +70,18 @@ fn main() {
 fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
     let large_file =
         std::fs::metadata(&args.mesh).is_ok_and(|m| m.len() > progress::LARGE_FILE_BYTES);
-    let (mut mesh, _) = timed(large_file, "read", || halfedge::io::read(&args.mesh))?;
+    let (mesh, report) = timed(large_file, "read", || halfedge::io::read(&args.mesh))?;
     let large = progress::is_large(mesh.n_faces());
+    let (mut mesh, _, welding) = weld::apply(mesh, report, args.weld, large)?;
     println!(
         "{}: {} vertices, {} faces",
         args.mesh.display(),
         mesh.n_vertices(),
         mesh.n_faces()
     );
+    if let Some(welding) = welding {
+        println!("note: {}", welding.note);
+    }
     let (lo, hi) = mesh.bounding_box().ok_or("the mesh is empty")?;
     let extent = hi - lo;
     let longest = if extent.x >= extent.y && extent.x >= extent.z {

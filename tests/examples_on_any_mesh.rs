@@ -122,3 +122,62 @@ fn area_and_blend_edits_adapt_to_flat_open_and_loose_meshes() {
     std::fs::remove_file(flat).ok();
     std::fs::remove_file(loose).ok();
 }
+
+/// A triangle soup (every face on its own three vertices, as STL exports and some OBJ
+/// exporters write) falls apart into single faces: the single-method examples weld it
+/// first (`--weld auto`, a note says so) and edit the welded surface; `--weld off` keeps
+/// the pieces, which no editing region can span.
+#[test]
+fn single_method_examples_weld_a_triangle_soup() {
+    let sphere = generators::icosphere(3);
+    let (positions, triangles) = generators::triangle_soup(&sphere);
+    let (soup, _) = Mesh::from_arrays(&positions, &triangles).unwrap();
+    assert_eq!(soup.n_vertices(), 3 * sphere.n_faces());
+    let input = write_temp(&soup, "soup");
+    for (example, flag) in [
+        ("area_edit", "--output"),
+        ("blend_edit", "--out"),
+        ("deform", "--out"),
+    ] {
+        let (stdout, after) = run(example, &input, flag, "soup");
+        assert!(stdout.contains("note: welded"), "{example}\n{stdout}");
+        assert_eq!(
+            after.n_vertices(),
+            sphere.n_vertices(),
+            "{example}\n{stdout}"
+        );
+        assert_eq!(after.topology_report().boundary_loops, 0, "{example}");
+    }
+    let refused = Command::new(common::example_binary("blend_edit"))
+        .arg(&input)
+        .args(["--weld", "off", "--out"])
+        .arg(std::env::temp_dir().join(format!("multires-soup-off-{}.obj", std::process::id())))
+        .output()
+        .unwrap();
+    assert_eq!(refused.status.code(), Some(1));
+    std::fs::remove_file(input).ok();
+}
+
+/// A torus of six long segments around its axis: the edges along the axis are longer
+/// than blend_edit's radii, so the loops do not close and every edge-path ball puts a
+/// handle vertex beside a fixed one. The example falls back to rings of edges around
+/// the tip, says so, and edits.
+#[test]
+fn blend_edit_falls_back_to_rings_where_edges_are_longer_than_its_radii() {
+    let torus = generators::torus(1.0, 0.3, 6, 32).unwrap();
+    let input = write_temp(&torus, "long-edges");
+    let (stdout, after) = run("blend_edit", &input, "--out", "long-edges");
+    assert!(stdout.contains("ring(s) around it"), "{stdout}");
+    assert!(after.n_faces() >= torus.n_faces(), "{stdout}");
+    let moved = torus
+        .vertices()
+        .filter(|&v| {
+            let i = torus.vertex_index(v);
+            after
+                .vertex_at(i)
+                .is_some_and(|w| after.position(w) != torus.position(v))
+        })
+        .count();
+    assert!(moved > 0, "nothing moved\n{stdout}");
+    std::fs::remove_file(input).ok();
+}

@@ -51,6 +51,8 @@
 mod picks;
 #[path = "../support/progress.rs"]
 mod progress;
+#[path = "../support/weld.rs"]
+mod weld;
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -104,78 +106,8 @@ struct Args {
     /// exactly the same position when that closes boundaries (a triangle soup, seams
     /// of an export), `off` keeps the file's vertices, a number `F` merges vertices
     /// within `F` times the bounding-box diagonal.
-    #[arg(long, default_value = "auto", value_parser = parse_weld)]
-    weld: Weld,
-}
-
-/// What `--weld` asks for.
-#[derive(Clone, Copy, Debug)]
-enum Weld {
-    /// Exactly coincident vertices, when that closes boundaries.
-    Auto,
-    /// None.
-    Off,
-    /// Within this fraction of the diagonal.
-    Within(f64),
-}
-
-fn parse_weld(s: &str) -> Result<Weld, String> {
-    match s {
-        "auto" => Ok(Weld::Auto),
-        "off" => Ok(Weld::Off),
-        other => match other.parse::<f64>() {
-            Ok(f) if f.is_finite() && f >= 0.0 => Ok(Weld::Within(f)),
-            _ => Err(format!(
-                "expected auto, off or a fraction of the diagonal (finite, not negative), got {other:?}"
-            )),
-        },
-    }
-}
-
-/// The loaded mesh welded as `--weld` asks (see [`Args::weld`]), with a note saying what
-/// was merged; the build report is the welded mesh's.
-fn weld(
-    input: Mesh,
-    report: halfedge::BuildReport,
-    weld: Weld,
-    large: bool,
-    notes: &mut Vec<String>,
-) -> Result<(Mesh, halfedge::BuildReport), BoxError> {
-    let loops = |mesh: &Mesh| mesh.topology_report().boundary_loops;
-    let (tolerance, welded) = match weld {
-        Weld::Off => return Ok((input, report)),
-        Weld::Auto => (
-            0.0,
-            progress::step(large, "welding", || input.welded_seams())?,
-        ),
-        Weld::Within(fraction) => {
-            let (lo, hi) = input.bounding_box().ok_or("the mesh has no vertices")?;
-            let tolerance = fraction * lo.distance(hi);
-            let welded = progress::step(large, "welding", || input.welded(tolerance))?;
-            (
-                tolerance,
-                Some(welded).filter(|(_, w)| w.merged_vertices > 0),
-            )
-        }
-    };
-    let Some((welded, welding)) = welded else {
-        return Ok((input, report));
-    };
-    notes.push(format!(
-        "welded {} vertices onto others at {} ({} faces dropped as thinner than that; \
-         boundary loops {} -> {}): the output numbers vertices as the welded mesh \
-         (--weld off keeps the file's vertices)",
-        welding.merged_vertices,
-        if tolerance == 0.0 {
-            "exactly the same position".to_string()
-        } else {
-            format!("a distance of at most {tolerance:.3e}")
-        },
-        welding.collapsed_faces,
-        loops(&input),
-        loops(&welded),
-    ));
-    Ok((welded, welding.build))
+    #[arg(long, default_value = "auto", value_parser = weld::parse)]
+    weld: weld::Weld,
 }
 
 fn parse_axis(s: &str) -> Result<DVec3, String> {
@@ -238,7 +170,8 @@ fn run(args: Args) -> Result<(), BoxError> {
     let clock = Instant::now();
     let (input, report) = progress::read(&path)?;
     let large = progress::is_large(input.n_faces());
-    let (input, report) = weld(input, report, args.weld, large, &mut notes)?;
+    let (input, report, welding) = weld::apply(input, report, args.weld, large)?;
+    notes.extend(welding.map(|w| w.note));
     progress::step(large, "checking the mesh", || input.check())?;
     if input.n_faces() == 0 {
         return Err(format!("{}: the mesh has no faces to edit", path.display()).into());
