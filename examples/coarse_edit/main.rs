@@ -7,11 +7,13 @@
 //! cargo run --release --example coarse_edit -- FILE --edit EDIT --level N
 //!     [--method rounds|qem] [--detail local|translation]
 //!     [--seed-vertex I] [--region-fraction F] [--amount A] [--out DIR]
+//!     [--weld auto|off|F]
 //! ```
 //!
 //! `EDIT` is one of `rotate, twist, taper, scale, pull` (sub-mesh edits, no propagation),
 //! `lee` (Lee 1999 area drag), `bk` (Bendels & Klein handle) or `ffd` (shape/height-surface
-//! FFD bend).
+//! FFD bend). A triangle soup or a mesh with seams is welded first, as in the workflow
+//! (`--weld`; a note on stderr says so, and `--seed-vertex` still names the file's vertex).
 //!
 //! # The region rule
 //!
@@ -125,6 +127,10 @@ use clap::{Parser, ValueEnum};
 use halfedge::{DetailMode, Method};
 
 mod measure;
+#[path = "../support/progress.rs"]
+mod progress;
+#[path = "../support/weld.rs"]
+mod weld;
 use measure::{EditKind, Failure, Options};
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -201,6 +207,8 @@ struct Args {
     /// full-res.ply; same vertex order in all three).
     #[arg(long)]
     out: Option<PathBuf>,
+    #[arg(long, default_value = "auto", value_parser = weld::parse, help = weld::HELP)]
+    weld: weld::Weld,
 }
 
 fn main() {
@@ -215,10 +223,33 @@ fn main() {
 }
 
 fn run(args: &Args) -> Result<serde_json::Value, Failure> {
-    let (input, _) = halfedge::io::read(&args.file).map_err(|e| Failure {
+    let (input, report) = halfedge::io::read(&args.file).map_err(|e| Failure {
         message: format!("cannot read {}: {e}", args.file.display()),
         hint: "pass an .obj or .ply mesh file".into(),
     })?;
+    // A triangle soup or seams welded (the file's vertex numbers of --seed-vertex follow).
+    let large = progress::is_large(input.n_faces());
+    let (input, _, welding) =
+        weld::apply(input, report, args.weld, large).map_err(|e| Failure {
+            message: format!("cannot weld {}: {e}", args.file.display()),
+            hint: "pass --weld off".into(),
+        })?;
+    let seed_vertex =
+        match (&welding, args.seed_vertex) {
+            (Some(w), Some(i)) => Some(w.vertex_map.get(i).map(|&j| j as usize).ok_or_else(
+                || Failure {
+                    message: format!(
+                        "--seed-vertex {i} is not a vertex of the file ({} vertices)",
+                        w.vertex_map.len()
+                    ),
+                    hint: "pass a vertex index below the file's vertex count".into(),
+                },
+            )?),
+            (_, seed) => seed,
+        };
+    if let Some(w) = &welding {
+        eprintln!("note: {}", w.note);
+    }
     let method = match args.method {
         MethodArg::Rounds => Method::Rounds,
         MethodArg::Qem => Method::Qem,
@@ -235,7 +266,7 @@ fn run(args: &Args) -> Result<serde_json::Value, Failure> {
     if let EditArg::BkRefine = args.edit {
         let prepared = measure::prepare(input, method, detail, args.level)?;
         let options = Options {
-            seed_vertex: args.seed_vertex,
+            seed_vertex,
             region_fraction: args.region_fraction,
             amount: args.amount,
             ..Options::new(EditKind::Bk)
@@ -254,7 +285,7 @@ fn run(args: &Args) -> Result<serde_json::Value, Failure> {
     };
     let prepared = measure::prepare(input, method, detail, args.level)?;
     let options = Options {
-        seed_vertex: args.seed_vertex,
+        seed_vertex,
         region_fraction: args.region_fraction,
         amount: args.amount,
         ..Options::new(edit)
