@@ -170,21 +170,26 @@ fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
             }
         }
     }
+    // The regions of a handle and of everything beyond `near`, when they leave a
+    // deformable band between them.
+    let banded = |handle: &Selection, near: &Selection| -> Option<Regions> {
+        let fixed: Vec<VertexId> = mesh
+            .vertices()
+            .filter(|&v| !near.contains(&mesh, v))
+            .collect();
+        Regions::from_sets(&mesh, &handle.vertices(&mesh), &fixed)
+            .ok()
+            .filter(|r| !r.deformable().is_empty())
+    };
     if regions.is_none() {
         for halvings in 0..4 {
             let scale = 0.5f64.powi(halvings);
             let (rh, rf) = (args.handle_radius * scale, args.fixed_radius * scale);
             let handle = mesh.select_edge_ball(&[tip], rh * diagonal)?;
             let near = mesh.select_edge_ball(&[tip], rf * diagonal)?;
-            let fixed: Vec<VertexId> = mesh
-                .vertices()
-                .filter(|&v| !near.contains(&mesh, v))
-                .collect();
-            if let Ok(r) = Regions::from_sets(&mesh, &handle.vertices(&mesh), &fixed) {
-                if !r.deformable().is_empty() {
-                    regions = Some((r, "edge-path balls".to_string(), true, rh, rf));
-                    break;
-                }
+            if let Some(r) = banded(&handle, &near) {
+                regions = Some((r, "edge-path balls".to_string(), true, rh, rf));
+                break;
             }
         }
     }
@@ -196,19 +201,13 @@ fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
             handle.grow(&mesh, handle_rings)?;
             let mut near = Selection::from_vertices(&mesh, &[tip])?;
             near.grow(&mesh, fixed_rings)?;
-            let fixed: Vec<VertexId> = mesh
-                .vertices()
-                .filter(|&v| !near.contains(&mesh, v))
-                .collect();
-            if let Ok(r) = Regions::from_sets(&mesh, &handle.vertices(&mesh), &fixed) {
-                if !r.deformable().is_empty() {
-                    let how = format!(
-                        "the tip and {handle_rings} ring(s) around it, fixed beyond \
-                         {fixed_rings} rings"
-                    );
-                    regions = Some((r, how, true, 0.0, 0.0));
-                    break;
-                }
+            if let Some(r) = banded(&handle, &near) {
+                let how = format!(
+                    "the tip and {handle_rings} ring(s) around it, fixed beyond {fixed_rings} \
+                     rings"
+                );
+                regions = Some((r, how, true, 0.0, 0.0));
+                break;
             }
         }
     }
