@@ -110,6 +110,9 @@ pub(crate) fn build(
             .map(|i| i as u32)
             .collect()
     };
+    // The output buffers' memory is written on another thread while the (sequential)
+    // rounds run, as in the QEM build; each collapse removes two faces of a closed mesh.
+    let mut prefaulting = h.prefault(input_faces.saturating_sub(options.target_faces) / 2);
     let mut round = 0u32;
     let mut since_report = 0usize;
     let mut new_normals = NewNormals::new();
@@ -156,6 +159,11 @@ pub(crate) fn build(
             lock[h.mesh.vertex_index(v1)] = round;
             new_normals.apply(&h.mesh, v1, &mut normals);
             since_report += 1;
+            if since_report % 1024 == 0 && prefaulting.as_ref().is_some_and(|t| t.is_finished()) {
+                if let Some(Ok(buffers)) = prefaulting.take().map(std::thread::JoinHandle::join) {
+                    h.adopt_prefaulted(buffers);
+                }
+            }
             if since_report == 1 << 16 {
                 since_report = 0;
                 report(h, input_faces, progress)?;
