@@ -32,6 +32,7 @@ use std::path::{Path, PathBuf};
 
 use glam::{DMat3, DVec3};
 use halfedge::Mesh;
+use rayon::prelude::*;
 
 /// The largest picture side, in pixels.
 pub const MAX_SIDE: usize = 16_384;
@@ -364,39 +365,24 @@ fn render_panel(
         base * (0.25 + 0.75 * normals[i].dot(light).abs())
     };
 
-    let mut depth = vec![f64::INFINITY; width * height];
-    let mut color = vec![DVec3::ZERO; width * height];
-    for f in mesh.faces() {
-        let idx = mesh.triangle(f).map(|v| mesh.vertex_index(v));
-        let s = idx.map(|i| project(mesh.positions()[i]));
-        if s.iter().any(|p| !p.is_finite() || p.z <= 1e-9) {
-            continue;
-        }
-        let area = (s[1].x - s[0].x) * (s[2].y - s[0].y) - (s[2].x - s[0].x) * (s[1].y - s[0].y);
-        if area.abs() < 1e-12 {
-            continue;
-        }
-        let c = idx.map(shade);
-        let (x0, x1) = span(s.map(|p| p.x), width);
-        let (y0, y1) = span(s.map(|p| p.y), height);
-        for y in y0..y1 {
-            for x in x0..x1 {
-                let (px, py) = (x as f64 + 0.5, y as f64 + 0.5);
-                let w0 = ((s[1].x - px) * (s[2].y - py) - (s[2].x - px) * (s[1].y - py)) / area;
-                let w1 = ((s[2].x - px) * (s[0].y - py) - (s[0].x - px) * (s[2].y - py)) / area;
-                let w2 = 1.0 - w0 - w1;
-                if w0 < 0.0 || w1 < 0.0 || w2 < 0.0 {
-                    continue;
+    // Every vertex projected and shaded once, on all cores; then the faces rasterised in
+    // slot order by runs, one run per core, each into its own buffers.
+    let live = |i: usize| mesh.vertex_at(i).is_some();
+    let corners: Vec<Corner> = (0..mesh.vertex_slots())
+        .into_par_iter()
+        .with_min_len(1 << 12)
+        .map(|i| {
+            if live(i) {
+                Corner {
+                    at: project(mesh.positions()[i]),
+                    color: shade(i),
                 }
-                let z = w0 * s[0].z + w1 * s[1].z + w2 * s[2].z;
-                let k = y * width + x;
-                if z < depth[k] {
-                    depth[k] = z;
-                    color[k] = w0 * c[0] + w1 * c[1] + w2 * c[2];
-                }
+            } else {
+                Corner::default()
             }
-        }
-    }
+        })
+        .collect();
+    let (depth, color) = rasterize(mesh, &corners, width, height, rayon::current_num_threads());
     let mut rgb = Vec::with_capacity(width * height * 3);
     for (k, c) in color.iter().enumerate() {
         let c = if depth[k].is_finite() {
@@ -412,6 +398,91 @@ fn render_panel(
         );
     }
     Ok(Image { width, height, rgb })
+}
+
+/// A vertex on the screen: pixel coordinates and depth, and its shaded colour.
+#[derive(Clone, Copy, Debug, Default)]
+struct Corner {
+    at: DVec3,
+    color: DVec3,
+}
+
+/// The depth and colour buffers of `mesh`'s faces drawn from `corners` (by vertex slot),
+/// in face slot order: where faces cover a pixel at the same depth the first one stays.
+/// The faces are split into `runs` runs of consecutive slots drawn on all cores, each
+/// into its own buffers, merged in run order with the same rule, so the pictures are
+/// those of one run, bit for bit.
+fn rasterize(
+    mesh: &Mesh,
+    corners: &[Corner],
+    width: usize,
+    height: usize,
+    runs: usize,
+) -> (Vec<f64>, Vec<DVec3>) {
+    let slots = mesh.face_slots();
+    let per_run = slots.div_ceil(runs.max(1)).max(1);
+    let mut drawn: Vec<(Vec<f64>, Vec<DVec3>)> = (0..slots.div_ceil(per_run).max(1))
+        .into_par_iter()
+        .map(|run| {
+            let mut depth = vec![f64::INFINITY; width * height];
+            let mut color = vec![DVec3::ZERO; width * height];
+            let end = ((run + 1) * per_run).min(slots);
+            for f in (run * per_run..end).filter_map(|i| mesh.face_at(i)) {
+                let c = mesh.triangle(f).map(|v| corners[mesh.vertex_index(v)]);
+                draw_triangle(c, width, height, &mut depth, &mut color);
+            }
+            (depth, color)
+        })
+        .collect();
+    let (mut depth, mut color) = drawn.remove(0);
+    for (d, c) in drawn {
+        for k in 0..depth.len() {
+            if d[k] < depth[k] {
+                depth[k] = d[k];
+                color[k] = c[k];
+            }
+        }
+    }
+    (depth, color)
+}
+
+/// Draws one triangle into the buffers: a pixel whose centre it covers takes its
+/// interpolated colour when it is nearer than what the pixel holds.
+#[inline]
+fn draw_triangle(
+    c: [Corner; 3],
+    width: usize,
+    height: usize,
+    depth: &mut [f64],
+    color: &mut [DVec3],
+) {
+    let s = c.map(|c| c.at);
+    if s.iter().any(|p| !p.is_finite() || p.z <= 1e-9) {
+        return;
+    }
+    let area = (s[1].x - s[0].x) * (s[2].y - s[0].y) - (s[2].x - s[0].x) * (s[1].y - s[0].y);
+    if area.abs() < 1e-12 {
+        return;
+    }
+    let (x0, x1) = span(s.map(|p| p.x), width);
+    let (y0, y1) = span(s.map(|p| p.y), height);
+    for y in y0..y1 {
+        for x in x0..x1 {
+            let (px, py) = (x as f64 + 0.5, y as f64 + 0.5);
+            let w0 = ((s[1].x - px) * (s[2].y - py) - (s[2].x - px) * (s[1].y - py)) / area;
+            let w1 = ((s[2].x - px) * (s[0].y - py) - (s[0].x - px) * (s[2].y - py)) / area;
+            let w2 = 1.0 - w0 - w1;
+            if w0 < 0.0 || w1 < 0.0 || w2 < 0.0 {
+                continue;
+            }
+            let z = w0 * s[0].z + w1 * s[1].z + w2 * s[2].z;
+            let k = y * width + x;
+            if z < depth[k] {
+                depth[k] = z;
+                color[k] = w0 * c[0].color + w1 * c[1].color + w2 * c[2].color;
+            }
+        }
+    }
 }
 
 /// The pixel range `[first, end)` covered by coordinates `v` on an axis of `n` pixels.
@@ -431,6 +502,47 @@ mod tests {
     fn covered(image: &Image) -> usize {
         // The background is a grey-blue gradient, the mesh is clay (red > blue).
         image.rgb.chunks(3).filter(|p| p[0] > p[2]).count()
+    }
+
+    /// Drawn in runs on several cores, the buffers are those of one run in face order,
+    /// bit for bit, also where faces tie in depth: two copies of a sphere in one mesh,
+    /// every face covering the pixels of its copy at exactly the same depth.
+    #[test]
+    fn faces_drawn_in_runs_give_the_picture_of_one_run() {
+        let sphere = generators::icosphere(3);
+        let mesh = generators::disjoint_union(&[&sphere, &sphere]).unwrap();
+        let (w, h) = (96, 72);
+        let corners: Vec<Corner> = mesh
+            .positions()
+            .iter()
+            .enumerate()
+            .map(|(i, p)| Corner {
+                at: DVec3::new(40.0 * p.x + 48.0, 40.0 * p.y + 36.0, 3.0 + p.z),
+                // The two copies in different colours: a tie shows which one stayed.
+                color: if i < sphere.vertex_slots() {
+                    DVec3::X
+                } else {
+                    DVec3::Y
+                },
+            })
+            .collect();
+        let bits = |(d, c): (Vec<f64>, Vec<DVec3>)| -> Vec<u64> {
+            d.iter()
+                .map(|x| x.to_bits())
+                .chain(c.iter().flat_map(|c| c.to_array().map(f64::to_bits)))
+                .collect()
+        };
+        let one = bits(rasterize(&mesh, &corners, w, h, 1));
+        // The first copy's faces come first: it is what the picture shows.
+        let (_, color) = rasterize(&mesh, &corners, w, h, 1);
+        assert!(color.iter().any(|&c| c == DVec3::X));
+        assert!(!color.iter().any(|&c| c.y > 0.0));
+        for runs in [2, 3, 7, 1000] {
+            assert!(
+                bits(rasterize(&mesh, &corners, w, h, runs)) == one,
+                "{runs} runs"
+            );
+        }
     }
 
     /// Hostile sizes, cameras, frames and colours (issue 14): typed errors, checked
