@@ -535,7 +535,7 @@ mod tests {
         let one = bits(rasterize(&mesh, &corners, w, h, 1));
         // The first copy's faces come first: it is what the picture shows.
         let (_, color) = rasterize(&mesh, &corners, w, h, 1);
-        assert!(color.iter().any(|&c| c == DVec3::X));
+        assert!(color.contains(&DVec3::X));
         assert!(!color.iter().any(|&c| c.y > 0.0));
         for runs in [2, 3, 7, 1000] {
             assert!(
