@@ -365,24 +365,14 @@ fn render_panel(
         base * (0.25 + 0.75 * normals[i].dot(light).abs())
     };
 
-    // Every vertex projected and shaded once, on all cores; then the faces rasterised in
-    // slot order by runs, one run per core, each into its own buffers.
-    let live = |i: usize| mesh.vertex_at(i).is_some();
-    let corners: Vec<Corner> = (0..mesh.vertex_slots())
-        .into_par_iter()
-        .with_min_len(1 << 12)
-        .map(|i| {
-            if live(i) {
-                Corner {
-                    at: project(mesh.positions()[i]),
-                    color: shade(i),
-                }
-            } else {
-                Corner::default()
-            }
-        })
-        .collect();
-    let (depth, color) = rasterize(mesh, &corners, width, height, rayon::current_num_threads());
+    // The faces rasterised in slot order by runs, one run per core, each into its own
+    // buffers; a vertex is projected and shaded by each face that has it (a table of
+    // every vertex's would cost as much memory as the mesh's positions).
+    let corner = |i: usize| Corner {
+        at: project(mesh.positions()[i]),
+        color: shade(i),
+    };
+    let (depth, color) = rasterize(mesh, &corner, width, height, rayon::current_num_threads());
     let mut rgb = Vec::with_capacity(width * height * 3);
     for (k, c) in color.iter().enumerate() {
         let c = if depth[k].is_finite() {
@@ -407,14 +397,14 @@ struct Corner {
     color: DVec3,
 }
 
-/// The depth and colour buffers of `mesh`'s faces drawn from `corners` (by vertex slot),
+/// The depth and colour buffers of `mesh`'s faces drawn with `corner` (by vertex slot),
 /// in face slot order: where faces cover a pixel at the same depth the first one stays.
 /// The faces are split into `runs` runs of consecutive slots drawn on all cores, each
 /// into its own buffers, merged in run order with the same rule, so the pictures are
 /// those of one run, bit for bit.
 fn rasterize(
     mesh: &Mesh,
-    corners: &[Corner],
+    corner: &(dyn Fn(usize) -> Corner + Sync),
     width: usize,
     height: usize,
     runs: usize,
@@ -428,7 +418,7 @@ fn rasterize(
             let mut color = vec![DVec3::ZERO; width * height];
             let end = ((run + 1) * per_run).min(slots);
             for f in (run * per_run..end).filter_map(|i| mesh.face_at(i)) {
-                let c = mesh.triangle(f).map(|v| corners[mesh.vertex_index(v)]);
+                let c = mesh.triangle(f).map(|v| corner(mesh.vertex_index(v)));
                 draw_triangle(c, width, height, &mut depth, &mut color);
             }
             (depth, color)
@@ -532,14 +522,15 @@ mod tests {
                 .chain(c.iter().flat_map(|c| c.to_array().map(f64::to_bits)))
                 .collect()
         };
-        let one = bits(rasterize(&mesh, &corners, w, h, 1));
+        let corner = |i: usize| corners[i];
+        let one = bits(rasterize(&mesh, &corner, w, h, 1));
         // The first copy's faces come first: it is what the picture shows.
-        let (_, color) = rasterize(&mesh, &corners, w, h, 1);
+        let (_, color) = rasterize(&mesh, &corner, w, h, 1);
         assert!(color.contains(&DVec3::X));
         assert!(!color.iter().any(|&c| c.y > 0.0));
         for runs in [2, 3, 7, 1000] {
             assert!(
-                bits(rasterize(&mesh, &corners, w, h, runs)) == one,
+                bits(rasterize(&mesh, &corner, w, h, runs)) == one,
                 "{runs} runs"
             );
         }
