@@ -105,7 +105,8 @@ fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
             vec![(vertex, format!("vertex {i}"))]
         }
         None => {
-            let list = picks::drag_candidates(&mesh);
+            let mut list = picks::drag_candidates(&mesh);
+            list.extend(picks::farthest_candidate(&mesh));
             if list.is_empty() {
                 return Err("the mesh has no vertex with a face to drag".into());
             }

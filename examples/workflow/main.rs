@@ -696,15 +696,25 @@ fn lee_drag(
     large: bool,
 ) -> Result<(String, Option<String>), String> {
     let mesh = hierarchy.mesh();
-    let centres = picks::drag_candidates(mesh);
+    // The extreme vertices, then (`None`: found only if they all fail) the vertex
+    // farthest from the boundary.
+    let centres = picks::drag_candidates(mesh)
+        .into_iter()
+        .map(Some)
+        .chain([None]);
     let n = mesh.n_vertices();
     let first_size = (n / 12).clamp(30, 5_000).min(n / 3).max(MIN_AREA);
     let mut first_failure: Option<String> = None;
-    for (attempt, (centre, what)) in centres.iter().enumerate() {
+    for (attempt, candidate) in centres.enumerate() {
+        let Some((centre, what)) =
+            candidate.or_else(|| picks::farthest_candidate(hierarchy.mesh()))
+        else {
+            continue;
+        };
         let mut size = first_size;
         while size >= MIN_AREA {
             let mesh = hierarchy.mesh();
-            let tried = EditingArea::disk_around(mesh, *centre, size).and_then(|area| {
+            let tried = EditingArea::disk_around(mesh, centre, size).and_then(|area| {
                 let options = SessionOptions {
                     scale: 0.6,
                     ..SessionOptions::default()
@@ -715,12 +725,12 @@ fn lee_drag(
             });
             match tried {
                 Ok(mut session) => {
-                    let pull = mesh.vertex_normal(*centre) * 0.15 * diagonal;
+                    let pull = mesh.vertex_normal(centre) * 0.15 * diagonal;
                     // The drag tells the hierarchy its area and the primitive's
                     // translation: refined back, the primitive lands on its target and
                     // nothing outside the area moves.
                     session
-                        .set_primitive(hierarchy.mesh(), &[*centre])
+                        .set_primitive(hierarchy.mesh(), &[centre])
                         .and_then(|()| session.drag(hierarchy.mesh_mut(), pull))
                         .and_then(|()| session.hierarchy_marks(hierarchy.mesh()))
                         .and_then(|marks| marks.mark(hierarchy))
@@ -731,7 +741,7 @@ fn lee_drag(
                         "area of {} vertices around v{} ({what}), pulled by {:.3} along its \
                          normal at s = 0.6",
                         session.area().vertices().len(),
-                        mesh.vertex_index(*centre),
+                        mesh.vertex_index(centre),
                         pull.length()
                     );
                     let note = (attempt > 0 || size != first_size).then(|| {

@@ -65,28 +65,22 @@ impl Mesh {
     }
 
     /// Connected components: a component id per vertex slot (`usize::MAX` for removed
-    /// slots) and the number of components. Isolated vertices are components of their own.
+    /// slots) and the number of components, numbered in the order of each component's
+    /// first vertex slot. Isolated vertices are components of their own.
     pub fn connected_components(&self) -> (Vec<usize>, usize) {
+        let (mut parent, count) = self.edge_forest();
         let mut component = vec![usize::MAX; self.vertex_slots()];
-        let mut count = 0;
-        let mut stack = Vec::new();
-        for v in self.vertices() {
-            if component[self.vertex_index(v)] != usize::MAX {
-                continue;
+        let mut numbered = 0;
+        for v in self.vertex_slots_.live_indices() {
+            let root = find_root(&mut parent, v) as usize;
+            // A root is the smallest slot of its tree: numbered before the tree's others.
+            if component[root] == usize::MAX {
+                component[root] = numbered;
+                numbered += 1;
             }
-            component[self.vertex_index(v)] = count;
-            stack.push(v);
-            while let Some(u) = stack.pop() {
-                for w in self.adjacent_vertices(u) {
-                    let c = &mut component[self.vertex_index(w)];
-                    if *c == usize::MAX {
-                        *c = count;
-                        stack.push(w);
-                    }
-                }
-            }
-            count += 1;
+            component[v as usize] = component[root];
         }
+        debug_assert_eq!(numbered, count);
         (component, count)
     }
 
@@ -120,31 +114,23 @@ impl Mesh {
         loops
     }
 
-    /// `connected_components().1`: one pass over the edges in slot order joins their
-    /// ends in a union–find forest (path halving, the smaller root kept), each join of two
-    /// trees one component fewer. It reads the halfedges in order, where a flood fill
-    /// jumps about the mesh (0.13 s against 0.7 s of a breadth-first count on 8.9 M
-    /// vertices).
-    fn count_components(&self) -> usize {
+    /// A union–find forest of the vertex slots in which every edge joined its ends (path
+    /// halving, the smaller root kept, so a root is its tree's smallest slot), and the
+    /// number of trees among the live vertices. One pass over the edges in slot order:
+    /// it reads the halfedges in order, where a flood fill jumps about the mesh (0.13 s
+    /// against 0.7 s of a breadth-first count on 8.9 M vertices).
+    fn edge_forest(&self) -> (Vec<u32>, usize) {
         let mut parent: Vec<u32> = (0..self.vertex_slots() as u32).collect();
-        let find = |parent: &mut [u32], mut x: u32| -> u32 {
-            while parent[x as usize] != x {
-                let up = parent[parent[x as usize] as usize];
-                parent[x as usize] = up;
-                x = up;
-            }
-            x
-        };
-        let mut components = self.n_vertices;
+        let mut trees = self.n_vertices;
         for e in self.halfedge_slots_.live_even_indices() {
             let (a, b) = (self.he[e as usize].to, self.he[(e ^ 1) as usize].to);
-            let (ra, rb) = (find(&mut parent, a), find(&mut parent, b));
+            let (ra, rb) = (find_root(&mut parent, a), find_root(&mut parent, b));
             if ra != rb {
                 parent[ra.max(rb) as usize] = ra.min(rb);
-                components -= 1;
+                trees -= 1;
             }
         }
-        components
+        (parent, trees)
     }
 
     /// Boundary vertices, vertices where several fans meet and the valence histogram. One
@@ -192,7 +178,7 @@ impl Mesh {
             halfedges: self.n_halfedges(),
             boundary_vertices: census.boundary_vertices,
             boundary_loops: self.count_boundary_loops(),
-            components: self.count_components(),
+            components: self.edge_forest().1,
             euler: self.n_vertices() as i64 - self.n_edges() as i64 + self.n_faces() as i64,
             valence_histogram: census
                 .valences
@@ -234,6 +220,17 @@ impl TopologyReport {
             self.non_manifold_vertices,
         )
     }
+}
+
+/// The root of `x`'s tree in a union–find forest, halving the path on the way.
+#[inline]
+fn find_root(parent: &mut [u32], mut x: u32) -> u32 {
+    while parent[x as usize] != x {
+        let up = parent[parent[x as usize] as usize];
+        parent[x as usize] = up;
+        x = up;
+    }
+    x
 }
 
 /// What [`Mesh::vertex_census`] counts.
@@ -353,6 +350,26 @@ mod tests {
                 .count();
             assert_eq!(report.non_manifold_vertices, fans);
             assert_eq!(fans, non_manifold);
+            // The union–find labels are a flood fill's, numbered from the first slot.
+            let mut flood = vec![usize::MAX; mesh.vertex_slots()];
+            let mut count = 0;
+            for v in mesh.vertices() {
+                if flood[mesh.vertex_index(v)] != usize::MAX {
+                    continue;
+                }
+                let mut stack = vec![v];
+                flood[mesh.vertex_index(v)] = count;
+                while let Some(u) = stack.pop() {
+                    for w in mesh.adjacent_vertices(u) {
+                        if flood[mesh.vertex_index(w)] == usize::MAX {
+                            flood[mesh.vertex_index(w)] = count;
+                            stack.push(w);
+                        }
+                    }
+                }
+                count += 1;
+            }
+            assert_eq!(mesh.connected_components(), (flood, count));
         }
     }
 }
