@@ -285,21 +285,10 @@ mod tests {
     /// Test meshes: closed, open, a bow-tie (two grids sharing a corner), tombstones of
     /// collapses and isolated vertices.
     fn valid_meshes() -> Vec<Mesh> {
-        let g = generators::grid(3, 3, 1.0, 1.0);
-        let mut positions: Vec<glam::DVec3> = g.positions().to_vec();
-        let mut triangles: Vec<[u32; 3]> = g
-            .faces()
-            .map(|f| g.triangle(f).map(|v| g.vertex_index(v) as u32))
-            .collect();
-        let n = positions.len() as u32;
-        for p in g.positions() {
-            positions.push(*p + glam::DVec3::ONE);
-        }
-        for t in triangles.clone() {
-            triangles.push(t.map(|i| if i == 0 { 15 } else { i + n }));
-        }
-        positions.push(glam::DVec3::splat(9.0));
-        let (bow_tie, _) = Mesh::from_triangles(&positions, &triangles).unwrap();
+        // A bow-tie and an isolated vertex.
+        let (mut positions, triangles) = generators::bow_tie(3).to_arrays();
+        positions.push([9.0; 3]);
+        let (bow_tie, _) = Mesh::from_arrays(&positions, &triangles).unwrap();
         let mut collapsed = generators::grid(8, 6, 1.0, 1.0);
         for k in [3, 30, 61] {
             let h = collapsed
@@ -351,32 +340,16 @@ mod tests {
             for trial in 0..600 {
                 let mut m = mesh.clone();
                 let (nh, nv, nf) = (m.he.len(), m.vertex_conn.len(), m.face_conn.len());
-                match trial % 6 {
-                    0 => {
-                        let i = rng.below(nh);
-                        m.he[i].next = rng.value(nh, m.he[i].next);
-                    }
-                    1 => {
-                        let i = rng.below(nh);
-                        m.he[i].prev = rng.value(nh, m.he[i].prev);
-                    }
-                    2 => {
-                        let i = rng.below(nh);
-                        m.he[i].to = rng.value(nv, m.he[i].to);
-                    }
-                    3 => {
-                        let i = rng.below(nh);
-                        m.he[i].face = rng.value(nf, m.he[i].face);
-                    }
-                    4 => {
-                        let i = rng.below(nv);
-                        m.vertex_conn[i] = rng.value(nh, m.vertex_conn[i]);
-                    }
-                    _ => {
-                        let i = rng.below(nf);
-                        m.face_conn[i] = rng.value(nh, m.face_conn[i]);
-                    }
-                }
+                // One field of one element, and the length of what it indexes.
+                let (field, len) = match trial % 6 {
+                    0 => (&mut m.he[rng.below(nh)].next, nh),
+                    1 => (&mut m.he[rng.below(nh)].prev, nh),
+                    2 => (&mut m.he[rng.below(nh)].to, nv),
+                    3 => (&mut m.he[rng.below(nh)].face, nf),
+                    4 => (&mut m.vertex_conn[rng.below(nv)], nh),
+                    _ => (&mut m.face_conn[rng.below(nf)], nh),
+                };
+                *field = rng.value(len, *field);
                 let walk = m.check_invariants();
                 assert_eq!(m.invariants_hold(), walk.is_ok(), "trial {trial}: {walk:?}");
                 broken += usize::from(walk.is_err());

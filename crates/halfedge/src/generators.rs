@@ -1,5 +1,6 @@
-//! Simple meshes for tests and benches — a grid (open), an icosphere (closed, genus 0),
-//! a torus (genus 1), several meshes as one (several components) — and 1-to-4 midpoint
+//! Simple meshes for tests and benches — a grid (open), a bow-tie (two grids sharing a
+//! corner), an icosphere (closed, genus 0), a torus (genus 1), several meshes as one
+//! (several components) — and 1-to-4 midpoint
 //! subdivision (used to make meshes of millions of triangles from real ones).
 
 use glam::DVec3;
@@ -34,6 +35,33 @@ pub fn grid(nx: usize, ny: usize, sx: f64, sy: f64) -> Mesh {
     }
     Mesh::from_triangles(&positions, &triangles)
         .expect("a grid is a valid mesh")
+        .0
+}
+
+/// Two `n × n` grids of the unit square (`n` at least 1), the second moved by `(1, 1, 0)`,
+/// sharing the corner `(1, 1, 0)`: a vertex where two fans meet, which OpenMesh's
+/// add-face accepts too (see [`Mesh::is_manifold_vertex`]). One boundary loop passes
+/// through it twice. For tests of code that must take such vertices.
+pub fn bow_tie(n: usize) -> Mesh {
+    let n = n.max(1);
+    let g = grid(n, n, 1.0, 1.0);
+    let corner = ((n + 1) * (n + 1) - 1) as u32;
+    let (mut positions, mut triangles) = g.to_arrays();
+    // The second grid without its vertex 0, which is the first grid's corner.
+    let base = positions.len() as u32 - 1;
+    positions.extend(
+        g.positions()[1..]
+            .iter()
+            .map(|p| (*p + DVec3::new(1.0, 1.0, 0.0)).to_array()),
+    );
+    let first = triangles.clone();
+    triangles.extend(
+        first
+            .iter()
+            .map(|t| t.map(|i| if i == 0 { corner } else { i + base })),
+    );
+    Mesh::from_arrays(&positions, &triangles)
+        .expect("two grids sharing a corner are a valid mesh")
         .0
 }
 

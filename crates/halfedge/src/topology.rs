@@ -309,19 +309,11 @@ mod tests {
                 .map(|f| b.triangle(f).map(|v| b.vertex_index(v) as u32 + offset)),
         );
         let (two, _) = Mesh::from_triangles(&positions, &triangles).unwrap();
-        // Two grids sharing one corner: a vertex where two fans meet.
-        let g = generators::grid(3, 3, 1.0, 1.0);
-        let mut positions: Vec<DVec3> = g.positions().to_vec();
-        let mut triangles: Vec<[u32; 3]> = g
-            .faces()
-            .map(|f| g.triangle(f).map(|v| g.vertex_index(v) as u32))
-            .collect();
-        let n = positions.len() as u32;
-        positions.extend(g.positions().iter().map(|p| *p + DVec3::ONE));
-        for t in triangles.clone() {
-            triangles.push(t.map(|i| if i == 0 { 15 } else { i + n }));
-        }
-        let (bow_tie, _) = Mesh::from_triangles(&positions, &triangles).unwrap();
+        // Two grids sharing one corner (a vertex where two fans meet) and an isolated
+        // vertex.
+        let (mut positions, triangles) = generators::bow_tie(3).to_arrays();
+        positions.push([9.0; 3]);
+        let (bow_tie, _) = Mesh::from_arrays(&positions, &triangles).unwrap();
         for (mesh, loops, components, non_manifold) in [
             (grid, 1, 1, 0),
             (generators::icosphere(2), 0, 1, 0),
