@@ -2,7 +2,7 @@
 //! given by picked boundary vertices joined by shortest edge paths, filled on one side,
 //! and optionally grown by picked adjacent faces.
 
-use std::collections::VecDeque;
+use std::collections::{HashMap, HashSet, VecDeque};
 
 use halfedge::{FaceId, HalfedgeId, Mesh, VertexId};
 use rayon::prelude::*;
@@ -267,39 +267,37 @@ impl EditingArea {
         if !mesh.is_valid_vertex(seed) {
             return Err(EditError::InvalidVertex(seed));
         }
-        let mut ring = vec![u32::MAX; mesh.vertex_slots()];
-        ring[mesh.vertex_index(seed)] = 0;
+        // Rings and faces kept by slot in hash maps: the work and memory follow the disk,
+        // not the mesh (at a coarse level of a large hierarchy the slots are many times
+        // the live elements).
+        let mut ring: HashMap<usize, u32> = HashMap::from([(mesh.vertex_index(seed), 0)]);
         let mut queue = VecDeque::from([seed]);
         let mut order = Vec::new();
         let mut last_ring = 0;
         while let Some(v) = queue.pop_front() {
-            let r = ring[mesh.vertex_index(v)];
+            let r = ring[&mesh.vertex_index(v)];
             if order.len() >= vertex_count.max(1) && r > last_ring {
                 break;
             }
             last_ring = r;
             order.push(v);
             for w in mesh.adjacent_vertices(v) {
-                let rw = &mut ring[mesh.vertex_index(w)];
-                if *rw == u32::MAX {
-                    *rw = r + 1;
+                ring.entry(mesh.vertex_index(w)).or_insert_with(|| {
                     queue.push_back(w);
-                }
+                    r + 1
+                });
             }
         }
-        let mut in_area = vec![false; mesh.face_slots()];
+        let mut in_area: HashSet<usize> = HashSet::new();
         for &v in &order {
-            if ring[mesh.vertex_index(v)] < last_ring.max(1) {
-                for f in mesh.adjacent_faces(v) {
-                    in_area[mesh.face_index(f)] = true;
-                }
+            if ring[&mesh.vertex_index(v)] < last_ring.max(1) {
+                in_area.extend(mesh.adjacent_faces(v).map(|f| mesh.face_index(f)));
             }
         }
         fill_pockets(mesh, &mut in_area);
-        let faces: Vec<FaceId> = mesh
-            .faces()
-            .filter(|&f| in_area[mesh.face_index(f)])
-            .collect();
+        let mut slots: Vec<usize> = in_area.into_iter().collect();
+        slots.sort_unstable();
+        let faces: Vec<FaceId> = slots.into_iter().filter_map(|i| mesh.face_at(i)).collect();
         Self::from_faces(mesh, &faces)
     }
 
@@ -428,52 +426,142 @@ impl EditingArea {
     }
 }
 
-/// Adds to the area every group of faces outside it that borders it and is not the
-/// largest such group: pockets enclosed by the area become part of it. Groups that do not
-/// border the area (other components of the mesh) are left out.
-fn fill_pockets(mesh: &Mesh, in_area: &mut [bool]) {
-    let mut group = vec![u32::MAX; mesh.face_slots()];
-    let mut sizes: Vec<usize> = Vec::new();
-    // Whether a group borders the area: groups that do not (other components of the
-    // mesh) are neither pockets nor the outside.
-    let mut touches: Vec<bool> = Vec::new();
-    let mut stack = Vec::new();
-    for f in mesh.faces() {
-        let fi = mesh.face_index(f);
-        if in_area[fi] || group[fi] != u32::MAX {
-            continue;
+/// Adds to the area (face slots) its pockets: the groups of faces outside it (joined
+/// through edges) that border it, all but the largest (ties to the group whose first
+/// face slot comes last), which is the rest of the mesh. Groups that do not border the
+/// area (other components) are left out.
+///
+/// The groups grow breadth-first from the faces beside the area, a few faces each in
+/// turn, and merge where they meet; the growth stops once every group but one has no
+/// face left to add and that one is already larger than each of the others. So the work
+/// is about twice the pockets' faces, not the mesh's.
+fn fill_pockets(mesh: &Mesh, in_area: &mut HashSet<usize>) {
+    let mut seeds: Vec<usize> = in_area
+        .iter()
+        .filter_map(|&a| mesh.face_at(a))
+        .flat_map(|f| mesh.face_neighbors(f))
+        .map(|n| mesh.face_index(n))
+        .filter(|n| !in_area.contains(n))
+        .collect();
+    seeds.sort_unstable();
+    seeds.dedup();
+    let mut groups: Vec<Pocket> = Vec::new();
+    let mut label: HashMap<usize, usize> = HashMap::with_capacity(4 * seeds.len());
+    for &s in &seeds {
+        label.insert(s, groups.len());
+        groups.push(Pocket {
+            parent: groups.len(),
+            queue: VecDeque::from([s]),
+            faces: vec![s],
+            first: s,
+        });
+    }
+    fn root(groups: &mut [Pocket], mut g: usize) -> usize {
+        while groups[g].parent != g {
+            let up = groups[groups[g].parent].parent;
+            groups[g].parent = up;
+            g = up;
         }
-        let id = sizes.len() as u32;
-        sizes.push(0);
-        touches.push(false);
-        group[fi] = id;
-        stack.push(f);
-        while let Some(g) = stack.pop() {
-            sizes[id as usize] += 1;
-            for n in mesh.face_neighbors(g) {
-                let ni = mesh.face_index(n);
-                if in_area[ni] {
-                    touches[id as usize] = true;
-                } else if group[ni] == u32::MAX {
-                    group[ni] = id;
-                    stack.push(n);
+        g
+    }
+    /// Faces a group adds in its turn.
+    const TURN: usize = 32;
+    let outside = loop {
+        let roots: Vec<usize> = (0..groups.len())
+            .filter(|&g| groups[g].parent == g)
+            .collect();
+        let growing: Vec<usize> = roots
+            .iter()
+            .copied()
+            .filter(|&g| !groups[g].queue.is_empty())
+            .collect();
+        let done = roots
+            .iter()
+            .filter(|&&g| groups[g].queue.is_empty())
+            .map(|&g| groups[g].faces.len())
+            .max()
+            .unwrap_or(0);
+        match growing[..] {
+            [] => {
+                // Every group is whole: the largest, ties to the one whose first face
+                // slot comes last.
+                break roots
+                    .iter()
+                    .copied()
+                    .max_by_key(|&g| (groups[g].faces.len(), groups[g].first));
+            }
+            [g] if groups[g].faces.len() > done => break Some(g),
+            _ => {}
+        }
+        for g in growing {
+            for _ in 0..TURN {
+                // Merged into another group meanwhile: that one grows in its own turn.
+                if groups[g].parent != g {
+                    break;
+                }
+                let Some(f) = groups[g].queue.pop_front() else {
+                    break;
+                };
+                let Some(face) = mesh.face_at(f) else {
+                    continue;
+                };
+                // The group the face's neighbours join: `g`, or the group `g` joins.
+                let mut into = g;
+                for n in mesh.face_neighbors(face).map(|n| mesh.face_index(n)) {
+                    if in_area.contains(&n) {
+                        continue;
+                    }
+                    match label.get(&n) {
+                        None => {
+                            label.insert(n, into);
+                            let group = &mut groups[into];
+                            group.queue.push_back(n);
+                            group.faces.push(n);
+                            group.first = group.first.min(n);
+                        }
+                        Some(&h) => {
+                            let h = root(&mut groups, h);
+                            if h != into {
+                                // The smaller group joins the larger.
+                                let (big, small) =
+                                    if groups[h].faces.len() > groups[into].faces.len() {
+                                        (h, into)
+                                    } else {
+                                        (into, h)
+                                    };
+                                let moved = std::mem::take(&mut groups[small]);
+                                let group = &mut groups[big];
+                                group.queue.extend(moved.queue);
+                                group.faces.extend(moved.faces);
+                                group.first = group.first.min(moved.first);
+                                groups[small].parent = big;
+                                into = big;
+                            }
+                        }
+                    }
                 }
             }
         }
-    }
-    let Some(largest) = (0..sizes.len())
-        .filter(|&i| touches[i])
-        .max_by_key(|&i| sizes[i])
-    else {
-        return;
     };
-    for f in mesh.faces() {
-        let fi = mesh.face_index(f);
-        let g = group[fi];
-        if !in_area[fi] && g != largest as u32 && touches[g as usize] {
-            in_area[fi] = true;
+    for (g, group) in groups.iter().enumerate() {
+        if group.parent == g && Some(g) != outside {
+            in_area.extend(group.faces.iter().copied());
         }
     }
+}
+
+/// A group of faces outside an area, growing from the faces beside it (see
+/// [`fill_pockets`]).
+#[derive(Default)]
+struct Pocket {
+    /// The group it was merged into (itself while it is a group of its own).
+    parent: usize,
+    /// Faces whose neighbours are still to be looked at.
+    queue: VecDeque<usize>,
+    /// Its faces (slots).
+    faces: Vec<usize>,
+    /// Its smallest face slot.
+    first: usize,
 }
 
 #[cfg(test)]
@@ -481,6 +569,143 @@ mod tests {
     use super::*;
     use glam::DVec3;
     use halfedge::generators;
+
+    /// The pocket fill as it was: flood fills of every face outside the area.
+    fn fill_pockets_everywhere(mesh: &Mesh, in_area: &mut [bool]) {
+        let mut group = vec![u32::MAX; mesh.face_slots()];
+        let mut sizes: Vec<usize> = Vec::new();
+        // Whether a group borders the area: groups that do not (other components of the
+        // mesh) are neither pockets nor the outside.
+        let mut touches: Vec<bool> = Vec::new();
+        let mut stack = Vec::new();
+        for f in mesh.faces() {
+            let fi = mesh.face_index(f);
+            if in_area[fi] || group[fi] != u32::MAX {
+                continue;
+            }
+            let id = sizes.len() as u32;
+            sizes.push(0);
+            touches.push(false);
+            group[fi] = id;
+            stack.push(f);
+            while let Some(g) = stack.pop() {
+                sizes[id as usize] += 1;
+                for n in mesh.face_neighbors(g) {
+                    let ni = mesh.face_index(n);
+                    if in_area[ni] {
+                        touches[id as usize] = true;
+                    } else if group[ni] == u32::MAX {
+                        group[ni] = id;
+                        stack.push(n);
+                    }
+                }
+            }
+        }
+        let Some(largest) = (0..sizes.len())
+            .filter(|&i| touches[i])
+            .max_by_key(|&i| sizes[i])
+        else {
+            return;
+        };
+        for f in mesh.faces() {
+            let fi = mesh.face_index(f);
+            let g = group[fi];
+            if !in_area[fi] && g != largest as u32 && touches[g as usize] {
+                in_area[fi] = true;
+            }
+        }
+    }
+
+    /// The local pocket fill adds exactly the faces of the flood fill of every face
+    /// outside the area: on a sphere, a torus, a bow-tie, a mesh with loose parts and a
+    /// grid, for areas of random faces grown a few steps (many groups of every size,
+    /// ties among them, areas that cut the mesh in two, areas of one face).
+    #[test]
+    fn pockets_filled_locally_are_those_of_flooding_every_outside_face() {
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut below = move |n: usize| -> usize {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state % n as u64) as usize
+        };
+        let loose = {
+            let mut small = generators::icosphere(1);
+            for p in small.positions_mut() {
+                *p = *p * 0.2 + DVec3::new(3.0, 0.0, 0.0);
+            }
+            generators::disjoint_union(&[&generators::icosphere(2), &small]).unwrap()
+        };
+        let meshes = [
+            generators::icosphere(3),
+            generators::torus(1.0, 0.4, 24, 12).unwrap(),
+            generators::bow_tie(4),
+            loose,
+            generators::grid(12, 9, 1.0, 1.0),
+        ];
+        let mut filled = 0;
+        for mesh in &meshes {
+            let n = mesh.face_slots();
+            for trial in 0..150 {
+                let mut area: HashSet<usize> = HashSet::new();
+                for _ in 0..1 + below(1 + trial % 40) {
+                    let mut f = mesh.face_at(below(n)).unwrap();
+                    for _ in 0..below(6) {
+                        area.insert(mesh.face_index(f));
+                        let next: Vec<_> = mesh.face_neighbors(f).collect();
+                        f = next[below(next.len())];
+                    }
+                    area.insert(mesh.face_index(f));
+                }
+                let mut everywhere = vec![false; n];
+                for &a in &area {
+                    everywhere[a] = true;
+                }
+                fill_pockets_everywhere(mesh, &mut everywhere);
+                let before = area.len();
+                fill_pockets(mesh, &mut area);
+                let mut local: Vec<usize> = area.iter().copied().collect();
+                local.sort_unstable();
+                let expected: Vec<usize> = (0..n).filter(|&i| everywhere[i]).collect();
+                assert_eq!(local, expected, "trial {trial}");
+                filled += usize::from(area.len() > before);
+            }
+        }
+        assert!(filled > 50, "only {filled} areas had pockets");
+        // Two equal halves: a torus cut by two opposite rings of faces. The tie goes to
+        // the half whose first face slot comes last; the other is filled.
+        let torus = generators::torus(1.0, 0.4, 24, 12).unwrap();
+        let ring_at = |angle: f64| -> Vec<usize> {
+            torus
+                .faces()
+                .filter(|&f| {
+                    let c = torus.face_centroid(f);
+                    let pi = std::f64::consts::PI;
+                    let off = (c.y.atan2(c.x) - angle + pi).rem_euclid(2.0 * pi) - pi;
+                    off.abs() < 0.13
+                })
+                .map(|f| torus.face_index(f))
+                .collect()
+        };
+        let mut area: HashSet<usize> = ring_at(0.0).into_iter().collect();
+        area.extend(ring_at(std::f64::consts::PI));
+        let mut everywhere = vec![false; torus.face_slots()];
+        for &a in &area {
+            everywhere[a] = true;
+        }
+        fill_pockets_everywhere(&torus, &mut everywhere);
+        let cut = area.len();
+        fill_pockets(&torus, &mut area);
+        let mut local: Vec<usize> = area.iter().copied().collect();
+        local.sort_unstable();
+        let expected: Vec<usize> = (0..torus.face_slots()).filter(|&i| everywhere[i]).collect();
+        assert_eq!(local, expected);
+        assert_eq!(
+            2 * (area.len() - cut),
+            torus.n_faces() - cut,
+            "one half filled"
+        );
+    }
 
     #[test]
     fn a_disk_on_one_component_leaves_the_other_components_out() {
