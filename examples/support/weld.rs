@@ -57,7 +57,7 @@ pub fn apply(
     weld: Weld,
     large: bool,
 ) -> Result<(Mesh, BuildReport, Option<Welding>), Box<dyn std::error::Error>> {
-    let loops = |mesh: &Mesh| mesh.topology_report().boundary_loops;
+    let loops = |mesh: &Mesh| mesh.boundary_loops().len();
     let (tolerance, welded) = match weld {
         Weld::Off => return Ok((input, report, None)),
         Weld::Auto => (
