@@ -182,7 +182,7 @@ fn bench(c: &mut Criterion) {
                     let m = h.mesh_mut();
                     let frontier = m.frontier_from_plane(centre, normal).unwrap();
                     let (labels, _) = m.label_sides(&frontier, 3, 4).unwrap();
-                    h.attach_labels(labels);
+                    h.attach_labels(labels).unwrap();
                     h.constrain_to_labels().unwrap();
                     h
                 },

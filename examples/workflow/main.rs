@@ -254,7 +254,7 @@ fn run(args: Args) -> Result<(), BoxError> {
     } else {
         match label_submesh(hierarchy.mesh_mut(), args.axis, args.plane) {
             Ok(labelled) => {
-                hierarchy.attach_labels(labelled.attribute);
+                hierarchy.attach_labels(labelled.attribute).unwrap();
                 hierarchy.labels_defined_here();
                 notes.extend(labelled.note.clone());
                 rows.push(Row {
@@ -593,7 +593,7 @@ fn label_submesh(mesh: &mut Mesh, axis: DVec3, fraction: f64) -> Result<Labelled
         });
         match attempt {
             Ok((frontier, attribute, counts)) => {
-                let values = mesh.attribute_values(attribute);
+                let values = mesh.attribute_values(attribute).unwrap();
                 if values[mesh.vertex_index(tip)] == 1 && counts.left_vertices >= MIN_SUBMESH {
                     let sub = SubMesh::from_labels(mesh, values, |&l| l == 1)
                         .map_err(|e| e.to_string())?;

@@ -121,8 +121,8 @@ pub struct BlendSession {
     extent: f64,
     power: AffinePower,
     grids: Option<(BorderGrid, BorderGrid)>,
-    /// The mesh the session was made on (see [`halfedge::MeshBinding`]).
-    binding: halfedge::MeshBinding,
+    /// The mesh the session was made on (see [`halfedge::Binding`]).
+    binding: halfedge::Binding,
 }
 
 impl BlendSession {
@@ -322,7 +322,7 @@ impl BlendSession {
     }
 
     /// Fails unless `mesh` is the mesh the session was made on, at the same hierarchy
-    /// level and with the same connectivity (see [`halfedge::MeshBinding`]).
+    /// level and with the same connectivity (see [`halfedge::Binding`]).
     fn check_mesh(&self, mesh: &Mesh) -> Result<()> {
         Ok(self.binding.check(mesh, "the blend session")?)
     }

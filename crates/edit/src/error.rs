@@ -130,9 +130,9 @@ pub enum EditError {
     },
     /// Something derived from a mesh (an editing area, a session, a sub-mesh, an FFD
     /// attachment) met another mesh, or its mesh at another hierarchy level or after a
-    /// change of connectivity: the one staleness error (see [`halfedge::MeshBinding`]).
+    /// change of connectivity: the one staleness error (see [`halfedge::Binding`]).
     #[error(transparent)]
-    Stale(#[from] halfedge::StaleBinding),
+    Stale(#[from] halfedge::Stale),
     /// Multilevel B-spline input: the numbers of points and values differ.
     #[error("MBA input has {points} points but {values} values")]
     MbaLengthMismatch {

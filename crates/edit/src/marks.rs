@@ -19,7 +19,7 @@
 //! marks a Bendels & Klein edit directly.
 
 use glam::DAffine3;
-use halfedge::{DetailMode, Field, Hierarchy, Mesh, MeshBinding, VertexId};
+use halfedge::{Binding, DetailMode, Field, Hierarchy, Mesh, VertexId};
 
 use crate::{EditError, Result};
 
@@ -27,7 +27,7 @@ use crate::{EditError, Result};
 /// was made on (see the [module docs](self)).
 #[derive(Clone)]
 pub struct HierarchyMarks {
-    binding: MeshBinding,
+    binding: Binding,
     region: Vec<VertexId>,
     affine: Vec<(Vec<VertexId>, DAffine3)>,
     fields: Vec<(Vec<VertexId>, Field)>,
@@ -76,7 +76,7 @@ impl HierarchyMarks {
     /// The same marks, checked against `binding` (the one of the value that made them:
     /// a sub-mesh, an area, an attachment) instead of the mesh they were computed on,
     /// which may be a clone of the hierarchy's mesh.
-    pub(crate) fn bound_to(mut self, binding: MeshBinding) -> Self {
+    pub(crate) fn bound_to(mut self, binding: Binding) -> Self {
         self.binding = binding;
         self
     }

@@ -127,7 +127,7 @@ impl Vertices<'_> {
 pub struct Snapshot {
     /// The mesh the positions were taken from (`None` for the empty default snapshot,
     /// which restores nothing on any mesh).
-    binding: Option<halfedge::MeshBinding>,
+    binding: Option<halfedge::Binding>,
     indices: Vec<u32>,
     positions: Vec<DVec3>,
 }

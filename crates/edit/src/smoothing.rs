@@ -70,7 +70,7 @@ impl Default for TaubinOptions {
 /// in memory whatever the order of the mesh's vertices (subdivided meshes scatter them).
 #[derive(Clone, Debug)]
 pub struct Smoother {
-    binding: halfedge::MeshBinding,
+    binding: halfedge::Binding,
     /// Local index → vertex slot: rows `0..rows` are the moving vertices, the rest the
     /// fixed neighbours that anchor them.
     local_to_slot: Vec<u32>,

@@ -834,7 +834,7 @@ fn state(m: &Mesh) -> (Vec<[u64; 3]>, u128) {
             .iter()
             .map(|p| p.to_array().map(f64::to_bits))
             .collect(),
-        m.topology_stamp(),
+        m.binding(),
     )
 }
 

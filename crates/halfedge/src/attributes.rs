@@ -10,24 +10,32 @@
 //! let mut mesh = generators::icosphere(1);
 //! let label = mesh.add_vertex_attribute("label", 0u32).unwrap();
 //! let v = mesh.vertices().next().unwrap();
-//! *mesh.attribute_mut(label, v) = 7;
-//! assert_eq!(*mesh.attribute(label, v), 7);
+//! *mesh.attribute_mut(label, v).unwrap() = 7;
+//! assert_eq!(*mesh.attribute(label, v).unwrap(), 7);
 //! ```
 
 use std::any::Any;
 use std::marker::PhantomData;
 
-use crate::handle::slot;
-use crate::{Error, FaceId, HalfedgeId, Mesh, Result, VertexId};
+use crate::binding::{Binding, Stale};
+use crate::error::{Error, Result};
+use crate::handle::{slot, FaceId, HalfedgeId, VertexId};
+use crate::mesh::Mesh;
 
 /// Typed handle of an attribute on elements of kind `K` (`VertexId`, `HalfedgeId` or
 /// `FaceId`) with values of type `T`.
+///
+/// A handle is bound to the attribute it names: the mesh that made it and the clones of
+/// that mesh (which copy its attributes) accept it; another mesh, or the same mesh after
+/// the attribute was removed, refuses it with [`Error::Stale`], whatever the type.
 pub struct Attribute<K, T> {
     column: usize,
-    /// Which attribute that column held when the handle was made: a column freed by
-    /// `remove_attribute` and taken by a new attribute has another generation, so an old
-    /// handle never reads the new attribute's values.
+    /// Which attribute that column held when the handle was made: a number no other
+    /// attribute of any mesh has (clones copy it with the attribute), so a handle never
+    /// reads another attribute's values, on its own mesh or on another one.
     generation: u64,
+    /// The mesh the attribute was made on, as it was then (for the error).
+    binding: Binding,
     _marker: PhantomData<fn(K) -> T>,
 }
 
@@ -37,7 +45,7 @@ impl<K, T> Clone for Attribute<K, T> {
     }
 }
 impl<K, T> Copy for Attribute<K, T> {}
-/// Two handles are equal when they name the same attribute (column and generation).
+/// Two handles are equal when they name the same attribute.
 impl<K, T> PartialEq for Attribute<K, T> {
     fn eq(&self, other: &Self) -> bool {
         (self.column, self.generation) == (other.column, other.generation)
@@ -97,8 +105,12 @@ struct Named {
 pub struct AttributeStore {
     columns: Vec<Option<Named>>,
     len: usize,
-    /// Attributes added so far (the next one's generation).
-    added: u64,
+}
+
+/// A number no attribute had before (see [`Attribute`]).
+fn next_generation() -> u64 {
+    static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
+    NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed)
 }
 
 impl Clone for AttributeStore {
@@ -116,7 +128,6 @@ impl Clone for AttributeStore {
                 })
                 .collect(),
             len: self.len,
-            added: self.added,
         }
     }
 }
@@ -138,8 +149,7 @@ impl AttributeStore {
             data: vec![default.clone(); self.len],
             default,
         });
-        let generation = self.added;
-        self.added += 1;
+        let generation = next_generation();
         let named = Named {
             name: name.to_owned(),
             generation,
@@ -166,32 +176,23 @@ impl AttributeStore {
                 .map(|c| (i, c.generation))
         })
     }
-    fn data<T: AttributeValue>(&self, column: usize, generation: u64) -> &Vec<T> {
-        let c = self
-            .columns
-            .get(column)
-            .and_then(Option::as_ref)
-            .filter(|c| c.generation == generation)
-            .expect("attribute was removed");
-        &c.column
-            .as_any()
-            .downcast_ref::<TypedColumn<T>>()
-            .expect("attribute of another type")
-            .data
+    fn data<T: AttributeValue>(&self, column: usize, generation: u64) -> Option<&Vec<T>> {
+        let c = self.columns.get(column)?.as_ref()?;
+        if c.generation != generation {
+            return None;
+        }
+        Some(&c.column.as_any().downcast_ref::<TypedColumn<T>>()?.data)
     }
-    fn data_mut<T: AttributeValue>(&mut self, column: usize, generation: u64) -> &mut Vec<T> {
-        let c = self
-            .columns
-            .get_mut(column)
-            .and_then(Option::as_mut)
-            .filter(|c| c.generation == generation)
-            .expect("attribute was removed");
-        &mut c
-            .column
-            .as_any_mut()
-            .downcast_mut::<TypedColumn<T>>()
-            .expect("attribute of another type")
-            .data
+    fn data_mut<T: AttributeValue>(
+        &mut self,
+        column: usize,
+        generation: u64,
+    ) -> Option<&mut Vec<T>> {
+        let c = self.columns.get_mut(column)?.as_mut()?;
+        if c.generation != generation {
+            return None;
+        }
+        Some(&mut c.column.as_any_mut().downcast_mut::<TypedColumn<T>>()?.data)
     }
     /// Number of attributes (columns not removed).
     #[cfg(test)]
@@ -252,20 +253,22 @@ impl Element for FaceId {
 /// # Attributes
 impl Mesh {
     /// Adds a named attribute on elements of kind `K` with a default value for every
-    /// existing and future element. Fails if the name is taken for this element kind.
+    /// existing and future element.
+    ///
+    /// # Errors
+    /// [`Error::DuplicateAttribute`] when the name is taken for this element kind.
     pub fn add_attribute<K: Element, T: AttributeValue>(
         &mut self,
         name: &str,
         default: T,
     ) -> Result<Attribute<K, T>> {
         let (column, generation) = K::store_mut(self).add(name, default)?;
-        Ok(Attribute {
-            column,
-            generation,
-            _marker: PhantomData,
-        })
+        Ok(self.handle(column, generation))
     }
     /// [`add_attribute`](Self::add_attribute) for vertices.
+    ///
+    /// # Errors
+    /// As [`add_attribute`](Self::add_attribute).
     pub fn add_vertex_attribute<T: AttributeValue>(
         &mut self,
         name: &str,
@@ -274,6 +277,9 @@ impl Mesh {
         self.add_attribute(name, default)
     }
     /// [`add_attribute`](Self::add_attribute) for faces.
+    ///
+    /// # Errors
+    /// As [`add_attribute`](Self::add_attribute).
     pub fn add_face_attribute<T: AttributeValue>(
         &mut self,
         name: &str,
@@ -282,6 +288,9 @@ impl Mesh {
         self.add_attribute(name, default)
     }
     /// [`add_attribute`](Self::add_attribute) for halfedges.
+    ///
+    /// # Errors
+    /// As [`add_attribute`](Self::add_attribute).
     pub fn add_halfedge_attribute<T: AttributeValue>(
         &mut self,
         name: &str,
@@ -296,76 +305,111 @@ impl Mesh {
     ) -> Option<Attribute<K, T>> {
         K::store(self)
             .find::<T>(name)
-            .map(|(column, generation)| Attribute {
-                column,
-                generation,
-                _marker: PhantomData,
-            })
+            .map(|(column, generation)| self.handle(column, generation))
     }
-    /// True when `attribute` is an attribute of this mesh: it was not removed (an
-    /// attribute added since in its place is another attribute, whatever its type). The
-    /// accessors below panic on an attribute for which this is false; check it (or use
-    /// [`try_attribute_values`](Self::try_attribute_values)) for handles you did not
-    /// just make.
+    fn handle<K, T>(&self, column: usize, generation: u64) -> Attribute<K, T> {
+        Attribute {
+            column,
+            generation,
+            binding: self.binding(),
+            _marker: PhantomData,
+        }
+    }
+    /// True when `attribute` is an attribute of this mesh: made on it (or on the mesh it
+    /// was cloned from, before the clone) and not removed since.
     pub fn has_attribute<K: Element, T: AttributeValue>(&self, attribute: Attribute<K, T>) -> bool {
         K::store(self).has::<T>(attribute.column, attribute.generation)
     }
-    /// All values of `attribute` (as [`attribute_values`](Self::attribute_values)), or an
-    /// error when the attribute is not (any longer) an attribute of this mesh.
+    /// [`Error::Stale`] for a handle that is not an attribute of this mesh.
+    fn stale<K, T>(&self, attribute: Attribute<K, T>) -> Error {
+        Stale::new(
+            "the attribute handle (removed, or made on another mesh)",
+            attribute.binding,
+            self.binding(),
+        )
+        .into()
+    }
+    /// Removes an attribute; its handle is refused afterwards.
     ///
     /// # Errors
-    /// [`Error::InvalidArgument`] naming the stale handle.
-    pub fn try_attribute_values<K: Element, T: AttributeValue>(
+    /// [`Error::Stale`] when `attribute` is not an attribute of this mesh (nothing is
+    /// removed then).
+    pub fn remove_attribute<K: Element, T: AttributeValue>(
+        &mut self,
+        attribute: Attribute<K, T>,
+    ) -> Result<()> {
+        if !self.has_attribute(attribute) {
+            return Err(self.stale(attribute));
+        }
+        K::store_mut(self).remove(attribute.column);
+        Ok(())
+    }
+    /// The value of `attribute` at element `k` (live, or removed by a collapse: its value
+    /// is kept for the split).
+    ///
+    /// # Errors
+    /// [`Error::Stale`] when `attribute` is not an attribute of this mesh;
+    /// [`Error::InvalidHandle`] when `k` is not an element of it (freed by garbage
+    /// collection, or of another mesh).
+    #[inline]
+    pub fn attribute<K: Element, T: AttributeValue>(
         &self,
         attribute: Attribute<K, T>,
-    ) -> Result<&[T]> {
-        if !self.has_attribute(attribute) {
-            return Err(Error::InvalidArgument(format!(
-                "{attribute:?} is not an attribute of this mesh (removed, or made on another mesh)"
-            )));
+        k: K,
+    ) -> Result<&T> {
+        let values = self.attribute_values(attribute)?;
+        if !K::is_live(self, k) {
+            return Err(Error::InvalidHandle(format!("{k}")));
         }
-        Ok(K::store(self).data::<T>(attribute.column, attribute.generation))
-    }
-    /// Removes an attribute; its handle must not be used afterwards.
-    pub fn remove_attribute<K: Element, T: AttributeValue>(&mut self, attribute: Attribute<K, T>) {
-        if self.has_attribute(attribute) {
-            K::store_mut(self).remove(attribute.column);
-        }
-    }
-    /// The value of `attribute` at element `k`.
-    ///
-    /// # Panics
-    /// If `k` is stale (its element was freed by garbage collection) or the attribute was removed.
-    #[inline]
-    pub fn attribute<K: Element, T: AttributeValue>(&self, attribute: Attribute<K, T>, k: K) -> &T {
-        assert!(K::is_live(self, k), "stale handle {k}");
-        &K::store(self).data::<T>(attribute.column, attribute.generation)[slot(k)]
+        values
+            .get(slot(k))
+            .ok_or_else(|| Error::InvalidHandle(format!("{k}")))
     }
     /// Mutable access to the value of `attribute` at element `k`.
     ///
-    /// # Panics
+    /// # Errors
     /// As [`attribute`](Self::attribute).
     #[inline]
     pub fn attribute_mut<K: Element, T: AttributeValue>(
         &mut self,
         attribute: Attribute<K, T>,
         k: K,
-    ) -> &mut T {
-        assert!(K::is_live(self, k), "stale handle {k}");
-        &mut K::store_mut(self).data_mut::<T>(attribute.column, attribute.generation)[slot(k)]
+    ) -> Result<&mut T> {
+        if !K::is_live(self, k) {
+            return Err(Error::InvalidHandle(format!("{k}")));
+        }
+        let values = self.attribute_values_mut(attribute)?;
+        values
+            .get_mut(slot(k))
+            .ok_or_else(|| Error::InvalidHandle(format!("{k}")))
     }
     /// All values, indexed by element index ([`vertex_index`](Self::vertex_index), …).
+    ///
+    /// # Errors
+    /// [`Error::Stale`] when `attribute` is not an attribute of this mesh.
     pub fn attribute_values<K: Element, T: AttributeValue>(
         &self,
         attribute: Attribute<K, T>,
-    ) -> &[T] {
-        K::store(self).data::<T>(attribute.column, attribute.generation)
+    ) -> Result<&[T]> {
+        match K::store(self).data::<T>(attribute.column, attribute.generation) {
+            Some(values) => Ok(values),
+            None => Err(self.stale(attribute)),
+        }
     }
     /// All values, mutable, indexed by element index (for parallel updates).
+    ///
+    /// # Errors
+    /// [`Error::Stale`] when `attribute` is not an attribute of this mesh.
     pub fn attribute_values_mut<K: Element, T: AttributeValue>(
         &mut self,
         attribute: Attribute<K, T>,
-    ) -> &mut [T] {
-        K::store_mut(self).data_mut::<T>(attribute.column, attribute.generation)
+    ) -> Result<&mut [T]> {
+        if !self.has_attribute(attribute) {
+            return Err(self.stale(attribute));
+        }
+        Ok(K::store_mut(self)
+            .data_mut::<T>(attribute.column, attribute.generation)
+            .map(Vec::as_mut_slice)
+            .unwrap_or_default())
     }
 }

@@ -14,10 +14,9 @@
 //! the nearest point so far; the point–triangle test finds the Voronoi region of the
 //! query among the triangle's corners, edges and inside ([`closest_point_on_triangle`]).
 //!
-//! A hierarchy remembers the mesh it was built for ([`Mesh::topology_stamp`] and the
-//! mesh's count of position edits): asked about another mesh, or about its own mesh after
-//! a connectivity change or a move it was not refitted for, it returns
-//! [`Error::InvalidArgument`] instead of a wrong answer.
+//! A hierarchy keeps the [`Binding`] of the mesh it was built or refitted for: asked
+//! about another mesh, or about its own mesh after a connectivity change or a move it was
+//! not refitted for, it returns [`Error::Stale`] instead of a wrong answer.
 //!
 //! ```
 //! use halfedge::bvh::{Bvh, Ray};
@@ -32,7 +31,10 @@
 
 use glam::DVec3;
 
-use crate::{Error, FaceId, Mesh, Result, VertexId};
+use crate::binding::{Binding, Stale};
+use crate::error::{Error, Result};
+use crate::handle::{FaceId, VertexId};
+use crate::mesh::Mesh;
 
 /// Triangles per leaf at most.
 const LEAF_SIZE: usize = 4;
@@ -117,10 +119,8 @@ pub struct Bvh {
     faces: Vec<FaceId>,
     /// Vertex indices (into `Mesh::positions`) of the faces in leaf order.
     corners: Vec<[u32; 3]>,
-    /// The mesh's topology stamp when built.
-    stamp: u128,
-    /// The mesh's position edit count when built or last refitted.
-    edits: u64,
+    /// The mesh as it was when built or last refitted (positions included).
+    binding: Binding,
 }
 
 fn triangle_bounds(p: &[DVec3], c: [u32; 3]) -> (DVec3, DVec3) {
@@ -154,8 +154,7 @@ impl Bvh {
             nodes,
             faces: order.iter().map(|&i| faces[i as usize]).collect(),
             corners: order.iter().map(|&i| corners[i as usize]).collect(),
-            stamp: mesh.topology_stamp(),
-            edits: mesh.position_edits,
+            binding: mesh.binding(),
         }
     }
 
@@ -172,20 +171,22 @@ impl Bvh {
     /// True when the hierarchy answers for `mesh` as it is now (same mesh, same
     /// connectivity, no position change since it was built or refitted).
     pub fn is_current(&self, mesh: &Mesh) -> bool {
-        self.stamp == mesh.topology_stamp() && self.edits == mesh.position_edits
+        self.binding.fits_exactly(mesh)
+    }
+
+    /// `Ok` when the hierarchy is current for `mesh`, else [`Error::Stale`].
+    fn check(&self, mesh: &Mesh) -> Result<()> {
+        Ok(self.binding.check_exactly(mesh, "the BVH")?)
     }
 
     /// Recomputes every box for the current positions of the mesh it was built for.
     ///
     /// # Errors
-    /// [`Error::InvalidArgument`] when `mesh` is another mesh or its connectivity changed
-    /// since the build ([`build`](Self::build) again); the hierarchy is unchanged then.
+    /// [`Error::Stale`] when `mesh` is another mesh or its connectivity changed since the
+    /// build ([`build`](Self::build) again); the hierarchy is unchanged then.
     pub fn refit(&mut self, mesh: &Mesh) -> Result<()> {
-        if self.stamp != mesh.topology_stamp() {
-            return Err(Error::InvalidArgument(
-                "refit: the BVH was built for another mesh, or the connectivity changed since; build it again"
-                    .into(),
-            ));
+        if !self.binding.same_connectivity(mesh) {
+            return Err(Stale::new("the BVH", self.binding, mesh.binding()).into());
         }
         let positions = mesh.positions();
         // Children come after their parent in depth-first order: walk backwards.
@@ -207,7 +208,7 @@ impl Bvh {
             self.nodes[i].lo = lo;
             self.nodes[i].hi = hi;
         }
-        self.edits = mesh.position_edits;
+        self.binding = mesh.binding();
         Ok(())
     }
 
@@ -226,15 +227,10 @@ impl Bvh {
     /// The nearest face hit by `ray` (front or back side), if any.
     ///
     /// # Errors
-    /// [`Error::InvalidArgument`] when the hierarchy is not current for `mesh` (see
+    /// [`Error::Stale`] when the hierarchy is not current for `mesh` (see
     /// [`is_current`](Self::is_current); [`update`](Self::update) makes it so).
     pub fn intersect(&self, mesh: &Mesh, ray: &Ray) -> Result<Option<Hit>> {
-        if !self.is_current(mesh) {
-            return Err(Error::InvalidArgument(
-                "intersect: the BVH is not current for this mesh (another mesh, or it changed since the build); call update"
-                    .into(),
-            ));
-        }
+        self.check(mesh)?;
         if self.nodes.is_empty() {
             return Ok(None);
         }
@@ -312,15 +308,11 @@ impl Bvh {
     /// `None` for a mesh without any other face.
     ///
     /// # Errors
-    /// [`Error::InvalidArgument`] when `query` is not finite, or when the hierarchy is not
-    /// current for `mesh` (see [`is_current`](Self::is_current)).
+    /// [`Error::Stale`] when the hierarchy is not current for `mesh` (see
+    /// [`is_current`](Self::is_current)); [`Error::InvalidArgument`] when `query` is not
+    /// finite.
     pub fn closest_point(&self, mesh: &Mesh, query: DVec3) -> Result<Option<Nearest>> {
-        if !self.is_current(mesh) {
-            return Err(Error::InvalidArgument(
-                "closest_point: the BVH is not current for this mesh (another mesh, or it changed since the build); call update"
-                    .into(),
-            ));
-        }
+        self.check(mesh)?;
         if !query.is_finite() {
             return Err(Error::InvalidArgument(format!(
                 "closest_point: the query point {query} is not finite"
@@ -754,10 +746,7 @@ mod tests {
         }
         assert!(!bvh.is_current(&mesh));
         let ray = Ray::new(DVec3::new(0.0, 0.0, 5.0), DVec3::NEG_Z).unwrap();
-        assert!(matches!(
-            bvh.intersect(&mesh, &ray),
-            Err(Error::InvalidArgument(_))
-        ));
+        assert!(matches!(bvh.intersect(&mesh, &ray), Err(Error::Stale(_))));
         bvh.refit(&mesh).unwrap();
         agrees_with_brute_force(&mesh, &bvh, 200, 3);
         // A collapse changes the connectivity: refit is refused, update rebuilds.

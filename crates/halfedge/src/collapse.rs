@@ -151,8 +151,8 @@ pub struct CollapseRecord {
     pub vrv1: Option<HalfedgeId>,
     /// The compact form the split works from.
     step: Step,
-    /// The mesh instance the collapse was made on ([`Mesh::topology_stamp`]'s id) and its
-    /// change count right after the collapse: see `Mesh::is_own_history`.
+    /// The mesh instance the collapse was made on ([`Provenance`](crate::binding::Provenance)'s instance) and its
+    /// change count right after the collapse: see `Provenance::is_own_history`.
     mesh: u64,
     count: u64,
     /// Fingerprint of what the split relies on beyond the fields above (see
@@ -335,11 +335,18 @@ impl Mesh {
             })?;
         let (step, fingerprint) = self.collapse_step(h, None);
         // (Always a record: the collapse has just made every index it names.)
-        self.public_record(&step, fingerprint, (self.stamp_id, self.stamp_count))
-            .ok_or(Error::CollapseRefused {
-                halfedge: h,
-                reason: CollapseVeto::EdgeDeleted,
-            })
+        self.public_record(
+            &step,
+            fingerprint,
+            (
+                self.provenance.instance(),
+                self.provenance.connectivity_count(),
+            ),
+        )
+        .ok_or(Error::CollapseRefused {
+            halfedge: h,
+            reason: CollapseVeto::EdgeDeleted,
+        })
     }
 
     /// True when `v0` and `v1` share no neighbour other than `vl` and `vr` (the link
@@ -379,7 +386,7 @@ impl Mesh {
 
     /// [`collapse_unchecked`](Self::collapse_unchecked) of the edge of `old` again, for a
     /// hierarchy that knows the connectivity is exactly the one `old` was made in (its
-    /// mesh kept its [`topology_stamp`](Self::topology_stamp) since its own last step, and
+    /// mesh kept its connectivity (its [`binding`](Self::binding)) since its own last step, and
     /// splits are exact inverses): the new record's fingerprint is `old`'s
     /// (`fingerprint`), so it is not computed again.
     pub(crate) fn recollapse_unchecked(&mut self, old: &Step, fingerprint: u64) -> Step {
@@ -854,7 +861,7 @@ impl Mesh {
     /// element the split reads or restores is as the collapse left it. Reads only
     /// (bounds-checked where the mesh might not be the record's).
     fn split_fits(&self, r: &CollapseRecord) -> std::result::Result<(), &'static str> {
-        if !self.is_own_history(r.mesh, r.count) {
+        if !self.provenance.is_own_history(r.mesh, r.count) {
             return Err(
                 "the record was made on another mesh (another instance, or a clone \
                         made after the collapse)",
@@ -1099,7 +1106,7 @@ impl Mesh {
 
     /// The split of `step` without its checks, for a caller that knows the connectivity
     /// is what the collapse left (a hierarchy whose mesh kept its
-    /// [`topology_stamp`](Self::topology_stamp) since its own last step, or
+    /// connectivity (its [`binding`](Self::binding)) since its own last step, or
     /// [`vertex_split`](Self::vertex_split) once it checked). The two triangles and the
     /// rewritten links are read back from the tombstones of the removed halfedges.
     pub(crate) fn vertex_split_unchecked(&mut self, step: &Step) {
@@ -1192,7 +1199,7 @@ mod tests {
         let v = mesh.vertices().nth(5).unwrap();
         let h = mesh.vertex_halfedge(v).unwrap();
         let r = mesh.collapse(h).unwrap();
-        let before = mesh.topology_stamp();
+        let before = mesh.binding();
         for edit in 0..3 {
             let mut bad = r.clone();
             match edit {
@@ -1202,7 +1209,7 @@ mod tests {
             }
             let e = mesh.vertex_split(&bad).unwrap_err();
             assert!(e.to_string().contains("fields were changed"), "{e}");
-            assert_eq!(mesh.topology_stamp(), before);
+            assert!(before.same_connectivity(&mesh));
         }
         mesh.vertex_split(&r).unwrap();
         mesh.check().unwrap();

@@ -75,7 +75,7 @@ pub enum Error {
     /// A value derived from a mesh (per-vertex data, a selection) met a mesh it was not
     /// made for.
     #[error(transparent)]
-    Stale(#[from] crate::StaleBinding),
+    Stale(#[from] crate::binding::Stale),
     /// An argument is outside its documented range.
     #[error("invalid argument: {0}")]
     InvalidArgument(String),

@@ -50,9 +50,8 @@ pub(crate) struct Raw {
     face_slots: Slots,
     positions: Vec<[u64; 3]>,
     counts: [usize; 3],
-    stamp: u128,
+    binding: crate::Binding,
     lineage: Vec<(u64, u64)>,
-    position_edits: u64,
     attribute_columns: [usize; 3],
 }
 
@@ -71,9 +70,8 @@ pub(crate) fn raw(m: &Mesh) -> Raw {
             .map(|p| p.to_array().map(f64::to_bits))
             .collect(),
         counts: [m.n_vertices, m.n_halfedges, m.n_faces],
-        stamp: m.topology_stamp(),
-        lineage: m.lineage.clone(),
-        position_edits: m.position_edits,
+        binding: m.binding(),
+        lineage: m.provenance.lineage().to_vec(),
         attribute_columns: [
             m.vertex_attributes.column_count(),
             m.halfedge_attributes.column_count(),
@@ -582,13 +580,14 @@ fn run_hierarchy(
             }
             HOp::AttachLabels => {
                 if let Ok(a) = h.mesh_mut().label_attribute() {
-                    h.mesh_mut().attribute_values_mut(a).fill(1);
-                    h.attach_labels(a);
+                    h.mesh_mut().attribute_values_mut(a).unwrap().fill(1);
+                    h.attach_labels(a).unwrap();
                 }
             }
             HOp::RemoveLabels => {
                 if let Some(a) = h.label_attribute() {
-                    h.mesh_mut().remove_attribute(a);
+                    // A second removal is refused (the handle is stale), changing nothing.
+                    let _refused_when_removed_already = h.mesh_mut().remove_attribute(a);
                 }
             }
             HOp::OtherAttribute => {
@@ -932,9 +931,9 @@ fn a_removed_label_attribute_is_refused_before_the_split() {
     )
     .unwrap();
     let labels = h.mesh_mut().label_attribute().unwrap();
-    h.attach_labels(labels);
+    h.attach_labels(labels).unwrap();
     h.coarsen_to(h.coarsest_level()).unwrap();
-    h.mesh_mut().remove_attribute(labels);
+    h.mesh_mut().remove_attribute(labels).unwrap();
     for replaced in [false, true] {
         if replaced {
             // Its place taken by an attribute of another type.

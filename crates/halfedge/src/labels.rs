@@ -650,7 +650,7 @@ impl Mesh {
         for &h in frontier.halfedges() {
             labels[self.vertex_index(self.from_vertex(h))] = Some(FRONTIER);
         }
-        let values = self.attribute_values_mut(attribute);
+        let values = self.attribute_values_mut(attribute)?;
         for (value, label) in values.iter_mut().zip(&labels) {
             if let Some(l) = *label {
                 *value = l;
@@ -668,40 +668,59 @@ impl Mesh {
     }
 
     /// The label of face `f` derived from its vertices (see the module docs).
-    pub fn face_label(&self, attribute: Attribute<VertexId, Label>, f: FaceId) -> Label {
+    ///
+    /// # Errors
+    /// [`Error::Stale`] when `attribute` is not an attribute of this mesh;
+    /// [`Error::InvalidHandle`] when `f` is not a live face.
+    pub fn face_label(&self, attribute: Attribute<VertexId, Label>, f: FaceId) -> Result<Label> {
+        let values = self.attribute_values(attribute)?;
+        self.ensure_face(f)?;
         let mut label = FRONTIER;
         for v in self.face_vertices(f) {
-            let l = *self.attribute(attribute, v);
+            let l = values[self.vertex_index(v)];
             if l == FRONTIER {
                 continue;
             }
             if label == FRONTIER {
                 label = l;
             } else if label != l {
-                return FRONTIER;
+                return Ok(FRONTIER);
             }
         }
-        label
+        Ok(label)
     }
 
     /// The live vertices labelled `label`.
+    ///
+    /// # Errors
+    /// [`Error::Stale`] when `attribute` is not an attribute of this mesh.
     pub fn vertices_labelled(
         &self,
         attribute: Attribute<VertexId, Label>,
         label: Label,
-    ) -> Vec<VertexId> {
-        let values = self.attribute_values(attribute);
-        self.vertices()
+    ) -> Result<Vec<VertexId>> {
+        let values = self.attribute_values(attribute)?;
+        Ok(self
+            .vertices()
             .filter(|&v| values[self.vertex_index(v)] == label)
-            .collect()
+            .collect())
     }
 }
 
 /// The paper's Fig. 4 rule for the vertex `v` just re-inserted by a split: on the
 /// frontier when its neighbours include two different sub-meshes, else the label of its
 /// non-frontier neighbours; on the frontier when all its neighbours are.
-pub fn classify_split(mesh: &mut Mesh, attribute: Attribute<VertexId, Label>, v: VertexId) {
-    let values = mesh.attribute_values(attribute);
+///
+/// # Errors
+/// [`Error::Stale`] when `attribute` is not an attribute of `mesh`;
+/// [`Error::InvalidHandle`] when `v` is not a live vertex. Nothing is changed then.
+pub fn classify_split(
+    mesh: &mut Mesh,
+    attribute: Attribute<VertexId, Label>,
+    v: VertexId,
+) -> Result<()> {
+    mesh.ensure_vertex(v)?;
+    let values = mesh.attribute_values(attribute)?;
     let mut label = FRONTIER;
     let mut mixed = false;
     for w in mesh.adjacent_vertices(v) {
@@ -717,7 +736,8 @@ pub fn classify_split(mesh: &mut Mesh, attribute: Attribute<VertexId, Label>, v:
         }
     }
     let i = mesh.vertex_index(v);
-    mesh.attribute_values_mut(attribute)[i] = if mixed { FRONTIER } else { label };
+    mesh.attribute_values_mut(attribute)?[i] = if mixed { FRONTIER } else { label };
+    Ok(())
 }
 
 /// Makes a closed walk of vertices simple: while a vertex repeats, the walk is split at

@@ -56,7 +56,7 @@ pub mod vertex_data;
 pub mod weld;
 
 pub use attributes::{Attribute, AttributeValue, Element};
-pub use binding::{MeshBinding, StaleBinding};
+pub use binding::{Binding, Bound, Provenance, Stale};
 pub use build::{AddFaceError, BuildReport};
 pub use collapse::{CollapseRecord, CollapseVeto};
 pub use error::{Error, Invariant, Result};

@@ -18,6 +18,7 @@
 use glam::DVec3;
 
 use crate::attributes::AttributeStore;
+use crate::binding::{Binding, Bound, Provenance};
 use crate::handle::{slot, Slots, NONE};
 use crate::{Error, FaceId, HalfedgeId, Result, VertexId};
 
@@ -61,22 +62,9 @@ pub struct Mesh {
     pub(crate) n_vertices: usize,
     pub(crate) n_halfedges: usize,
     pub(crate) n_faces: usize,
-    /// See [`Mesh::topology_stamp`]: this mesh instance's id and its count of changes.
-    pub(crate) stamp_id: u64,
-    pub(crate) stamp_count: u64,
-    /// The hierarchy and its level position, set by a [`crate::Hierarchy`] after its own
-    /// steps while it trusts this mesh, cleared by any change of connectivity (see
-    /// [`crate::MeshBinding`]).
-    pub(crate) level_tag: Option<(u64, usize)>,
-    /// The instances this mesh was cloned from, oldest first, each with its change count
-    /// when the clone was made (at most `MAX_LINEAGE` of them, the most recent): a
-    /// collapse record made on an ancestor before the clone describes this mesh's own
-    /// history, and [`Mesh::vertex_split`] accepts it (see `Mesh::is_own_history`).
-    pub(crate) lineage: Vec<(u64, u64)>,
-    /// Number of calls that handed out write access to positions from outside the crate
-    /// ([`Mesh::positions_mut`], [`Mesh::set_position`]): a hierarchy compares it to know
-    /// whether positions are exactly as its own steps left them.
-    pub(crate) position_edits: u64,
+    /// Who this mesh is and how often it changed: what every [`Binding`] of a value
+    /// derived from it is checked against.
+    pub(crate) provenance: Provenance,
     pub(crate) vertex_attributes: AttributeStore,
     pub(crate) halfedge_attributes: AttributeStore,
     pub(crate) face_attributes: AttributeStore,
@@ -92,18 +80,6 @@ impl std::fmt::Debug for Mesh {
     }
 }
 
-/// Source of mesh instance ids for [`Mesh::topology_stamp`].
-static NEXT_MESH_ID: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
-
-fn next_mesh_id() -> u64 {
-    NEXT_MESH_ID.fetch_add(1, std::sync::atomic::Ordering::Relaxed)
-}
-
-/// How many ancestors a mesh remembers (see `Mesh::lineage`): records older than that
-/// many generations of clones are refused, which is safe, and a long chain of clones
-/// (an undo stack) does not make every clone longer.
-const MAX_LINEAGE: usize = 16;
-
 impl Default for Mesh {
     fn default() -> Self {
         Self {
@@ -117,11 +93,7 @@ impl Default for Mesh {
             n_vertices: 0,
             n_halfedges: 0,
             n_faces: 0,
-            stamp_id: next_mesh_id(),
-            stamp_count: 0,
-            level_tag: None,
-            lineage: Vec::new(),
-            position_edits: 0,
+            provenance: Provenance::new(),
             vertex_attributes: AttributeStore::default(),
             halfedge_attributes: AttributeStore::default(),
             face_attributes: AttributeStore::default(),
@@ -129,17 +101,12 @@ impl Default for Mesh {
     }
 }
 
-/// A clone is a mesh instance of its own: same contents, its own
-/// [`topology_stamp`](Mesh::topology_stamp). Collapse records made before the clone
-/// belong to the history of both meshes and fit either; records made afterwards fit only
-/// the mesh they were made on ([`Mesh::vertex_split`] refuses them on the other).
-/// A mesh remembers its last 16 ancestors.
+/// A clone is a mesh instance of its own: same contents, its own [`Provenance`].
+/// Values derived from the mesh before the clone (collapse records, per-vertex data,
+/// editing areas) fit either until its connectivity changes; values made afterwards fit
+/// only the mesh they were made on. A mesh remembers its last 16 ancestors.
 impl Clone for Mesh {
     fn clone(&self) -> Self {
-        let skip = (self.lineage.len() + 1).saturating_sub(MAX_LINEAGE);
-        let mut lineage = Vec::with_capacity(self.lineage.len() + 1 - skip);
-        lineage.extend_from_slice(&self.lineage[skip..]);
-        lineage.push((self.stamp_id, self.stamp_count));
         Self {
             vertex_conn: self.vertex_conn.clone(),
             vertex_slots_: self.vertex_slots_.clone(),
@@ -151,11 +118,7 @@ impl Clone for Mesh {
             n_vertices: self.n_vertices,
             n_halfedges: self.n_halfedges,
             n_faces: self.n_faces,
-            stamp_id: next_mesh_id(),
-            stamp_count: self.stamp_count,
-            level_tag: None,
-            lineage,
-            position_edits: self.position_edits,
+            provenance: self.provenance.clone(),
             vertex_attributes: self.vertex_attributes.clone(),
             halfedge_attributes: self.halfedge_attributes.clone(),
             face_attributes: self.face_attributes.clone(),
@@ -165,22 +128,10 @@ impl Clone for Mesh {
 
 /// # Slot indices and handles (crate-internal)
 impl Mesh {
-    /// Records that the connectivity changed (a new [`topology_stamp`](Self::topology_stamp)).
+    /// Records that the connectivity changed: bindings made before stop fitting.
     #[inline]
     pub(crate) fn touch_topology(&mut self) {
-        self.stamp_count += 1;
-        self.level_tag = None;
-    }
-    /// True when the connectivity change number `count` of mesh instance `mesh` is part
-    /// of this mesh's history: `mesh` is this mesh, or an instance it was cloned from
-    /// (directly or through clones) at a time when that instance had made at most
-    /// `count` changes.
-    pub(crate) fn is_own_history(&self, mesh: u64, count: u64) -> bool {
-        mesh == self.stamp_id
-            || self
-                .lineage
-                .iter()
-                .any(|&(id, forked_at)| id == mesh && count <= forked_at)
+        self.provenance.connectivity_changed();
     }
     /// Vertex handle of slot `i`.
     #[inline]
@@ -294,14 +245,10 @@ impl Mesh {
     pub fn n_faces(&self) -> usize {
         self.n_faces
     }
-    /// A value that changes whenever the connectivity of this mesh changes (elements
-    /// added, collapsed, split, freed), unique to this mesh instance (a clone has stamps
-    /// of its own); positions and attributes do not count. Equal stamps mean the same
-    /// mesh with unchanged connectivity: a [`Hierarchy`](crate::Hierarchy) uses it to
-    /// skip re-validating its own records.
+    /// The binding of a value derived from this mesh now (see [`Binding`]).
     #[inline]
-    pub fn topology_stamp(&self) -> u128 {
-        (u128::from(self.stamp_id) << 64) | u128::from(self.stamp_count)
+    pub fn binding(&self) -> Binding {
+        self.provenance.binding()
     }
     /// True when the mesh has no live vertex.
     #[inline]
@@ -426,7 +373,7 @@ impl Mesh {
     #[inline]
     pub fn set_position(&mut self, v: VertexId, p: DVec3) {
         self.check_vertex(v);
-        self.position_edits = self.position_edits.wrapping_add(1);
+        self.provenance.positions_changed();
         self.positions[slot(v)] = p;
     }
     /// All positions, indexed by [`vertex_index`](Self::vertex_index). Entries of removed
@@ -439,7 +386,7 @@ impl Mesh {
     /// parallel per-vertex updates (`par_iter_mut`).
     #[inline]
     pub fn positions_mut(&mut self) -> &mut [DVec3] {
-        self.position_edits = self.position_edits.wrapping_add(1);
+        self.provenance.positions_changed();
         &mut self.positions
     }
 }
@@ -675,5 +622,12 @@ impl Mesh {
                 return;
             }
         }
+    }
+}
+
+impl Bound for Mesh {
+    #[inline]
+    fn provenance(&self) -> &Provenance {
+        &self.provenance
     }
 }

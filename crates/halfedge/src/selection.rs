@@ -105,7 +105,7 @@ impl Selection {
     }
 
     /// `Ok` when the selection was made for `mesh` as it is now (see
-    /// [`crate::MeshBinding`]).
+    /// [`crate::Binding`]).
     ///
     /// # Errors
     /// [`Error::Stale`] naming what it was made for and what it met.

@@ -240,9 +240,9 @@ mod tests {
         let flabel = mesh.add_face_attribute("flabel", 3u8).unwrap();
         let h = mesh.halfedges().next().unwrap();
         let m = mesh.split_edge(h, DVec3::ZERO).unwrap();
-        assert_eq!(*mesh.attribute(label, m), 7);
+        assert_eq!(*mesh.attribute(label, m).unwrap(), 7);
         for f in mesh.faces() {
-            assert_eq!(*mesh.attribute(flabel, f), 3);
+            assert_eq!(*mesh.attribute(flabel, f).unwrap(), 3);
         }
         mesh.check().unwrap();
     }

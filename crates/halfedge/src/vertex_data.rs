@@ -1,10 +1,10 @@
 //! Per-vertex values that know which mesh they belong to.
 //!
 //! A [`VertexData`] is one value per vertex slot (indexed by [`Mesh::vertex_index`], as
-//! pmp's vertex properties are) together with the [`MeshBinding`] of the mesh it was
+//! pmp's vertex properties are) together with the [`Binding`] of the mesh it was
 //! computed for: distance fields, normals, weights, masks. It reads like a slice
 //! (`data[i]`, `data.iter()`, `&data[..]`) and by handle (`data[v]`), and
-//! [`VertexData::check`] / [`VertexData::get`] refuse it, with the one [`StaleBinding`]
+//! [`VertexData::check`] / [`VertexData::get`] refuse it, with the one [`Stale`]
 //! error every derived value uses, on a mesh it was not made for: another mesh, the same
 //! mesh after a change of connectivity, or a hierarchy at another level. The library's
 //! functions that take per-vertex data make that check before they read it.
@@ -22,15 +22,18 @@
 
 use std::ops::{Deref, DerefMut, Index, IndexMut};
 
+use crate::binding::{Binding, Stale};
+use crate::error::{Error, Result};
 use crate::handle::slot;
-use crate::{Error, Mesh, MeshBinding, Result, StaleBinding, VertexId};
+use crate::handle::VertexId;
+use crate::mesh::Mesh;
 
 /// One value per vertex slot of one mesh, with that mesh's binding (see the
 /// [module docs](self)).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct VertexData<T> {
     values: Vec<T>,
-    binding: MeshBinding,
+    binding: Binding,
 }
 
 impl<T> VertexData<T> {
@@ -83,7 +86,7 @@ impl<T> VertexData<T> {
     /// Values computed for the mesh `binding` names (for example by a solver made for
     /// that mesh, which keeps its binding): the caller guarantees one value per vertex
     /// slot of that mesh, as [`VertexData::new`] checks when the mesh is at hand.
-    pub fn with_binding(values: Vec<T>, binding: MeshBinding) -> Self {
+    pub fn with_binding(values: Vec<T>, binding: Binding) -> Self {
         Self { values, binding }
     }
 
@@ -101,15 +104,15 @@ impl<T> VertexData<T> {
 
     /// The mesh this data was made for.
     #[must_use]
-    pub fn binding(&self) -> MeshBinding {
+    pub fn binding(&self) -> Binding {
         self.binding
     }
 
-    /// `Ok` when this data fits `mesh` (see [`MeshBinding`]).
+    /// `Ok` when this data fits `mesh` (see [`Binding`]).
     ///
     /// # Errors
-    /// [`StaleBinding`] naming what it was made for and what it met.
-    pub fn check(&self, mesh: &Mesh) -> std::result::Result<(), StaleBinding> {
+    /// [`Stale`] naming what it was made for and what it met.
+    pub fn check(&self, mesh: &Mesh) -> std::result::Result<(), Stale> {
         self.binding.check(mesh, "the per-vertex data")
     }
 

@@ -388,7 +388,7 @@ fn labels_hold_at_every_level() {
             .frontier_from_plane(DVec3::new(-1.0, 0.0, 0.0), DVec3::X)
             .unwrap();
         let (labels, _) = m.label_sides(&f, 3, 4).unwrap();
-        h.attach_labels(labels);
+        h.attach_labels(labels).unwrap();
         h.constrain_to_labels().unwrap();
         assert_eq!(h.current_level(), Some(2));
         for level in 0..h.n_levels() {

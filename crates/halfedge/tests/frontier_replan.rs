@@ -49,7 +49,7 @@ fn label_sides_of(h: &mut Hierarchy, (point, normal): (DVec3, DVec3)) {
     let m = h.mesh_mut();
     let frontier = m.frontier_from_plane(point, normal).unwrap();
     let (labels, _) = m.label_sides(&frontier, 3, 4).unwrap();
-    h.attach_labels(labels);
+    h.attach_labels(labels).unwrap();
 }
 
 /// Every property the re-planned hierarchy must have, against the hierarchy it came from
@@ -60,7 +60,7 @@ fn check_replanned(name: &str, h: &mut Hierarchy, before: &Hierarchy, rebuilt: &
     // No record joins two labels.
     h.go_to_level(0).unwrap();
     let input = bits(h.mesh());
-    let labels = h.mesh().attribute_values(attribute).to_vec();
+    let labels = h.mesh().attribute_values(attribute).unwrap().to_vec();
     for r in h.records() {
         let l = |v: VertexId| labels[h.mesh().vertex_index(v)];
         assert_eq!(l(r.v0), l(r.v1), "{name}: a record joins two labels");
@@ -159,7 +159,7 @@ fn labels_defined_at_a_coarse_level_after_an_edit_hold_at_every_level() {
         .frontier_from_plane(DVec3::new(0.5, 0.0, 0.0), DVec3::X)
         .unwrap();
     let (labels, _) = m.label_sides(&f, 3, 4).unwrap();
-    h.attach_labels(labels);
+    h.attach_labels(labels).unwrap();
     let at_2 = bits(h.mesh());
     let mut copy = h.clone();
     copy.seek(0).unwrap();
@@ -198,11 +198,11 @@ fn several_sub_meshes_hold_at_every_level() {
         .frontier_from_plane(DVec3::new(-1.5, 0.0, 0.0), -DVec3::X)
         .unwrap();
     m.label_sides_with(&left, Some(6), None).unwrap();
-    h.attach_labels(labels);
+    h.attach_labels(labels).unwrap();
     h.constrain_to_labels().unwrap();
     let attribute = h.label_attribute().unwrap();
     let counts = |h: &Hierarchy| {
-        let values = h.mesh().attribute_values(attribute);
+        let values = h.mesh().attribute_values(attribute).unwrap();
         [5, 6, 7].map(|l| {
             h.mesh()
                 .vertices()
@@ -286,10 +286,10 @@ fn one_label_everywhere_keeps_every_record_and_a_refused_replay_changes_nothing(
     h.go_to_level(0).unwrap();
     // One label on every vertex: no record joins two labels, so the replay keeps them all.
     let attribute = h.mesh_mut().label_attribute().unwrap();
-    for value in h.mesh_mut().attribute_values_mut(attribute) {
+    for value in h.mesh_mut().attribute_values_mut(attribute).unwrap() {
         *value = 9;
     }
-    h.attach_labels(attribute);
+    h.attach_labels(attribute).unwrap();
     let before = h.clone();
     h.constrain_to_labels().unwrap();
     assert_eq!(h.level_face_counts(), before.level_face_counts());

@@ -180,23 +180,36 @@ fn attributes_follow_new_elements() {
         "duplicate name"
     );
     let centre = mesh.vertex_at(0).unwrap();
-    *mesh.attribute_mut(label, centre) = 1;
+    *mesh.attribute_mut(label, centre).unwrap() = 1;
 
     // A new vertex and a new face on the boundary edge 1-2 (outside the fan).
     let v = mesh.add_vertex(DVec3::new(1.2, 1.2, 0.0));
-    assert_eq!(mesh.attribute_values(label).len(), mesh.vertex_slots());
     assert_eq!(
-        *mesh.attribute(label, v),
+        mesh.attribute_values(label).unwrap().len(),
+        mesh.vertex_slots()
+    );
+    assert_eq!(
+        *mesh.attribute(label, v).unwrap(),
         7,
         "new vertices take the default"
     );
-    assert_eq!(*mesh.attribute(label, centre), 1, "old values are kept");
+    assert_eq!(
+        *mesh.attribute(label, centre).unwrap(),
+        1,
+        "old values are kept"
+    );
     let (a, b) = (mesh.vertex_at(1).unwrap(), mesh.vertex_at(2).unwrap());
     let f = mesh.add_triangle(b, a, v).unwrap();
     mesh.check().unwrap();
-    assert_eq!(mesh.attribute_values(weight).len(), mesh.face_slots());
-    assert_eq!(*mesh.attribute(weight, f), 0.5);
-    assert_eq!(mesh.attribute_values(seen).len(), mesh.halfedge_slots());
+    assert_eq!(
+        mesh.attribute_values(weight).unwrap().len(),
+        mesh.face_slots()
+    );
+    assert_eq!(*mesh.attribute(weight, f).unwrap(), 0.5);
+    assert_eq!(
+        mesh.attribute_values(seen).unwrap().len(),
+        mesh.halfedge_slots()
+    );
     assert_eq!(
         mesh.find_attribute::<VertexId, u32>("label").map(|_| ()),
         Some(())
@@ -430,17 +443,26 @@ fn a_removed_attribute_handle_never_reads_the_attribute_added_in_its_place() {
     let mut mesh = halfedge::generators::icosphere(1);
     let v = mesh.vertices().next().unwrap();
     let old = mesh.add_vertex_attribute("weight", 1.0f64).unwrap();
-    mesh.remove_attribute(old);
+    mesh.remove_attribute(old).unwrap();
     let new = mesh.add_vertex_attribute("other", 7.0f64).unwrap();
     assert!(!mesh.has_attribute(old));
     assert!(mesh.has_attribute(new));
-    assert!(mesh.try_attribute_values(old).is_err());
-    assert_eq!(mesh.try_attribute_values(new).unwrap()[0], 7.0);
-    assert_eq!(*mesh.attribute(new, v), 7.0);
-    let read = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| *mesh.attribute(old, v)));
-    assert!(read.is_err(), "the old handle read {:?}", read.ok());
-    // Removing with the stale handle leaves the new attribute alone.
-    mesh.remove_attribute(old);
+    assert!(mesh.attribute_values(old).is_err());
+    assert_eq!(mesh.attribute_values(new).unwrap()[0], 7.0);
+    assert_eq!(*mesh.attribute(new, v).unwrap(), 7.0);
+    assert!(matches!(
+        mesh.attribute(old, v),
+        Err(halfedge::Error::Stale(_))
+    ));
+    assert!(matches!(
+        mesh.attribute_mut(old, v),
+        Err(halfedge::Error::Stale(_))
+    ));
+    // Removing with the stale handle is refused and leaves the new attribute alone.
+    assert!(matches!(
+        mesh.remove_attribute(old),
+        Err(halfedge::Error::Stale(_))
+    ));
     assert!(mesh.has_attribute(new));
     // A handle found by name is the live attribute's.
     assert_eq!(
@@ -539,4 +561,48 @@ fn stale_element_handles_never_read_the_element_now_in_their_slot() {
         let mut copy = m.clone();
         copy.set_position(old_v, DVec3::ZERO);
     });
+}
+
+#[test]
+fn an_attribute_handle_of_another_mesh_is_refused_as_stale() {
+    // Two meshes with attributes in the same column and of the same type: a handle of
+    // one never reads or writes the other's values, whatever the column.
+    let mut a = halfedge::generators::icosphere(1);
+    let mut b = halfedge::generators::icosphere(1);
+    let of_a = a.add_vertex_attribute("w", 1.0f64).unwrap();
+    let of_b = b.add_vertex_attribute("w", 2.0f64).unwrap();
+    let v = a.vertices().next().unwrap();
+    for result in [
+        a.attribute(of_b, v).map(|x| *x),
+        b.attribute(of_a, v).map(|x| *x),
+    ] {
+        let e = result.unwrap_err();
+        assert!(matches!(e, halfedge::Error::Stale(_)), "{e}");
+        assert!(e.to_string().contains("attribute handle"), "{e}");
+    }
+    assert!(a.attribute_values_mut(of_b).is_err());
+    assert!(a.remove_attribute(of_b).is_err());
+    assert_eq!(*a.attribute(of_a, v).unwrap(), 1.0);
+    assert!(!a.has_attribute(of_b));
+    // A clone has the attributes of its original: their handles work on it, and the
+    // clone's own new attributes are refused by the original.
+    let mut clone = a.clone();
+    assert_eq!(*clone.attribute(of_a, v).unwrap(), 1.0);
+    let of_clone = clone.add_vertex_attribute("x", 3u8).unwrap();
+    let mut dup = a.clone();
+    let of_dup = dup.add_vertex_attribute("x", 4u8).unwrap();
+    assert!(a.attribute(of_clone, v).is_err());
+    assert!(
+        clone.attribute(of_dup, v).is_err(),
+        "same column and type, other mesh"
+    );
+    // An element handle that is not of the mesh is an invalid handle, not a panic.
+    let w = halfedge::generators::icosphere(3)
+        .vertices()
+        .last()
+        .unwrap();
+    assert!(matches!(
+        a.attribute(of_a, w),
+        Err(halfedge::Error::InvalidHandle(_))
+    ));
 }

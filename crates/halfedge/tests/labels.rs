@@ -52,8 +52,8 @@ fn creature_ear() -> Ear {
 /// No edge joins two different sub-meshes: the frontier separates them.
 fn assert_separated(mesh: &Mesh, labels: Attribute<VertexId, Label>) {
     for h in mesh.edges() {
-        let a = *mesh.attribute(labels, mesh.from_vertex(h));
-        let b = *mesh.attribute(labels, mesh.to_vertex(h));
+        let a = *mesh.attribute(labels, mesh.from_vertex(h)).unwrap();
+        let b = *mesh.attribute(labels, mesh.to_vertex(h)).unwrap();
         assert!(
             a == b || a == FRONTIER || b == FRONTIER,
             "edge {}–{} joins sub-meshes {a} and {b}",
@@ -65,7 +65,10 @@ fn assert_separated(mesh: &Mesh, labels: Attribute<VertexId, Label>) {
 
 /// Vertices labelled `label`.
 fn side(mesh: &Mesh, labels: Attribute<VertexId, Label>, label: Label) -> HashSet<VertexId> {
-    mesh.vertices_labelled(labels, label).into_iter().collect()
+    mesh.vertices_labelled(labels, label)
+        .unwrap()
+        .into_iter()
+        .collect()
 }
 
 /// The smaller of the two labelled sides (1 or 2).
@@ -157,10 +160,10 @@ fn plane_section_cuts_off_the_bunny_ear_with(ear: fn() -> Ear) {
     );
     // Faces take their vertices' sub-mesh; faces of the loop only are frontier faces.
     for f in mesh.faces() {
-        let label = mesh.face_label(labels, f);
+        let label = mesh.face_label(labels, f).unwrap();
         let vertex_labels: Vec<Label> = mesh
             .face_vertices(f)
-            .map(|v| *mesh.attribute(labels, v))
+            .map(|v| *mesh.attribute(labels, v).unwrap())
             .collect();
         if vertex_labels.iter().all(|&l| l == FRONTIER) {
             assert_eq!(label, FRONTIER);
@@ -325,7 +328,7 @@ fn figure_4_rule_for_a_split_vertex() {
     let column = |p: DVec3| ((p.x * 6.0).round() as i32) - 3;
     let vertices: Vec<VertexId> = mesh.vertices().collect();
     for &v in &vertices {
-        *mesh.attribute_mut(labels, v) = match column(mesh.position(v)) {
+        *mesh.attribute_mut(labels, v).unwrap() = match column(mesh.position(v)) {
             c if c < 0 => 1,
             0 => FRONTIER,
             _ => 2,
@@ -343,12 +346,12 @@ fn figure_4_rule_for_a_split_vertex() {
     ] {
         let (v0, v1) = (at(&mesh, i0, j0), at(&mesh, i1, j1));
         let h = mesh.find_halfedge(v0, v1).unwrap();
-        let before = *mesh.attribute(labels, v0);
+        let before = *mesh.attribute(labels, v0).unwrap();
         let record = mesh.collapse(h).unwrap();
         mesh.vertex_split(&record).unwrap();
-        *mesh.attribute_mut(labels, v0) = 12345;
-        classify_split(&mut mesh, labels, v0);
-        assert_eq!(*mesh.attribute(labels, v0), expected);
+        *mesh.attribute_mut(labels, v0).unwrap() = 12345;
+        classify_split(&mut mesh, labels, v0).unwrap();
+        assert_eq!(*mesh.attribute(labels, v0).unwrap(), expected);
         assert_eq!(before, expected);
     }
 }
@@ -375,7 +378,7 @@ fn labels_defined_at_a_coarse_level_propagate_to_the_fine_mesh_with(ear: fn() ->
     let coarse_edge = h.mesh().mean_edge_length();
     let frontier = h.mesh().frontier_from_plane(point, normal).unwrap();
     let (labels, _) = h.mesh_mut().label_sides(&frontier, 1, 2).unwrap();
-    h.attach_labels(labels);
+    h.attach_labels(labels).unwrap();
     let ear = smaller_side(h.mesh(), labels);
     let coarse_ear = side(h.mesh(), labels, ear).len();
     h.refine_to(0).unwrap();
@@ -398,23 +401,23 @@ fn labels_defined_at_a_coarse_level_propagate_to_the_fine_mesh_with(ear: fn() ->
     // has a neighbour inside a sub-mesh.
     let mut frontier_vertices = 0;
     for v in mesh.vertices() {
-        let l = *mesh.attribute(labels, v);
+        let l = *mesh.attribute(labels, v).unwrap();
         assert!(l == 1 || l == 2 || l == FRONTIER);
         if l == FRONTIER && !mesh.is_isolated(v) {
             frontier_vertices += 1;
             assert!(
                 mesh.adjacent_vertices(v)
-                    .any(|w| *mesh.attribute(labels, w) != FRONTIER),
+                    .any(|w| *mesh.attribute(labels, w).unwrap() != FRONTIER),
                 "frontier vertex {v} is surrounded by frontier vertices"
             );
         }
     }
     assert!(frontier_vertices > 0);
     // Walking again gives the same labels.
-    let first: Vec<Label> = mesh.attribute_values(labels).to_vec();
+    let first: Vec<Label> = mesh.attribute_values(labels).unwrap().to_vec();
     h.coarsen_to(2).unwrap();
     h.refine_to(0).unwrap();
-    assert_eq!(h.mesh().attribute_values(labels), &first[..]);
+    assert_eq!(h.mesh().attribute_values(labels).unwrap(), &first[..]);
 }
 
 #[test]
@@ -439,24 +442,28 @@ fn labels_defined_at_the_fine_level_hold_at_every_level_with(ear: fn() -> Ear) {
     h.refine_to(0).unwrap();
     let frontier = h.mesh().frontier_from_plane(point, normal).unwrap();
     let (labels, _) = h.mesh_mut().label_sides(&frontier, 1, 2).unwrap();
-    h.attach_labels(labels);
-    let fine: Vec<Label> = h.mesh().attribute_values(labels).to_vec();
+    h.attach_labels(labels).unwrap();
+    let fine: Vec<Label> = h.mesh().attribute_values(labels).unwrap().to_vec();
     for level in [2, h.coarsest_level(), 1] {
         h.go_to_level(level).unwrap();
         let mesh = h.mesh();
         // Live vertices keep their labels and collapsed ones keep theirs on the tombstone.
-        assert_eq!(mesh.attribute_values(labels), &fine[..]);
+        assert_eq!(mesh.attribute_values(labels).unwrap(), &fine[..]);
         for v in mesh.vertices() {
-            assert_eq!(*mesh.attribute(labels, v), fine[mesh.vertex_index(v)]);
+            assert_eq!(
+                *mesh.attribute(labels, v).unwrap(),
+                fine[mesh.vertex_index(v)]
+            );
         }
     }
     h.refine_to(0).unwrap();
-    assert_eq!(h.mesh().attribute_values(labels), &fine[..]);
+    assert_eq!(h.mesh().attribute_values(labels).unwrap(), &fine[..]);
 }
 
 /// Vertices of `mesh` with label `label`, as positions.
 fn positions_labelled(mesh: &Mesh, labels: Attribute<VertexId, Label>, label: Label) -> Vec<DVec3> {
     mesh.vertices_labelled(labels, label)
+        .unwrap()
         .into_iter()
         .map(|v| mesh.position(v))
         .collect()
@@ -553,7 +560,7 @@ fn components_the_frontier_does_not_cross_go_to_the_side_of_their_centroid() {
     assert_separated(&mesh, labels);
     for v in mesh.vertices() {
         let i = mesh.vertex_index(v);
-        let l = *mesh.attribute(labels, v);
+        let l = *mesh.attribute(labels, v).unwrap();
         if eye(i) {
             assert_eq!(l, 1, "the eye goes with the top of the head");
         }
@@ -570,10 +577,10 @@ fn components_the_frontier_does_not_cross_go_to_the_side_of_their_centroid() {
     for v in mesh.vertices() {
         let i = mesh.vertex_index(v);
         if eye(i) {
-            assert_eq!(*mesh.attribute(labels, v), 2);
+            assert_eq!(*mesh.attribute(labels, v).unwrap(), 2);
         }
         if tooth(i) {
-            assert_eq!(*mesh.attribute(labels, v), 1);
+            assert_eq!(*mesh.attribute(labels, v).unwrap(), 1);
         }
     }
     // A loop through picks has no cutting plane: its side plane is fitted to the loop,
@@ -591,14 +598,18 @@ fn components_the_frontier_does_not_cross_go_to_the_side_of_their_centroid() {
     let (labels, _) = mesh.label_sides(&picked, 1, 2).unwrap();
     assert_separated(&mesh, labels);
     let top = mesh.extreme_vertex(DVec3::Y).unwrap().unwrap();
-    let cap = *mesh.attribute(labels, top);
+    let cap = *mesh.attribute(labels, top).unwrap();
     for v in mesh.vertices() {
         let i = mesh.vertex_index(v);
         if eye(i) {
-            assert_eq!(*mesh.attribute(labels, v), cap, "the eye goes with the cap");
+            assert_eq!(
+                *mesh.attribute(labels, v).unwrap(),
+                cap,
+                "the eye goes with the cap"
+            );
         }
         if tooth(i) {
-            assert_ne!(*mesh.attribute(labels, v), cap);
+            assert_ne!(*mesh.attribute(labels, v).unwrap(), cap);
         }
     }
 }
@@ -615,7 +626,7 @@ fn several_sub_meshes_live_in_one_mesh_and_hold_through_the_hierarchy() {
     let (a, top_counts) = mesh.label_sides_with(&top, Some(1), None).unwrap();
     assert_eq!(format!("{a:?}"), format!("{labels:?}"));
     assert_eq!(top_counts.right_vertices, 0);
-    let after_top: Vec<Label> = mesh.attribute_values(labels).to_vec();
+    let after_top: Vec<Label> = mesh.attribute_values(labels).unwrap().to_vec();
     let bottom = mesh
         .frontier_from_plane(DVec3::new(0.0, -0.5, 0.0), -DVec3::Y)
         .unwrap();
@@ -623,7 +634,7 @@ fn several_sub_meshes_live_in_one_mesh_and_hold_through_the_hierarchy() {
     assert!(bottom_counts.left_vertices > 10);
     for v in mesh.vertices() {
         let (i, p) = (mesh.vertex_index(v), mesh.position(v));
-        let l = *mesh.attribute(labels, v);
+        let l = *mesh.attribute(labels, v).unwrap();
         if p.y > 0.6 {
             assert_eq!(l, 1, "{p}: the top cap keeps its label");
         } else if p.y < -0.6 {
@@ -639,21 +650,21 @@ fn several_sub_meshes_live_in_one_mesh_and_hold_through_the_hierarchy() {
     assert_separated(&mesh, labels);
     // Both parts keep their labels at every level of a hierarchy built now, and come
     // back exactly.
-    let fine: Vec<Label> = mesh.attribute_values(labels).to_vec();
+    let fine: Vec<Label> = mesh.attribute_values(labels).unwrap().to_vec();
     let mut h = Hierarchy::build(mesh, &HierarchyOptions::rounds().with_max_levels(3)).unwrap();
     // The labels were defined at the input level.
     h.refine_to(0).unwrap();
-    h.attach_labels(labels);
+    h.attach_labels(labels).unwrap();
     for level in [3, 1, 2, 0] {
         h.go_to_level(level).unwrap();
-        assert_eq!(h.mesh().attribute_values(labels), &fine[..]);
+        assert_eq!(h.mesh().attribute_values(labels).unwrap(), &fine[..]);
     }
     assert_separated(h.mesh(), labels);
     // Defined at a coarse level, two parts reach the fine mesh separated.
     h.go_to_level(2).unwrap();
     let mesh = h.mesh_mut();
     for v in mesh.vertices().collect::<Vec<_>>() {
-        *mesh.attribute_mut(labels, v) = 0;
+        *mesh.attribute_mut(labels, v).unwrap() = 0;
     }
     let top = mesh
         .frontier_from_plane(DVec3::new(0.0, 0.4, 0.0), DVec3::Y)
@@ -667,7 +678,7 @@ fn several_sub_meshes_live_in_one_mesh_and_hold_through_the_hierarchy() {
     h.go_to_level(0).unwrap();
     let mesh = h.mesh();
     assert_separated(mesh, labels);
-    let count = |l: Label| mesh.vertices_labelled(labels, l).len();
+    let count = |l: Label| mesh.vertices_labelled(labels, l).unwrap().len();
     assert!(
         count(1) > 50 && count(2) > 50 && count(0) > 50,
         "{} {} {}",
@@ -698,11 +709,11 @@ fn label_sides_with_refuses_bad_labels_and_changes_nothing() {
     // Writing only the right side leaves the left side's labels alone.
     let labels = mesh.label_attribute().unwrap();
     for v in mesh.vertices().collect::<Vec<_>>() {
-        *mesh.attribute_mut(labels, v) = 7;
+        *mesh.attribute_mut(labels, v).unwrap() = 7;
     }
     mesh.label_sides_with(&frontier, None, Some(4)).unwrap();
     for v in mesh.vertices() {
-        let (z, l) = (mesh.position(v).z, *mesh.attribute(labels, v));
+        let (z, l) = (mesh.position(v).z, *mesh.attribute(labels, v).unwrap());
         match l {
             7 => assert!(z > -0.1),
             4 => assert!(z < 0.1),

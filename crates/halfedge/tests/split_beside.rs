@@ -34,7 +34,7 @@ fn state(h: &Hierarchy, labels: Option<halfedge::Attribute<VertexId, halfedge::L
         .map(|f| mesh.triangle(f).map(|v| mesh.vertex_index(v)))
         .collect();
     let labels = labels
-        .map(|a| mesh.attribute_values(a).to_vec())
+        .map(|a| mesh.attribute_values(a).unwrap().to_vec())
         .unwrap_or_default();
     (positions, faces, labels, h.applied())
 }
@@ -65,7 +65,7 @@ fn edited() -> (Hierarchy, halfedge::Attribute<VertexId, halfedge::Label>) {
         .frontier_from_plane(DVec3::new(0.0, 0.0, 0.2), DVec3::Z)
         .unwrap();
     let (labels, _) = m.label_sides(&frontier, 1, 2).unwrap();
-    h.attach_labels(labels);
+    h.attach_labels(labels).unwrap();
     let coarse = h.mesh();
     let pick = |f: &dyn Fn(DVec3) -> bool| -> Vec<VertexId> {
         coarse

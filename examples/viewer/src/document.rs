@@ -297,7 +297,7 @@ impl Document {
         let result = change(self.content.mesh_for_values());
         if let Content::Levels(h) = &mut self.content {
             match h.mesh().find_attribute::<VertexId, Label>(LABEL_ATTRIBUTE) {
-                Some(attribute) => h.attach_labels(attribute),
+                Some(attribute) => h.attach_labels(attribute).unwrap(),
                 None => h.detach_labels(),
             }
         }
@@ -848,13 +848,13 @@ mod tests {
             .mesh()
             .find_attribute::<VertexId, Label>(LABEL_ATTRIBUTE)
             .unwrap();
-        let values = d.mesh().attribute_values(a);
+        let values = d.mesh().attribute_values(a).unwrap();
         assert!(d
             .mesh()
             .vertices()
             .all(|v| values[d.mesh().vertex_index(v)] <= 1
                 || values[d.mesh().vertex_index(v)] == halfedge::FRONTIER));
-        d.edit_labels(|m| m.remove_attribute(a));
+        d.edit_labels(|m| m.remove_attribute(a).unwrap());
         assert!(d.hierarchy().unwrap().label_attribute().is_none());
     }
 }

@@ -34,7 +34,7 @@ pub struct EditingArea {
     n_interior: usize,
     local_of_slot: Vec<u32>,
     picks: Vec<VertexId>,
-    binding: halfedge::MeshBinding,
+    binding: halfedge::Binding,
 }
 
 const NONE: u32 = u32::MAX;
@@ -395,7 +395,7 @@ impl EditingArea {
     }
 
     /// Checks that `mesh` is the mesh the area was made on, at the same hierarchy level and
-    /// with the same connectivity (see [`halfedge::MeshBinding`]).
+    /// with the same connectivity (see [`halfedge::Binding`]).
     ///
     /// # Errors
     /// [`EditError::Stale`].
@@ -404,7 +404,7 @@ impl EditingArea {
     }
 
     /// What the area was made for.
-    pub(crate) fn binding(&self) -> halfedge::MeshBinding {
+    pub(crate) fn binding(&self) -> halfedge::Binding {
         self.binding
     }
 

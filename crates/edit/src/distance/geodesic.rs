@@ -48,7 +48,7 @@ use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
 use glam::{DVec2, DVec3};
-use halfedge::{HalfedgeId, Mesh, MeshBinding, VertexData, VertexId};
+use halfedge::{Binding, HalfedgeId, Mesh, VertexData, VertexId};
 use rayon::prelude::*;
 
 use crate::{EditError, Result};
@@ -127,7 +127,7 @@ pub struct FastMarching {
     obtuse_kept: usize,
     /// The mesh the stencils were made for: the distances carry it, masks and meshes
     /// passed in are checked against it.
-    binding: MeshBinding,
+    binding: Binding,
 }
 
 /// What one parallel task computes for a run of consecutive vertices: their stencils,
@@ -305,9 +305,9 @@ impl FastMarching {
         }
     }
 
-    /// The mesh this solver was made for (see [`halfedge::MeshBinding`]).
+    /// The mesh this solver was made for (see [`halfedge::Binding`]).
     #[must_use]
-    pub fn binding(&self) -> MeshBinding {
+    pub fn binding(&self) -> Binding {
         self.binding
     }
 

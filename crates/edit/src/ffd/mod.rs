@@ -162,7 +162,7 @@ pub struct Ffd {
     height_rest: BSplineSurface,
     shape: BSplineSurface,
     height: BSplineSurface,
-    binding: halfedge::MeshBinding,
+    binding: halfedge::Binding,
     /// Per vertex slot `(u, v, h)`; `u` is NaN for a vertex not attached.
     params: Vec<[f64; 3]>,
     attached: usize,

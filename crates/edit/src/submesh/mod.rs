@@ -58,7 +58,7 @@ const UNREACHED: u32 = u32::MAX;
 /// change; rebuild it when the connectivity changes.
 #[derive(Clone, Debug)]
 pub struct SubMesh {
-    binding: halfedge::MeshBinding,
+    binding: halfedge::Binding,
     inside: Vec<bool>,
     vertices: Vec<u32>,
     frontier: Vec<u32>,
@@ -311,7 +311,7 @@ impl SubMesh {
     }
 
     /// Fails unless `mesh` is the mesh the sub-mesh was built on, at the same hierarchy
-    /// level and with the same connectivity (see [`halfedge::MeshBinding`]).
+    /// level and with the same connectivity (see [`halfedge::Binding`]).
     fn check_mesh(&self, mesh: &Mesh) -> Result<()> {
         Ok(self.binding.check(mesh, "the sub-mesh")?)
     }

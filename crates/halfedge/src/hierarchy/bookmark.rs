@@ -13,7 +13,8 @@
 use glam::DVec3;
 
 use super::{Hierarchy, Marks};
-use crate::{Error, Result};
+use crate::binding::{Binding, Stale};
+use crate::error::Result;
 
 /// Where a hierarchy was: its level, the positions there, its marks and bookkeeping
 /// ([`Hierarchy::bookmark`]), for [`Hierarchy::return_to`] (see the
@@ -21,6 +22,8 @@ use crate::{Error, Result};
 #[derive(Clone, Debug)]
 pub struct LevelBookmark {
     hierarchy: u64,
+    /// The mesh as the bookmark found it (for the [`Stale`] error that refuses it).
+    binding: Binding,
     /// The hierarchy's [`Refreshes::count`] when it was taken.
     refreshes: u64,
     applied: usize,
@@ -55,12 +58,13 @@ impl Hierarchy {
     pub fn bookmark(&self) -> LevelBookmark {
         LevelBookmark {
             hierarchy: self.id,
+            binding: self.mesh.binding(),
             refreshes: self.refreshes.count,
             applied: self.applied,
             positions: self.mesh.positions.clone(),
             marks: self.marks.clone(),
             consistent_from: self.consistent_from,
-            clean: self.clean_positions == Some(self.mesh.position_edits),
+            clean: self.positions_unedited(),
         }
     }
 
@@ -71,7 +75,7 @@ impl Hierarchy {
     /// back finer than the current level is a plain walk, then the positions are put back.
     ///
     /// # Errors
-    /// [`Error::InvalidArgument`] when the bookmark is of another hierarchy (a clone, a
+    /// [`Error::Stale`](crate::Error::Stale) when the bookmark is of another hierarchy (a clone, a
     /// rebuild: [`edit_input`](Self::edit_input),
     /// [`constrain_to_labels`](Self::constrain_to_labels)), when records were made again
     /// below its level since it was taken (a walk coarser from a finer edited level), or
@@ -80,24 +84,30 @@ impl Hierarchy {
     /// [`applied`](LevelBookmark::applied) is the way back that remains. Walking back
     /// finer can fail as [`seek`](Self::seek) can (a marked field that overflows).
     pub fn return_to(&mut self, bookmark: &LevelBookmark) -> Result<()> {
-        let refuse = |why: &str| Err(Error::InvalidArgument(format!("return_to: {why}")));
+        let refuse = |what: &'static str| -> Result<()> {
+            Err(Stale::new(what, bookmark.binding, self.mesh.binding()).into())
+        };
         if bookmark.hierarchy != self.id {
-            return refuse("the bookmark was taken on another hierarchy");
+            return refuse("the bookmark (taken on another hierarchy)");
         }
         if !self
             .refreshes
             .kept_below(bookmark.refreshes, bookmark.applied)
         {
-            return refuse("records below its level were made again since the bookmark was taken");
+            return refuse(
+                "the bookmark (records below its level were made again since it was taken)",
+            );
         }
-        if self.stamp != Some(self.mesh.topology_stamp()) {
-            return refuse("the mesh's connectivity was changed behind the hierarchy's back");
+        if !self.trusts_mesh() {
+            return refuse(
+                "the bookmark (the mesh's connectivity was changed behind the hierarchy's back)",
+            );
         }
         if bookmark.applied > self.records.len()
             || bookmark.positions.len() != self.mesh.positions.len()
         {
             // Cannot happen for a bookmark of this hierarchy whose records were kept.
-            return refuse("the bookmark does not fit the hierarchy");
+            return refuse("the bookmark (it does not fit the hierarchy)");
         }
         if bookmark.applied < self.applied {
             // A walk finer changes no record: the walk itself is the way back.
@@ -113,7 +123,7 @@ impl Hierarchy {
         // level made again from an edit hold that edit, so the next walk coarser must make
         // them again from these positions.
         let remade = self.refreshes.count != bookmark.refreshes;
-        self.clean_positions = (bookmark.clean && !remade).then_some(self.mesh.position_edits);
+        self.clean_positions = (bookmark.clean && !remade).then_some(self.mesh.binding());
         self.tag_level();
         Ok(())
     }
@@ -140,7 +150,7 @@ impl Hierarchy {
             }
         }
         self.applied += 1;
-        self.stamp = Some(self.mesh.topology_stamp());
+        self.stamp = Some(self.mesh.binding());
     }
 }
 

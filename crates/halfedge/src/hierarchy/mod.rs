@@ -17,7 +17,7 @@
 //! - **Speed**: walking the records is bound by memory latency (each step touches a few
 //!   elements scattered over arrays larger than the caches), so every step prefetches
 //!   what the record a few steps ahead will touch (`crate::prefetch`); while the
-//!   hierarchy trusts its mesh ([`Mesh::topology_stamp`]), collapsing a record again
+//!   hierarchy trusts its mesh (its [`Binding`](crate::Binding)), collapsing a record again
 //!   skips the legality test the build already made, and splitting one skips its checks.
 //! - **Walking**: [`coarsen_to`](Hierarchy::coarsen_to) / [`refine_to`](Hierarchy::refine_to)
 //!   / [`go_to_level`](Hierarchy::go_to_level) level by level, or
@@ -69,6 +69,7 @@ use std::ops::ControlFlow;
 use glam::{DAffine3, DVec3};
 
 use crate::attributes::Attribute;
+use crate::binding::Binding;
 use crate::collapse::Step;
 use crate::labels::{self, Label};
 use crate::{CollapseRecord, Error, HalfedgeId, Mesh, Result, VertexId};
@@ -413,15 +414,16 @@ pub struct Hierarchy {
     /// The options of the build (for [`Hierarchy::constrain_to_labels`]).
     options: HierarchyOptions,
     labels: Option<LabelBinding>,
-    /// The mesh's [`Mesh::topology_stamp`] after the hierarchy's own last step: while it
-    /// is unchanged nobody else changed the connectivity, and splits skip their checks.
-    /// `None` for good once somebody else did: every later split is checked.
-    stamp: Option<u128>,
-    /// `Some(the mesh's position edit count)` while no position has been changed since
-    /// the build except by the hierarchy's own steps: then every neighbour is where it
-    /// was when its record was collapsed, every split restores its recorded positions,
-    /// and steps skip the detail coefficients. `None` for good after the first edit.
-    clean_positions: Option<u64>,
+    /// The mesh's [`Binding`] after the hierarchy's own last step: while its connectivity
+    /// is unchanged nobody else changed it, and splits skip their checks. `None` for good
+    /// once somebody else did: every later split is checked.
+    stamp: Option<Binding>,
+    /// `Some(the mesh's binding)` while no position has been changed since the build
+    /// except by the hierarchy's own steps (the hierarchy writes positions without
+    /// counting): then every neighbour is where it was when its record was collapsed,
+    /// every split restores its recorded positions, and steps skip the detail
+    /// coefficients. `None` for good after the first edit.
+    clean_positions: Option<Binding>,
     /// Where the vertices were before the edits (see [`Rest`]), newest last; empty while
     /// nothing was edited.
     rests: Vec<Rest>,
@@ -432,7 +434,7 @@ pub struct Hierarchy {
     /// How the build ended ([`Hierarchy::build_outcome`]).
     outcome: outcome::BuildOutcome,
     /// This hierarchy's number, for the level tags of its mesh (see
-    /// [`crate::MeshBinding`]).
+    /// [`crate::Binding`]).
     id: u64,
     /// Which records were made again from the current mesh (a walk coarser from an edited
     /// level), and when: a [`bookmark::LevelBookmark`] fits only while the records below
@@ -447,11 +449,11 @@ pub struct Hierarchy {
 pub(crate) struct Records {
     steps: Vec<Step>,
     fingerprints: Vec<u64>,
-    /// The mesh's [`Mesh::topology_stamp`] after the hierarchy's last step while it
+    /// The mesh's [`Binding`] after the hierarchy's last step while it
     /// trusted its mesh: every record was made on that mesh instance (or one it was
     /// cloned from) at or before that change count, which is what
     /// `Mesh::is_own_history` needs to vouch for a record's indices.
-    origin: u128,
+    origin: Option<Binding>,
 }
 
 impl Records {
@@ -482,7 +484,7 @@ impl Records {
         self.steps.reserve(n);
         self.fingerprints.clear();
         self.fingerprints.reserve(n);
-        self.origin = 0;
+        self.origin = None;
     }
     /// Moves the records into `steps` and `fingerprints` (see [`Prefaulted`]).
     fn adopt(&mut self, steps: Vec<Step>, fingerprints: Vec<u64>) {
@@ -563,14 +565,15 @@ impl Rest {
 }
 
 /// The clone's mesh is a mesh instance of its own; the clone trusts it exactly when the
-/// original trusts its mesh (see [`Mesh::topology_stamp`]).
+/// original trusts its mesh (see [`Binding`]).
 impl Clone for Hierarchy {
     fn clone(&self) -> Self {
         let mesh = self.mesh.clone();
-        let trusted = self.stamp == Some(self.mesh.topology_stamp());
+        let trusted = self.trusts_mesh();
+        let clean = self.positions_unedited();
         let mut clone = Self {
-            stamp: trusted.then(|| mesh.topology_stamp()),
-            clean_positions: self.clean_positions,
+            stamp: trusted.then(|| mesh.binding()),
+            clean_positions: clean.then(|| mesh.binding()),
             rests: self.rests.clone(),
             consistent_from: self.consistent_from,
             mesh,
@@ -717,8 +720,8 @@ impl Hierarchy {
     pub(crate) fn finish_build(&mut self) {
         self.records.shrink_to_fit();
         self.placements.shrink_to_fit();
-        self.stamp = Some(self.mesh.topology_stamp());
-        self.clean_positions = Some(self.mesh.position_edits);
+        self.stamp = Some(self.mesh.binding());
+        self.clean_positions = Some(self.mesh.binding());
         self.tag_level();
     }
 
@@ -775,8 +778,7 @@ impl Hierarchy {
     /// True while positions are exactly as the hierarchy's own steps left them (see
     /// `clean_positions`), without forgetting it when they are not.
     pub(crate) fn positions_clean(&self) -> bool {
-        self.clean_positions == Some(self.mesh.position_edits)
-            && self.stamp == Some(self.mesh.topology_stamp())
+        self.positions_unedited() && self.trusts_mesh()
     }
 
     /// The sub-mesh labels collapses must respect while building (by vertex index), or
@@ -787,7 +789,8 @@ impl Hierarchy {
         }
         self.mesh
             .find_attribute::<VertexId, Label>(labels::LABEL_ATTRIBUTE)
-            .map(|a| self.mesh.attribute_values(a).to_vec())
+            .and_then(|a| self.mesh.attribute_values(a).ok())
+            .map(<[Label]>::to_vec)
             .unwrap_or_default()
     }
 
@@ -909,7 +912,7 @@ impl Hierarchy {
     pub fn mesh_mut(&mut self) -> &mut Mesh {
         let covered = self.rests.last().is_some_and(|r| r.ceil >= self.applied);
         if !covered && self.details.mode() == DetailMode::LocalFrame {
-            let floor = if self.clean_positions == Some(self.mesh.position_edits) {
+            let floor = if self.positions_unedited() {
                 0
             } else {
                 self.consistent_from
@@ -983,15 +986,31 @@ impl Hierarchy {
     /// The mesh instance and change count every record was made at or before (see
     /// [`Records::origin`]).
     fn origin(&self) -> (u64, u64) {
-        let stamp = self.stamp.unwrap_or(self.records.origin);
-        ((stamp >> 64) as u64, stamp as u64)
+        self.stamp
+            .or(self.records.origin)
+            .map_or((0, 0), |b| b.history_point())
+    }
+
+    /// True while nobody but the hierarchy changed its mesh's connectivity since its own
+    /// last step.
+    #[inline]
+    fn trusts_mesh(&self) -> bool {
+        self.stamp.is_some_and(|b| b.same_connectivity(&self.mesh))
+    }
+
+    /// True while no position was changed since the build except by the hierarchy's own
+    /// steps (see `clean_positions`).
+    #[inline]
+    fn positions_unedited(&self) -> bool {
+        self.clean_positions
+            .is_some_and(|b| b.same_positions(&self.mesh))
     }
 
     /// Stops trusting the mesh (somebody else changed its connectivity): every later step
     /// is checked.
     fn distrust(&mut self) {
         if let Some(stamp) = self.stamp.take() {
-            self.records.origin = stamp;
+            self.records.origin = Some(stamp);
         }
     }
 
@@ -1060,7 +1079,7 @@ impl Hierarchy {
                 self.records.len()
             )));
         }
-        if self.stamp == Some(self.mesh.topology_stamp()) {
+        if self.trusts_mesh() {
             // Every step since the build was the hierarchy's own: no step can be refused.
             return self.walk(applied);
         }
@@ -1081,7 +1100,7 @@ impl Hierarchy {
         }
         let finer = self.applied > applied;
         if self.applied >= applied + SPLIT_BESIDE_MIN
-            && self.stamp == Some(self.mesh.topology_stamp())
+            && self.trusts_mesh()
             && rayon::current_num_threads() > 1
         {
             let clean = self.positions_are_clean();
@@ -1216,7 +1235,9 @@ impl Hierarchy {
                         mesh.vertex_split_connectivity(record);
                         if let Some(binding) = labels.filter(|b| next < b.defined_at) {
                             let v0 = mesh.vh(record.v0);
-                            labels::classify_split(mesh, binding.attribute, v0);
+                            // A label attribute removed by the user since it was
+                            // attached has nothing left to label.
+                            let _removed = labels::classify_split(mesh, binding.attribute, v0);
                         }
                         r = next;
                         split_to.store(r, Ordering::Relaxed);
@@ -1231,7 +1252,7 @@ impl Hierarchy {
         let split_to = split_to.into_inner();
         self.applied = split_to;
         self.consistent_from = self.consistent_from.min(split_to);
-        self.stamp = Some(self.mesh.topology_stamp());
+        self.stamp = Some(self.mesh.binding());
         self.tag_level();
         match walked {
             Ok((placing, _)) => placing,
@@ -1263,7 +1284,7 @@ impl Hierarchy {
         let Some(&old) = self.records.get(r) else {
             return Ok(false);
         };
-        if self.stamp != Some(self.mesh.topology_stamp()) {
+        if !self.trusts_mesh() {
             self.distrust();
         }
         // The edge must still join the record's two vertices (checked on the slot indices,
@@ -1344,7 +1365,7 @@ impl Hierarchy {
             rest.ceil = rest.ceil.min(r);
         }
         self.rests.retain(|rest| rest.floor < rest.ceil);
-        self.stamp = self.stamp.map(|_| self.mesh.topology_stamp());
+        self.stamp = self.stamp.map(|_| self.mesh.binding());
         self.tag_level();
         Ok(true)
     }
@@ -1352,8 +1373,7 @@ impl Hierarchy {
     /// True while positions are exactly as the hierarchy's own steps left them (see
     /// `clean_positions`); false for good after the first outside edit or topology change.
     fn positions_are_clean(&mut self) -> bool {
-        let clean = self.clean_positions == Some(self.mesh.position_edits)
-            && self.stamp == Some(self.mesh.topology_stamp());
+        let clean = self.positions_unedited() && self.trusts_mesh();
         if !clean {
             self.clean_positions = None;
         }
@@ -1375,7 +1395,7 @@ impl Hierarchy {
             return Ok(false);
         }
         let r = self.applied - 1;
-        let trusted = self.stamp == Some(self.mesh.topology_stamp());
+        let trusted = self.trusts_mesh();
         if !trusted {
             self.distrust();
             if !self.details.in_bounds(r, self.mesh.positions().len()) {
@@ -1421,10 +1441,12 @@ impl Hierarchy {
         self.consistent_from = self.consistent_from.min(r);
         if let Some(binding) = classify {
             let v0 = self.mesh.vh(record.v0);
-            labels::classify_split(&mut self.mesh, binding.attribute, v0);
+            // A label attribute removed by the user since it was attached has nothing
+            // left to label.
+            let _removed = labels::classify_split(&mut self.mesh, binding.attribute, v0);
         }
         self.applied = r;
-        self.stamp = self.stamp.map(|_| self.mesh.topology_stamp());
+        self.stamp = self.stamp.map(|_| self.mesh.binding());
         self.tag_level();
         Ok(true)
     }
@@ -1432,11 +1454,11 @@ impl Hierarchy {
 
 impl Hierarchy {
     /// Tags the mesh with this hierarchy and its position, while the hierarchy trusts it
-    /// (see [`crate::MeshBinding`]).
+    /// (see [`crate::Binding`]).
     #[inline]
     fn tag_level(&mut self) {
         if self.stamp.is_some() {
-            self.mesh.level_tag = Some((self.id, self.applied));
+            self.mesh.provenance.tag_level(self.id, self.applied);
         }
     }
 }
@@ -1448,11 +1470,17 @@ impl Hierarchy {
     /// record that was collapsed before this position classifies the re-inserted vertex
     /// with the paper's Fig. 4 rule; vertices that were live here keep their labels at
     /// every level (the attribute persists on collapsed vertices).
-    pub fn attach_labels(&mut self, attribute: Attribute<VertexId, Label>) {
+    ///
+    /// # Errors
+    /// [`Error::Stale`] when `attribute` is not an attribute of this hierarchy's mesh
+    /// (nothing is attached then).
+    pub fn attach_labels(&mut self, attribute: Attribute<VertexId, Label>) -> Result<()> {
+        self.mesh.attribute_values(attribute)?;
         self.labels = Some(LabelBinding {
             attribute,
             defined_at: self.applied,
         });
+        Ok(())
     }
     /// Tells the hierarchy that the attached labels were (re)defined at the current
     /// position. Does nothing when no labels are attached.
@@ -1556,10 +1584,10 @@ impl Hierarchy {
             let spare = Storage::take(&mut work);
             (work.into_mesh(), Some(spare))
         };
-        let untouched = input.topology_stamp();
+        let untouched = input.binding();
         let result =
             change(&mut input).map_err(|e| Error::InvalidArgument(format!("edit_input: {e}")))?;
-        if input.topology_stamp() != untouched {
+        if !untouched.same_connectivity(&input) {
             // The change made its own topology: check it before building on it.
             input.check()?;
         }
@@ -1595,10 +1623,10 @@ impl Hierarchy {
             defined_at: 0,
         });
         let target = level.min(rebuilt.coarsest_level());
-        let (id, count) = (self.mesh.stamp_id, self.mesh.stamp_count);
-        rebuilt.mesh.stamp_id = id;
-        rebuilt.mesh.stamp_count = count + 1;
-        rebuilt.stamp = Some(rebuilt.mesh.topology_stamp());
+        let clean = rebuilt.positions_unedited();
+        rebuilt.mesh.provenance.succeed(&self.mesh.provenance);
+        rebuilt.stamp = Some(rebuilt.mesh.binding());
+        rebuilt.clean_positions = clean.then(|| rebuilt.mesh.binding());
         rebuilt.go_to_level(target)?;
         *self = rebuilt;
         Ok(())
@@ -1648,7 +1676,7 @@ struct Saved {
     rests: Vec<Rest>,
     consistent_from: usize,
     applied: usize,
-    clean_positions: Option<u64>,
+    clean_positions: Option<Binding>,
 }
 
 impl Saved {
@@ -1672,10 +1700,8 @@ impl Saved {
     fn restore(self, h: &mut Hierarchy) {
         // The mesh keeps its identity; its topology changed and changed back, so it gets
         // a new stamp (nobody who saw the walk's stamps may trust it).
-        let (id, count) = (h.mesh.stamp_id, h.mesh.stamp_count);
-        h.mesh = self.mesh;
-        h.mesh.stamp_id = id;
-        h.mesh.stamp_count = count + 1;
+        let previous = std::mem::replace(&mut h.mesh, self.mesh);
+        h.mesh.provenance.succeed(&previous.provenance);
         h.records.steps[self.range.clone()].copy_from_slice(&self.records);
         h.records.fingerprints[self.range.clone()].copy_from_slice(&self.fingerprints);
         h.placements.restore(self.range.clone(), self.placements);

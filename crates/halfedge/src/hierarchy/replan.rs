@@ -59,7 +59,7 @@ pub(crate) fn respecting_labels(
 ) -> Result<Hierarchy> {
     debug_assert_eq!(source.applied, 0);
     check_positions(&input)?;
-    let labels = input.try_attribute_values(labels)?.to_vec();
+    let labels = input.attribute_values(labels)?.to_vec();
     let mut h = Hierarchy::unbuilt(input, options, Storage::default());
     let mut band = Band::new(&h.mesh, labels, options.max_error);
     // Every cached normal starts stale (`Band::moved`): only the band's are computed.

@@ -272,7 +272,7 @@ pub fn crossing_edges(mesh: &Mesh) -> usize {
     let a = mesh
         .find_attribute::<VertexId, u32>(halfedge::labels::LABEL_ATTRIBUTE)
         .unwrap();
-    let labels = mesh.attribute_values(a);
+    let labels = mesh.attribute_values(a).unwrap();
     mesh.halfedges()
         .filter(|&e| {
             let l = |v| labels[mesh.vertex_index(v)];

@@ -238,7 +238,7 @@ impl BendelsKlein {
         regions: Regions,
     ) -> Result<(), ToolError> {
         // Made on the document's mesh (a session is bound to its mesh: see
-        // `halfedge::MeshBinding`): it applies to the scratch copy made since and marks
+        // `halfedge::Binding`): it applies to the scratch copy made since and marks
         // the document's hierarchy (see `apply_transform`).
         let options = self.options();
         self.scratch.sync(ctx.doc);

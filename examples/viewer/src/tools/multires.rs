@@ -173,7 +173,7 @@ pub fn frontier_overlay(mesh: &Mesh, overlay: &mut Overlay) {
     let Some(attribute) = mesh.find_attribute::<VertexId, Label>(LABEL_ATTRIBUTE) else {
         return;
     };
-    let labels = mesh.attribute_values(attribute);
+    let labels = mesh.attribute_values(attribute).unwrap();
     for e in mesh.edges() {
         let (a, b) = (mesh.from_vertex(e), mesh.to_vertex(e));
         if labels[mesh.vertex_index(a)] == FRONTIER && labels[mesh.vertex_index(b)] == FRONTIER {
@@ -463,7 +463,7 @@ impl Multires {
         // Sub-mesh labels of the input came along in its label attribute: from now on the
         // hierarchy carries them through its levels.
         if let Some(attribute) = h.mesh().find_attribute::<VertexId, Label>(LABEL_ATTRIBUTE) {
-            h.attach_labels(attribute);
+            h.attach_labels(attribute).unwrap();
         }
         // Counted as the panel counts them: the input is level 0.
         let levels = h.coarsest_level() + 1;
@@ -548,7 +548,7 @@ impl Multires {
         self.plane = None;
         ctx.doc.edit_labels(|mesh| {
             if let Some(a) = mesh.find_attribute::<VertexId, Label>(LABEL_ATTRIBUTE) {
-                mesh.remove_attribute(a);
+                mesh.remove_attribute(a).unwrap();
             }
         });
         ctx.clear_colors();
@@ -614,7 +614,7 @@ impl Cut<'_> {
         let mut swap = match (self.frontier, self.plane) {
             (FrontierMode::Plane, Some((point, normal))) => {
                 // The sub-mesh is on the normal's side of the plane.
-                let values = mesh.attribute_values(attribute);
+                let values = mesh.attribute_values(attribute).unwrap();
                 let side: f64 = mesh
                     .vertices()
                     .filter(|&v| values[mesh.vertex_index(v)] == SUBMESH)
@@ -654,7 +654,7 @@ fn method_name(m: Method) -> &'static str {
 
 /// The labels of the live vertices ([`NO_LABEL`] for dead slots).
 fn read_labels(mesh: &Mesh, attribute: halfedge::Attribute<VertexId, u32>) -> Vec<u32> {
-    let values = mesh.attribute_values(attribute);
+    let values = mesh.attribute_values(attribute).unwrap();
     let mut labels = vec![NO_LABEL; mesh.vertex_slots()];
     for v in mesh.vertices() {
         let i = mesh.vertex_index(v);
