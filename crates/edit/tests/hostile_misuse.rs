@@ -828,7 +828,7 @@ fn cases() -> Vec<Case> {
 }
 
 /// What a failed call must leave as it was.
-fn state(m: &Mesh) -> (Vec<[u64; 3]>, u128) {
+fn state(m: &Mesh) -> (Vec<[u64; 3]>, halfedge::Binding) {
     (
         m.positions()
             .iter()

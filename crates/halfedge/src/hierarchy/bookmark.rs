@@ -12,7 +12,8 @@
 
 use glam::DVec3;
 
-use super::{Hierarchy, Marks};
+use super::marks::Marks;
+use super::Hierarchy;
 use crate::binding::{Binding, Stale};
 use crate::error::Result;
 

@@ -291,15 +291,15 @@ pub(crate) struct Details {
 pub(crate) struct DetailSizes([(usize, usize); 5]);
 
 impl DetailSizes {
-    /// The buffers, their memory written once (see [`super::Prefaulted`]).
+    /// The buffers, their memory written once (see [`super::build::Prefaulted`]).
     pub(crate) fn make(self) -> DetailBuffers {
         let [n, o, c, f, e] = self.0;
         DetailBuffers {
-            neighbours: super::prefaulted(n),
-            offsets: super::prefaulted(o),
-            coefficients: super::prefaulted(c),
-            framed: super::prefaulted(f),
-            centres: super::prefaulted(e),
+            neighbours: super::build::prefaulted(n),
+            offsets: super::build::prefaulted(o),
+            coefficients: super::build::prefaulted(c),
+            framed: super::build::prefaulted(f),
+            centres: super::build::prefaulted(e),
         }
     }
 }
@@ -703,7 +703,7 @@ impl Details {
 
     /// The sizes of buffers like these details' (their reserved capacities, and how
     /// much of them `records` records fill), to be made off the building thread (see
-    /// [`super::Prefaulted`]).
+    /// [`super::build::Prefaulted`]).
     pub(crate) fn prefaulted_sizes(&self, records: usize) -> DetailSizes {
         let share =
             |capacity: usize, per_record: usize| (capacity, capacity.min(per_record * records));
@@ -726,11 +726,11 @@ impl Details {
             framed,
             centres,
         } = buffers;
-        super::adopt(&mut self.neighbours, neighbours);
-        super::adopt(&mut self.offsets, offsets);
-        super::adopt(&mut self.coefficients, coefficients);
-        super::adopt(&mut self.framed, framed);
-        super::adopt(&mut self.centres, centres);
+        super::build::adopt(&mut self.neighbours, neighbours);
+        super::build::adopt(&mut self.offsets, offsets);
+        super::build::adopt(&mut self.coefficients, coefficients);
+        super::build::adopt(&mut self.framed, framed);
+        super::build::adopt(&mut self.centres, centres);
     }
 
     /// The scheme.

@@ -158,10 +158,10 @@ impl Placements {
         (self.rules.capacity(), self.stored.capacity())
     }
 
-    /// Moves the placements into `rules` and `stored` (see [`super::Prefaulted`]).
+    /// Moves the placements into `rules` and `stored` (see [`super::build::Prefaulted`]).
     pub(crate) fn adopt(&mut self, rules: Vec<u8>, stored: Vec<(DVec3, f64)>) {
-        super::adopt(&mut self.rules, rules);
-        super::adopt(&mut self.stored, stored);
+        super::build::adopt(&mut self.rules, rules);
+        super::build::adopt(&mut self.stored, stored);
     }
 
     /// The placements of the records in `range`, to [`restore`](Self::restore) them.

@@ -9,8 +9,10 @@
 use glam::DVec3;
 
 use super::detail::{Collapsed, Details, Placement};
+use super::marks::{Marks, IN_REGION, UNMARKED};
 use super::placements::Placements;
-use super::{Marks, Rest, DETAIL_PREFETCH_DISTANCE, IN_REGION, LIST_PREFETCH_DISTANCE, UNMARKED};
+use super::rests::Rest;
+use super::walk::{DETAIL_PREFETCH_DISTANCE, LIST_PREFETCH_DISTANCE};
 use crate::collapse::Step;
 use crate::prefetch::prefetch;
 

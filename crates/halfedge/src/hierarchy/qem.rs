@@ -32,9 +32,10 @@ use std::ops::ControlFlow;
 use glam::{DMat3, DVec3, Vec3};
 use rayon::prelude::*;
 
+use super::build::report;
 use super::heap::{self, Queue};
 use super::legality::{self, Collapse, NewNormals, Star};
-use super::{report, BuildProgress, Hierarchy, HierarchyOptions};
+use super::{BuildProgress, Hierarchy, HierarchyOptions};
 use crate::handle::NONE;
 use crate::iter::vertex_walk;
 use crate::{Mesh, Result};

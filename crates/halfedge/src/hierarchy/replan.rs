@@ -33,12 +33,13 @@
 use glam::{DVec3, Vec3};
 
 use super::legality::{self, Collapse, NewNormals, Placement};
+use super::records::Storage;
 use super::rounds::{star_plane_distance, test_edge, EdgeTest};
-use super::{
-    check_positions, outcome, Hierarchy, HierarchyOptions, Storage,
+use super::walk::{
     COLLAPSE_LINKS_PREFETCH_DISTANCE, COLLAPSE_PREFETCH_DISTANCE, COLLAPSE_SIDES_PREFETCH_DISTANCE,
     RING_PREFETCH_DISTANCES,
 };
+use super::{check_positions, outcome, Hierarchy, HierarchyOptions};
 use crate::prefetch::prefetch;
 use crate::{Attribute, Error, Label, Mesh, Result, VertexId};
 

@@ -27,9 +27,10 @@ use std::ops::ControlFlow;
 
 use glam::{DVec3, Vec3};
 
+use super::build::report;
 use super::legality::{self, Collapse, NewNormals, Placement};
 use super::outcome::{self, Refusals, Relaxation};
-use super::{report, BuildProgress, Hierarchy, HierarchyOptions};
+use super::{BuildProgress, Hierarchy, HierarchyOptions};
 use crate::{HalfedgeId, Label, Mesh, Result};
 
 /// Minimum over the star of `v0v1` of the cosine between a face normal and the star's

@@ -26,7 +26,8 @@
 
 use glam::DVec3;
 
-use super::{DetailMode, Hierarchy, IN_REGION, UNMARKED};
+use super::marks::{IN_REGION, UNMARKED};
+use super::{DetailMode, Hierarchy};
 
 /// Rounds of relaxation at most.
 const MAX_ROUNDS: usize = 200;
