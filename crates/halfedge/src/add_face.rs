@@ -9,7 +9,9 @@
 //! Next links are collected first and written at the end, so a refused face changes
 //! nothing.
 
-use crate::{FaceId, HalfedgeId, Mesh, VertexId};
+use crate::handle::{FaceId, HalfedgeId, VertexId};
+
+use crate::mesh::Mesh;
 
 /// The connectivity operations the add-face algorithm needs.
 pub(crate) trait Connectivity {

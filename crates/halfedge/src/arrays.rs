@@ -24,7 +24,11 @@
 
 use glam::DVec3;
 
-use crate::{BuildReport, Mesh, Result};
+use crate::build::BuildReport;
+
+use crate::error::Result;
+
+use crate::mesh::Mesh;
 
 /// # Plain arrays
 impl Mesh {

@@ -23,7 +23,9 @@ use glam::DVec3;
 
 use crate::add_face::{add_face, Connectivity, Refusal, Scratch};
 use crate::compact_build::Compact;
-use crate::{Error, FaceId, Mesh, Result, VertexId};
+use crate::error::{Error, Result};
+use crate::handle::{FaceId, VertexId};
+use crate::mesh::Mesh;
 
 /// What [`Mesh::from_polygons`] had to do to turn the input into a manifold triangle mesh.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -642,7 +644,7 @@ mod tests {
     #[test]
     fn a_ply_of_several_blocks_reads_back() {
         let grid = crate::generators::grid(700, 600, 1.0, 1.0);
-        assert!(3 * grid.n_faces() > 2 * crate::io::ply::PolygonSoup::BLOCK);
+        assert!(3 * grid.n_faces() > 2 * crate::io::ply_layout::PolygonSoup::BLOCK);
         let mut bytes = Vec::new();
         crate::io::write_ply_to(&mut bytes, &grid, crate::io::PlyFormat::BinaryLittleEndian)
             .unwrap();

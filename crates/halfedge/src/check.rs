@@ -1,6 +1,8 @@
 //! Validation of every connectivity invariant ([`Mesh::check`]).
 
-use crate::{Error, Invariant, Mesh, Result};
+use crate::error::{Error, Invariant, Result};
+
+use crate::mesh::Mesh;
 
 /// # Validation
 impl Mesh {
@@ -214,14 +216,16 @@ impl Mesh {
 
 #[cfg(test)]
 mod tests {
-    use crate::{generators, Invariant, Mesh};
+    use crate::error::Invariant;
+    use crate::generators;
+    use crate::mesh::Mesh;
 
     fn broken(f: impl FnOnce(&mut Mesh)) -> Invariant {
         let mut mesh = generators::icosphere(1);
         mesh.check().unwrap();
         f(&mut mesh);
         match mesh.check() {
-            Err(crate::Error::Invariant(i)) => i,
+            Err(crate::error::Error::Invariant(i)) => i,
             other => panic!("expected a broken invariant, got {other:?}"),
         }
     }
@@ -374,7 +378,9 @@ mod tests {
         mesh.vertex_conn[Mesh::ix(v) as usize] = Mesh::ix(interior);
         assert!(matches!(
             mesh.check(),
-            Err(crate::Error::Invariant(Invariant::BoundaryHalfedge(_)))
+            Err(crate::error::Error::Invariant(Invariant::BoundaryHalfedge(
+                _
+            )))
         ));
     }
 }

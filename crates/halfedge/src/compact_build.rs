@@ -14,7 +14,7 @@ use glam::DVec3;
 use crate::add_face::Connectivity;
 use crate::handle::{Slots, NONE};
 use crate::mesh::HalfedgeRec;
-use crate::Mesh;
+use crate::mesh::Mesh;
 
 /// Connectivity in plain `u32` arrays; the opposite of halfedge `h` is `h ^ 1`.
 pub(crate) struct Compact {

@@ -2,7 +2,7 @@
 
 use std::path::PathBuf;
 
-use crate::{FaceId, HalfedgeId, VertexId};
+use crate::handle::{FaceId, HalfedgeId, VertexId};
 
 /// Everything that can go wrong in the kernel. Variants carry the offending handles,
 /// indices or file so that the message says what is wrong and where.
@@ -45,7 +45,7 @@ pub enum Error {
         /// The halfedge whose collapse was asked for.
         halfedge: HalfedgeId,
         /// Why it was refused.
-        reason: crate::CollapseVeto,
+        reason: crate::collapse::CollapseVeto,
     },
     /// A vertex split was refused because the mesh around the record has changed.
     #[error("vertex split refused: {0}")]

@@ -5,7 +5,7 @@
 
 use glam::DVec3;
 
-use crate::Mesh;
+use crate::mesh::Mesh;
 
 /// A planar `nx × ny` grid of quads, each split into two triangles, covering
 /// `[0, sx] × [0, sy]` in the `z = 0` plane, faces facing `+z`. Vertex `i + j (nx + 1)`
@@ -128,16 +128,16 @@ pub fn icosphere(level: usize) -> Mesh {
 /// # Errors
 /// [`Error::InvalidArgument`](crate::Error::InvalidArgument) when `nu` or `nv` is below
 /// 3, a radius is not finite, or `minor` is not in `(0, major)`.
-pub fn torus(major: f64, minor: f64, nu: usize, nv: usize) -> crate::Result<Mesh> {
+pub fn torus(major: f64, minor: f64, nu: usize, nv: usize) -> crate::error::Result<Mesh> {
     if nu < 3 || nv < 3 || !(minor > 0.0 && minor < major && major.is_finite()) {
-        return Err(crate::Error::InvalidArgument(format!(
+        return Err(crate::error::Error::InvalidArgument(format!(
             "a torus needs nu, nv ≥ 3 and 0 < minor < major, got {nu}, {nv}, {minor}, {major}"
         )));
     }
     let (n, m) = (nu, nv);
     let count = n.checked_mul(m).filter(|&c| c < u32::MAX as usize / 2);
     let Some(count) = count else {
-        return Err(crate::Error::InvalidArgument(format!(
+        return Err(crate::error::Error::InvalidArgument(format!(
             "a torus of {nu} × {nv} quads is too large"
         )));
     };
@@ -169,14 +169,14 @@ pub fn torus(major: f64, minor: f64, nu: usize, nv: usize) -> crate::Result<Mesh
 /// [`Error::EmptyInput`](crate::Error::EmptyInput) when the meshes have no vertex;
 /// [`Error::InvalidArgument`](crate::Error::InvalidArgument) for more vertices than
 /// 32-bit indices address.
-pub fn disjoint_union(meshes: &[&Mesh]) -> crate::Result<Mesh> {
+pub fn disjoint_union(meshes: &[&Mesh]) -> crate::error::Result<Mesh> {
     let mut positions: Vec<[f64; 3]> = Vec::new();
     let mut triangles: Vec<[u32; 3]> = Vec::new();
     for mesh in meshes {
         let Ok(base) =
             u32::try_from(positions.len() + mesh.n_vertices()).map(|_| positions.len() as u32)
         else {
-            return Err(crate::Error::InvalidArgument(
+            return Err(crate::error::Error::InvalidArgument(
                 "the meshes have more vertices than 32-bit indices address".into(),
             ));
         };

@@ -2,7 +2,9 @@
 
 use glam::DVec3;
 
-use crate::{FaceId, HalfedgeId, Mesh, VertexId};
+use crate::handle::{FaceId, HalfedgeId, VertexId};
+
+use crate::mesh::Mesh;
 
 /// # Geometry
 impl Mesh {
@@ -73,7 +75,7 @@ impl Mesh {
     /// Unit normals of all vertices, indexed by [`vertex_index`](Self::vertex_index), in
     /// parallel (face normals computed once; zero for removed and isolated vertices),
     /// bound to this mesh ([`VertexData`](crate::VertexData)).
-    pub fn vertex_normals(&self) -> crate::VertexData<DVec3> {
+    pub fn vertex_normals(&self) -> crate::vertex_data::VertexData<DVec3> {
         let face_normals = self.face_normals();
         let mut normals = vec![DVec3::ZERO; self.vertex_slots()];
         self.vertex_slots_.par_for_each_live(&mut normals, |i, n| {
@@ -84,7 +86,7 @@ impl Mesh {
                 .sum::<DVec3>()
                 .normalize_or_zero();
         });
-        crate::VertexData::with_binding(normals, self.binding())
+        crate::vertex_data::VertexData::with_binding(normals, self.binding())
     }
     /// Axis-aligned bounding box `(min, max)` of the live vertices; `None` when empty.
     pub fn bounding_box(&self) -> Option<(DVec3, DVec3)> {

@@ -469,11 +469,11 @@ mod tests {
     fn slot_undoes_key() {
         for i in [0, 1, 31, 32, 1 << 20, u32::MAX - 2] {
             for g in [0, 1, 7] {
-                assert_eq!(slot(key::<crate::VertexId>(i, g)), i as usize);
-                assert_eq!(generation(key::<crate::VertexId>(i, g)), g);
+                assert_eq!(slot(key::<crate::handle::VertexId>(i, g)), i as usize);
+                assert_eq!(generation(key::<crate::handle::VertexId>(i, g)), g);
             }
         }
-        assert!(slot(crate::VertexId::default()) >= (u32::MAX - 1) as usize);
+        assert!(slot(crate::handle::VertexId::default()) >= (u32::MAX - 1) as usize);
     }
 
     /// Generations are allocated only when garbage collection first frees a slot (a
@@ -481,7 +481,7 @@ mod tests {
     /// hands out a new key and its old key is stale.
     #[test]
     fn generations_exist_once_a_slot_was_freed() {
-        use crate::VertexId;
+        use crate::handle::VertexId;
         let mut s = Slots::live(70);
         assert!(s.generations.is_empty() && s.clone().generations.is_empty());
         let old: VertexId = s.key(5);

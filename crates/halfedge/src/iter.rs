@@ -6,9 +6,10 @@
 //! halfedge has no face and the faces follow in counter-clockwise order. Face
 //! circulators start at [`Mesh::face_halfedge`] and follow `next`.
 
+use crate::handle::{FaceId, HalfedgeId, VertexId};
 use crate::handle::{Slots, NONE};
 use crate::mesh::HalfedgeRec;
-use crate::{FaceId, HalfedgeId, Mesh, VertexId};
+use crate::mesh::Mesh;
 
 /// # Iterating over elements
 impl Mesh {
@@ -224,7 +225,9 @@ impl Mesh {
 
 #[cfg(test)]
 mod tests {
-    use crate::{generators, HalfedgeId, Mesh};
+    use crate::generators;
+    use crate::handle::HalfedgeId;
+    use crate::mesh::Mesh;
 
     /// Items of an iterator by `next`, by `fold`, and by one `next` then `fold`.
     fn three_ways<T: PartialEq + std::fmt::Debug>(it: impl Iterator<Item = T> + Clone) -> Vec<T> {

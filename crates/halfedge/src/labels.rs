@@ -45,7 +45,9 @@
 use glam::DVec3;
 
 use crate::attributes::Attribute;
-use crate::{Error, FaceId, HalfedgeId, Mesh, Result, VertexId};
+use crate::error::{Error, Result};
+use crate::handle::{FaceId, HalfedgeId, VertexId};
+use crate::mesh::Mesh;
 
 /// A sub-mesh label.
 pub type Label = u32;

@@ -29,6 +29,7 @@
 
 mod add_face;
 pub mod arrays;
+mod attribute_store;
 pub mod attributes;
 pub mod binding;
 pub mod build;

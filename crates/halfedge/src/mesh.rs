@@ -17,10 +17,11 @@
 
 use glam::DVec3;
 
-use crate::attributes::AttributeStore;
+use crate::attribute_store::AttributeStore;
 use crate::binding::{Binding, Bound, Provenance};
+use crate::error::{Error, Result};
 use crate::handle::{slot, Slots, NONE};
-use crate::{Error, FaceId, HalfedgeId, Result, VertexId};
+use crate::handle::{FaceId, HalfedgeId, VertexId};
 
 /// A halfedge's links, as slot indices (`NONE`: no face). Its opposite is the halfedge
 /// in the neighbouring slot (`index ^ 1`): edges are created and removed whole.
@@ -49,6 +50,7 @@ pub(crate) struct HalfedgeRec {
 /// panic on a handle that was never part of it (a programming error, like an index out of
 /// bounds). Operations that take user input (`collapse`, building, IO) return
 /// [`Error`]s instead.
+#[derive(Default)]
 pub struct Mesh {
     /// Outgoing halfedge per vertex slot (`NONE`: isolated).
     pub(crate) vertex_conn: Vec<u32>,
@@ -80,26 +82,6 @@ impl std::fmt::Debug for Mesh {
     }
 }
 
-impl Default for Mesh {
-    fn default() -> Self {
-        Self {
-            vertex_conn: Vec::new(),
-            vertex_slots_: Slots::default(),
-            he: Vec::new(),
-            halfedge_slots_: Slots::default(),
-            face_conn: Vec::new(),
-            face_slots_: Slots::default(),
-            positions: Vec::new(),
-            n_vertices: 0,
-            n_halfedges: 0,
-            n_faces: 0,
-            provenance: Provenance::new(),
-            vertex_attributes: AttributeStore::default(),
-            halfedge_attributes: AttributeStore::default(),
-            face_attributes: AttributeStore::default(),
-        }
-    }
-}
 
 /// A clone is a mesh instance of its own: same contents, its own [`Provenance`].
 /// Values derived from the mesh before the clone (collapse records, per-vertex data,

@@ -5,7 +5,11 @@
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
-use crate::{Error, HalfedgeId, Mesh, Result, VertexId};
+use crate::error::{Error, Result};
+
+use crate::handle::{HalfedgeId, VertexId};
+
+use crate::mesh::Mesh;
 
 #[derive(PartialEq)]
 struct Entry(f64, VertexId);

@@ -30,7 +30,13 @@ use std::collections::BinaryHeap;
 
 use glam::DVec3;
 
-use crate::{Error, Mesh, Result, VertexData, VertexId};
+use crate::error::{Error, Result};
+
+use crate::handle::VertexId;
+
+use crate::mesh::Mesh;
+
+use crate::vertex_data::VertexData;
 
 /// A set of vertices of one mesh: a mask indexed by [`Mesh::vertex_index`] (see the
 /// [module docs](self)), bound to the mesh it was made for like every

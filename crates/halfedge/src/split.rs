@@ -7,7 +7,11 @@
 
 use glam::DVec3;
 
-use crate::{Error, HalfedgeId, Mesh, Result, VertexId};
+use crate::error::{Error, Result};
+
+use crate::handle::{HalfedgeId, VertexId};
+
+use crate::mesh::Mesh;
 
 /// # Edge split
 impl Mesh {

@@ -3,8 +3,10 @@
 
 use std::collections::BTreeMap;
 
+use crate::build::BuildReport;
 use crate::handle::NONE;
-use crate::{BuildReport, HalfedgeId, Mesh, VertexId};
+use crate::handle::{HalfedgeId, VertexId};
+use crate::mesh::Mesh;
 
 /// Counts that describe a mesh's topology, comparable with OpenMesh's.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
@@ -273,7 +275,9 @@ impl BitSet {
 
 #[cfg(test)]
 mod tests {
-    use crate::{generators, DVec3, Mesh};
+    use crate::generators;
+    use crate::mesh::Mesh;
+    use glam::DVec3;
 
     /// The report's counts (bit sets, breadth-first) are those of `boundary_loops` and
     /// `connected_components`, on meshes with several loops and components, tombstones

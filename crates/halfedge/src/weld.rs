@@ -31,7 +31,11 @@ use std::collections::HashMap;
 
 use glam::DVec3;
 
-use crate::{BuildReport, Error, Mesh, Result};
+use crate::build::BuildReport;
+
+use crate::error::{Error, Result};
+
+use crate::mesh::Mesh;
 
 /// What [`Mesh::welded`] did.
 #[derive(Clone, Debug, PartialEq, Eq)]

@@ -5,39 +5,18 @@ use std::ops::ControlFlow;
 
 use glam::DVec3;
 
+use super::buffers::{prefaulted, PREFAULT_RECORDS};
 use super::detail::{self, Collapsed, Details};
 use super::marks::Marks;
-use super::options::{BuildProgress, HierarchyOptions, Method};
+use super::options::{report, BuildProgress, HierarchyOptions, Method};
 use super::records::Storage;
 use super::{bookmark, outcome, qem, rounds};
 use super::{check_positions, next_hierarchy_id, Hierarchy};
 use crate::collapse::Step;
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::handle::{HalfedgeId, VertexId};
 use crate::labels::{self, Label};
 use crate::mesh::Mesh;
-
-/// Hands the build's progress (`levels` and faces now, of `input_faces`) to its callback;
-/// [`Error::Cancelled`] when the callback says stop.
-#[inline]
-pub(crate) fn report(
-    h: &Hierarchy,
-    input_faces: usize,
-    progress: &mut dyn FnMut(BuildProgress) -> ControlFlow<()>,
-) -> Result<()> {
-    let p = BuildProgress {
-        levels: h.built_levels(),
-        faces: h.mesh.n_faces(),
-        input_faces,
-    };
-    match progress(p) {
-        ControlFlow::Continue(()) => Ok(()),
-        ControlFlow::Break(()) => Err(Error::Cancelled(format!(
-            "hierarchy build stopped at {} levels, {} of {} faces left",
-            p.levels, p.faces, p.input_faces
-        ))),
-    }
-}
 
 /// # Building
 impl Hierarchy {
@@ -104,7 +83,7 @@ impl Hierarchy {
                 outcome::finish(&mut h, options, None);
             }
         }
-        report(&h, faces, progress)?;
+        report(h.built_levels(), h.mesh.n_faces(), faces, progress)?;
         h.finish_build();
         Ok(h)
     }
@@ -252,32 +231,6 @@ pub(crate) struct Prefaulted {
     pub(super) rules: Vec<u8>,
     pub(super) stored: Vec<(DVec3, f64)>,
     pub(super) details: detail::DetailBuffers,
-}
-
-/// Fewest records expected for [`Hierarchy::prefault`] to make buffers ahead (a smaller
-/// build is over before they would be ready).
-pub(super) const PREFAULT_RECORDS: usize = 1 << 12;
-
-/// An empty vector with room for `capacity` elements, the memory of the first `touched`
-/// mapped (an element a page written with zero bytes).
-pub(super) fn prefaulted<T>((capacity, touched): (usize, usize)) -> Vec<T> {
-    let mut v = Vec::with_capacity(capacity);
-    let step = (4096 / std::mem::size_of::<T>().max(1)).max(1);
-    for slot in v.spare_capacity_mut()[..touched.min(capacity)]
-        .iter_mut()
-        .step_by(step)
-    {
-        *slot = std::mem::MaybeUninit::zeroed();
-    }
-    std::hint::black_box(&mut v);
-    v
-}
-
-/// Makes `new` (empty) hold `old`'s elements and take its place.
-pub(super) fn adopt<T: Copy>(old: &mut Vec<T>, mut new: Vec<T>) {
-    new.clear();
-    new.extend_from_slice(old);
-    *old = new;
 }
 
 impl Hierarchy {

@@ -20,7 +20,9 @@
 
 use glam::{DVec3, Vec3};
 
-use crate::{FaceId, HalfedgeId, Mesh, VertexId};
+use crate::handle::{FaceId, HalfedgeId, VertexId};
+
+use crate::mesh::Mesh;
 
 /// Where the survivor of a legal collapse may go.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -51,7 +51,9 @@
 //! assert_eq!(h.mesh().n_faces(), faces);
 //! ```
 
+mod ahead;
 pub mod bookmark;
+mod buffers;
 mod build;
 mod clusters;
 pub mod detail;

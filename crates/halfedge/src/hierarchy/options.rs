@@ -1,6 +1,8 @@
 //! What a hierarchy build is asked for ([`HierarchyOptions`], [`Method`]) and what it
 //! reports while it runs ([`BuildProgress`]).
 
+use std::ops::ControlFlow;
+
 use super::detail::DetailMode;
 use crate::error::{Error, Result};
 
@@ -213,4 +215,27 @@ pub struct BuildProgress {
     pub faces: usize,
     /// Faces of the input.
     pub input_faces: usize,
+}
+
+/// Hands the build's progress (`levels` completed and `faces` left, of `input_faces`) to
+/// its callback; [`Error::Cancelled`] when the callback says stop.
+#[inline]
+pub(crate) fn report(
+    levels: usize,
+    faces: usize,
+    input_faces: usize,
+    progress: &mut dyn FnMut(BuildProgress) -> ControlFlow<()>,
+) -> Result<()> {
+    let p = BuildProgress {
+        levels,
+        faces,
+        input_faces,
+    };
+    match progress(p) {
+        ControlFlow::Continue(()) => Ok(()),
+        ControlFlow::Break(()) => Err(Error::Cancelled(format!(
+            "hierarchy build stopped at {} levels, {} of {} faces left",
+            p.levels, p.faces, p.input_faces
+        ))),
+    }
 }

@@ -160,8 +160,8 @@ impl Placements {
 
     /// Moves the placements into `rules` and `stored` (see [`super::build::Prefaulted`]).
     pub(crate) fn adopt(&mut self, rules: Vec<u8>, stored: Vec<(DVec3, f64)>) {
-        super::build::adopt(&mut self.rules, rules);
-        super::build::adopt(&mut self.stored, stored);
+        super::buffers::adopt(&mut self.rules, rules);
+        super::buffers::adopt(&mut self.stored, stored);
     }
 
     /// The placements of the records in `range`, to [`restore`](Self::restore) them.

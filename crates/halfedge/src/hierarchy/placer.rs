@@ -8,11 +8,11 @@
 
 use glam::DVec3;
 
+use super::ahead::{DETAIL_PREFETCH_DISTANCE, LIST_PREFETCH_DISTANCE};
 use super::detail::{Collapsed, Details, Placement};
 use super::marks::{Marks, IN_REGION, UNMARKED};
 use super::placements::Placements;
 use super::rests::Rest;
-use super::walk::{DETAIL_PREFETCH_DISTANCE, LIST_PREFETCH_DISTANCE};
 use crate::collapse::Step;
 use crate::prefetch::prefetch;
 

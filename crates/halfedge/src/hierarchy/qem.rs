@@ -32,13 +32,14 @@ use std::ops::ControlFlow;
 use glam::{DMat3, DVec3, Vec3};
 use rayon::prelude::*;
 
-use super::build::report;
 use super::heap::{self, Queue};
 use super::legality::{self, Collapse, NewNormals, Star};
+use super::options::report;
 use super::{BuildProgress, Hierarchy, HierarchyOptions};
+use crate::error::Result;
 use crate::handle::NONE;
 use crate::iter::vertex_walk;
-use crate::{Mesh, Result};
+use crate::mesh::Mesh;
 
 /// A symmetric 4×4 quadric `Σ w (n·x + d)²` and the total face area it gathered.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -420,7 +421,7 @@ pub(crate) fn build(
         if mesh.n_faces() <= next_level {
             h.close_level();
             next_level = level_target(h.mesh.n_faces(), options.level_ratio);
-            report(h, input_faces, progress)?;
+            report(h.built_levels(), h.mesh.n_faces(), input_faces, progress)?;
         }
         since_report += 1;
         if since_report % 1024 == 0 && prefaulting.as_ref().is_some_and(|t| t.is_finished()) {
@@ -430,7 +431,7 @@ pub(crate) fn build(
         }
         if since_report == 1 << 16 {
             since_report = 0;
-            report(h, input_faces, progress)?;
+            report(h.built_levels(), h.mesh.n_faces(), input_faces, progress)?;
         }
     }
     if h.built_levels() < options.max_levels {

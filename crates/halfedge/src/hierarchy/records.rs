@@ -1,6 +1,6 @@
 //! The collapse records a hierarchy keeps, and the buffers a rebuild borrows.
 
-use super::build::adopt;
+use super::buffers::adopt;
 use super::detail::Details;
 use super::placements;
 use super::Hierarchy;

@@ -32,16 +32,20 @@
 
 use glam::{DVec3, Vec3};
 
-use super::legality::{self, Collapse, NewNormals, Placement};
-use super::records::Storage;
-use super::rounds::{star_plane_distance, test_edge, EdgeTest};
-use super::walk::{
+use super::ahead::{
     COLLAPSE_LINKS_PREFETCH_DISTANCE, COLLAPSE_PREFETCH_DISTANCE, COLLAPSE_SIDES_PREFETCH_DISTANCE,
     RING_PREFETCH_DISTANCES,
 };
+use super::legality::{self, Collapse, NewNormals, Placement};
+use super::records::Storage;
+use super::rounds::{star_plane_distance, test_edge, EdgeTest};
 use super::{check_positions, outcome, Hierarchy, HierarchyOptions};
+use crate::attributes::Attribute;
+use crate::error::{Error, Result};
+use crate::handle::VertexId;
+use crate::labels::Label;
+use crate::mesh::Mesh;
 use crate::prefetch::prefetch;
-use crate::{Attribute, Error, Label, Mesh, Result, VertexId};
 
 /// The hierarchy of `input` (a copy of `source`'s mesh at level 0) whose collapses never
 /// join two different labels: `source`'s records replayed where the labels cannot have
@@ -366,7 +370,7 @@ impl Band {
         normals: &mut [Vec3],
         new_normals: &mut NewNormals,
         round: u32,
-    ) -> Option<(crate::HalfedgeId, DVec3, f64)> {
+    ) -> Option<(crate::handle::HalfedgeId, DVec3, f64)> {
         for e in mesh.outgoing_halfedges(v) {
             let w = mesh.to_vertex(e);
             if self.lock[mesh.vertex_index(w)] == round {

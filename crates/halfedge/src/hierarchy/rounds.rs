@@ -27,11 +27,14 @@ use std::ops::ControlFlow;
 
 use glam::{DVec3, Vec3};
 
-use super::build::report;
 use super::legality::{self, Collapse, NewNormals, Placement};
+use super::options::report;
 use super::outcome::{self, Refusals, Relaxation};
 use super::{BuildProgress, Hierarchy, HierarchyOptions};
-use crate::{HalfedgeId, Label, Mesh, Result};
+use crate::error::Result;
+use crate::handle::HalfedgeId;
+use crate::labels::Label;
+use crate::mesh::Mesh;
 
 /// Minimum over the star of `v0v1` of the cosine between a face normal and the star's
 /// average normal (1 for a planar star). `fl` and `fr` are counted once.
@@ -167,7 +170,7 @@ pub(crate) fn build(
             }
             if since_report == 1 << 16 {
                 since_report = 0;
-                report(h, input_faces, progress)?;
+                report(h.built_levels(), h.mesh.n_faces(), input_faces, progress)?;
             }
             if h.mesh.n_faces() <= options.target_faces {
                 h.close_level();
@@ -194,7 +197,7 @@ pub(crate) fn build(
             }
         }
         h.close_level();
-        report(h, input_faces, progress)?;
+        report(h.built_levels(), h.mesh.n_faces(), input_faces, progress)?;
         if stalled {
             break;
         }

@@ -2,7 +2,8 @@
 
 use glam::{DAffine3, DVec3};
 
-use super::build::{prefaulted, Prefaulted, PREFAULT_RECORDS};
+use super::buffers::{prefaulted, PREFAULT_RECORDS};
+use super::build::Prefaulted;
 use super::*;
 use crate::handle::{HalfedgeId, VertexId};
 

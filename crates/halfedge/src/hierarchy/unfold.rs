@@ -76,7 +76,7 @@ impl Hierarchy {
         let marks = &self.marks;
         let rest_of = |i: usize| rest.get(i).map(|&p| DVec3::from_array(p));
         let movable = |i: usize| marks.of(i) == IN_REGION && rest_of(i).is_some();
-        let turned = |positions: &[DVec3], f: crate::FaceId| -> bool {
+        let turned = |positions: &[DVec3], f: crate::handle::FaceId| -> bool {
             turned_at(
                 positions,
                 rest,
@@ -85,7 +85,7 @@ impl Hierarchy {
         };
         // Every face once, on all threads: those with an interpolated vertex of a region
         // that are turned over (in face order, so the same on any number of threads).
-        let flipped: Vec<crate::FaceId> = {
+        let flipped: Vec<crate::handle::FaceId> = {
             use rayon::prelude::*;
             let (he, of_vertex) = (&mesh.he[..], &marks.of_vertex[..]);
             let now = &positions[..];
@@ -197,7 +197,7 @@ impl Hierarchy {
         if !unfolded {
             // What the relaxation left turned: ramps, then the untangling step.
             let watched = around(deepest);
-            let left: Vec<crate::FaceId> = watched
+            let left: Vec<crate::handle::FaceId> = watched
                 .iter()
                 .copied()
                 .filter(|&f| turned(&positions, f))
@@ -269,11 +269,11 @@ struct Relaxation {
 
 impl Relaxation {
     fn new(
-        mesh: &crate::Mesh,
+        mesh: &crate::mesh::Mesh,
         positions: &[DVec3],
         rest: &[[f64; 3]],
         set: &[usize],
-        faces: &[crate::FaceId],
+        faces: &[crate::handle::FaceId],
     ) -> Self {
         // Which vertices step, and their numbers; then the other vertices the steps and
         // the turn tests read, numbered from `n` on (one dense table over the slots).
@@ -410,14 +410,14 @@ impl Relaxation {
 /// fewer over in all), so each one takes every face still turned among `watched` and
 /// the faces the steps before it could change.
 fn untangle_what_is_left(
-    mesh: &crate::Mesh,
+    mesh: &crate::mesh::Mesh,
     positions: &mut [DVec3],
     rest: &[[f64; 3]],
     movable: &dyn Fn(usize) -> bool,
     exact: &dyn Fn(usize, DVec3) -> Option<DVec3>,
-    mut watched: Vec<crate::FaceId>,
+    mut watched: Vec<crate::handle::FaceId>,
 ) {
-    let mut still_turned = |positions: &[DVec3], touched: Vec<crate::FaceId>| {
+    let mut still_turned = |positions: &[DVec3], touched: Vec<crate::handle::FaceId>| {
         watched.extend(touched);
         sort_faces(mesh, &mut watched);
         let mut left = watched.clone();
@@ -453,13 +453,13 @@ const MAX_RETREAT_WORK: usize = 2_000_000;
 /// rings out, for each `k` of [`RETREAT_RINGS`] (see [`ramp_best`]). Returns the faces
 /// that could have changed.
 fn retreat_from_exact(
-    mesh: &crate::Mesh,
+    mesh: &crate::mesh::Mesh,
     positions: &mut [DVec3],
     rest: &[[f64; 3]],
     movable: &dyn Fn(usize) -> bool,
     exact: &dyn Fn(usize, DVec3) -> Option<DVec3>,
-    faces: &[crate::FaceId],
-) -> Vec<crate::FaceId> {
+    faces: &[crate::handle::FaceId],
+) -> Vec<crate::handle::FaceId> {
     let mut sources: Vec<usize> = faces
         .iter()
         .filter(|&&f| turned_at(positions, rest, corners(mesh, f)))
@@ -490,12 +490,12 @@ fn retreat_from_exact(
 /// ramped. What [`retreat_from_exact`] leaves: a fold beside vertices that moved
 /// exactly, or between interpolated ones. Returns the faces that could have changed.
 fn retreat_around(
-    mesh: &crate::Mesh,
+    mesh: &crate::mesh::Mesh,
     positions: &mut [DVec3],
     rest: &[[f64; 3]],
     movable: &dyn Fn(usize) -> bool,
-    faces: &[crate::FaceId],
-) -> Vec<crate::FaceId> {
+    faces: &[crate::handle::FaceId],
+) -> Vec<crate::handle::FaceId> {
     let depth = AROUND_RINGS[AROUND_RINGS.len() - 1];
     let mut work = 0usize;
     let mut touched = Vec::new();
@@ -535,11 +535,11 @@ fn retreat_around(
 /// fewest faces around it over if fewer than before: the untangling step, for a fold
 /// that no displacement ramp undoes.
 fn untangle(
-    mesh: &crate::Mesh,
+    mesh: &crate::mesh::Mesh,
     positions: &mut [DVec3],
     rest: &[[f64; 3]],
     movable: &dyn Fn(usize) -> bool,
-    faces: &[crate::FaceId],
+    faces: &[crate::handle::FaceId],
 ) {
     for &face in faces {
         if !turned_at(positions, rest, corners(mesh, face)) {
@@ -558,7 +558,7 @@ fn untangle(
             if n == 0 || !centroid.is_finite() {
                 continue;
             }
-            let fan: Vec<crate::FaceId> = mesh.adjacent_faces(v).collect();
+            let fan: Vec<crate::handle::FaceId> = mesh.adjacent_faces(v).collect();
             let count = |positions: &[DVec3]| count_turned(mesh, positions, rest, &fan);
             let now = positions[i];
             let mut best = (count(positions), now);
@@ -587,11 +587,11 @@ fn untangle(
 /// intersection (the kernel of the vertex's star). `None` when the projections do not
 /// reach it (the kernel is empty or thin) or a value is not finite.
 fn into_kernel(
-    mesh: &crate::Mesh,
+    mesh: &crate::mesh::Mesh,
     positions: &[DVec3],
     rest: &[[f64; 3]],
     i: usize,
-    fan: &[crate::FaceId],
+    fan: &[crate::handle::FaceId],
 ) -> Option<DVec3> {
     // Each face as (g, h): g · p + h is its normal now dotted with its normal before.
     let mut halfspaces = Vec::with_capacity(fan.len());
@@ -634,8 +634,11 @@ fn into_kernel(
 const KERNEL_SWEEPS: usize = 64;
 
 /// The faces around the vertex slots `vertices`, each once, in face order.
-fn faces_around(mesh: &crate::Mesh, vertices: impl Iterator<Item = usize>) -> Vec<crate::FaceId> {
-    let mut faces: Vec<crate::FaceId> = vertices
+fn faces_around(
+    mesh: &crate::mesh::Mesh,
+    vertices: impl Iterator<Item = usize>,
+) -> Vec<crate::handle::FaceId> {
+    let mut faces: Vec<crate::handle::FaceId> = vertices
         .filter_map(|i| mesh.vertex_at(i))
         .flat_map(|v| mesh.adjacent_faces(v))
         .collect();
@@ -645,7 +648,7 @@ fn faces_around(mesh: &crate::Mesh, vertices: impl Iterator<Item = usize>) -> Ve
 
 /// Sorts `faces` by face index and drops repeats: for a list that is a large part of
 /// the mesh, by a bit per face slot (linear), else by sorting.
-fn sort_faces(mesh: &crate::Mesh, faces: &mut Vec<crate::FaceId>) {
+fn sort_faces(mesh: &crate::mesh::Mesh, faces: &mut Vec<crate::handle::FaceId>) {
     let slots = mesh.face_slots();
     if faces.len() < slots / 16 {
         faces.sort_unstable_by_key(|&f| mesh.face_index(f));
@@ -670,10 +673,10 @@ fn sort_faces(mesh: &crate::Mesh, faces: &mut Vec<crate::FaceId>) {
 
 /// How many of `faces` are turned over at `positions` against `rest`.
 fn count_turned(
-    mesh: &crate::Mesh,
+    mesh: &crate::mesh::Mesh,
     positions: &[DVec3],
     rest: &[[f64; 3]],
-    faces: &[crate::FaceId],
+    faces: &[crate::handle::FaceId],
 ) -> usize {
     faces
         .iter()
@@ -683,7 +686,7 @@ fn count_turned(
 
 /// The vertex slots of face `f`'s corners.
 #[inline]
-fn corners(mesh: &crate::Mesh, f: crate::FaceId) -> [usize; 3] {
+fn corners(mesh: &crate::mesh::Mesh, f: crate::handle::FaceId) -> [usize; 3] {
     mesh.triangle(f).map(|v| mesh.vertex_index(v))
 }
 
@@ -697,7 +700,7 @@ fn rest_of(rest: &[[f64; 3]], i: usize) -> Option<DVec3> {
 /// vertices `from`, breadth first: `(vertex, ring, the vertex of from it was reached
 /// from)`, a movable vertex of `from` itself at ring 0.
 fn rings(
-    mesh: &crate::Mesh,
+    mesh: &crate::mesh::Mesh,
     from: Vec<usize>,
     movable: &dyn Fn(usize) -> bool,
     rest: &[[f64; 3]],
@@ -737,13 +740,13 @@ fn rings(
 /// around those vertices over, if fewer than before; else nothing changes. Returns the
 /// faces around the vertices `reached` (those counted).
 fn ramp_best(
-    mesh: &crate::Mesh,
+    mesh: &crate::mesh::Mesh,
     positions: &mut [DVec3],
     rest: &[[f64; 3]],
     reached: &[(usize, usize, usize)],
     targets: &[DVec3],
     depths: &[usize],
-) -> Vec<crate::FaceId> {
+) -> Vec<crate::handle::FaceId> {
     if reached.is_empty() {
         return Vec::new();
     }
@@ -790,18 +793,22 @@ mod tests {
 
     /// The steps after the relaxation, in the order the unfolding runs them.
     fn retreat(
-        mesh: &crate::Mesh,
+        mesh: &crate::mesh::Mesh,
         positions: &mut [DVec3],
         rest: &[[f64; 3]],
         movable: &dyn Fn(usize) -> bool,
-        faces: &[crate::FaceId],
+        faces: &[crate::handle::FaceId],
     ) {
         let still = |i: usize, p: DVec3| (!movable(i)).then_some(p);
         untangle_what_is_left(mesh, positions, rest, movable, &still, faces.to_vec());
     }
 
     /// Faces of `mesh` turned over at `positions` against `rest`.
-    fn turned(mesh: &crate::Mesh, positions: &[DVec3], rest: &[[f64; 3]]) -> Vec<crate::FaceId> {
+    fn turned(
+        mesh: &crate::mesh::Mesh,
+        positions: &[DVec3],
+        rest: &[[f64; 3]],
+    ) -> Vec<crate::handle::FaceId> {
         mesh.faces()
             .filter(|&f| turned_at(positions, rest, corners(mesh, f)))
             .collect()
@@ -964,7 +971,9 @@ mod tests {
             }))
             .collect();
         let triangles: Vec<[u32; 3]> = (0..6u32).map(|k| [0, 1 + k, 1 + (k + 1) % 6]).collect();
-        let mesh = crate::Mesh::from_triangles(&rest, &triangles).unwrap().0;
+        let mesh = crate::mesh::Mesh::from_triangles(&rest, &triangles)
+            .unwrap()
+            .0;
         let rest: Vec<[f64; 3]> = rest.iter().map(|p| p.to_array()).collect();
         let mut positions: Vec<DVec3> = rest.iter().map(|&p| DVec3::from_array(p)).collect();
         positions[6] = DVec3::new(0.3, 0.5, 0.0);

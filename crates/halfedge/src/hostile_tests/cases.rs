@@ -5,7 +5,11 @@ use proptest::prelude::*;
 
 use super::hierarchy::*;
 use super::*;
-use crate::{generators, CollapseRecord, Error, HalfedgeId, Mesh, VertexId};
+use crate::collapse::CollapseRecord;
+use crate::error::Error;
+use crate::generators;
+use crate::handle::{HalfedgeId, VertexId};
+use crate::mesh::Mesh;
 
 /// The machines reach every outcome they are meant to test: splits accepted in and out of
 /// order and refused for each reason, refused collapses and steps, overflows, labels.

@@ -4,12 +4,15 @@ use glam::DVec3;
 use proptest::prelude::*;
 
 use super::*;
-use crate::{generators, Error, HalfedgeId, Mesh, VertexId};
+use crate::error::Error;
+use crate::generators;
+use crate::handle::{HalfedgeId, VertexId};
+use crate::mesh::Mesh;
 
 // ---------------------------------------------------------------------------------------
 // The hierarchy machine.
 
-pub(super) use crate::{Hierarchy, HierarchyOptions};
+pub(super) use crate::hierarchy::{Hierarchy, HierarchyOptions};
 
 /// One step of the hierarchy machine.
 #[derive(Clone, Debug)]
@@ -109,10 +112,10 @@ pub(super) fn run_hierarchy(
     let mut h = Hierarchy::build(hierarchy_mesh(kind), &options.with_target_faces(20)).unwrap();
     let n_records = h.records().len() as u32 + 1;
     let n_levels = h.n_levels() as u32;
-    let mut bookmarks: Vec<crate::LevelBookmark> = Vec::new();
+    let mut bookmarks: Vec<crate::hierarchy::bookmark::LevelBookmark> = Vec::new();
     for op in ops {
         let before = raw(h.mesh());
-        let single = |r: crate::Result<bool>,
+        let single = |r: crate::error::Result<bool>,
                       h: &Hierarchy,
                       stats: &mut Stats|
          -> std::result::Result<(), TestCaseError> {
@@ -304,7 +307,7 @@ pub(super) fn run_hierarchy(
                     }
                     // A walk back finer stops where a marked field overflows, as a
                     // walk does.
-                    Err(crate::Error::Overflow(_)) => stats.count("overflow refused"),
+                    Err(crate::error::Error::Overflow(_)) => stats.count("overflow refused"),
                     Err(e) => {
                         stats.count("return_to refused");
                         prop_assert!(

@@ -15,9 +15,13 @@ use glam::DVec3;
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngSeed};
 
+use crate::collapse::CollapseRecord;
+use crate::error::Error;
+use crate::generators;
 use crate::handle::Slots;
+use crate::handle::{FaceId, HalfedgeId, VertexId};
 use crate::mesh::HalfedgeRec;
-use crate::{generators, CollapseRecord, Error, FaceId, HalfedgeId, Mesh, VertexId};
+use crate::mesh::Mesh;
 
 /// Proptest configuration: `default_cases` sequences with a fixed seed, or as many as
 /// `MULTIRES_HOSTILE_CASES` says.
@@ -50,7 +54,7 @@ pub(crate) struct Raw {
     face_slots: Slots,
     positions: Vec<[u64; 3]>,
     counts: [usize; 3],
-    binding: crate::Binding,
+    binding: crate::binding::Binding,
     lineage: Vec<(u64, u64)>,
     attribute_columns: [usize; 3],
 }

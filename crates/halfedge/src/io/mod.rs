@@ -18,12 +18,17 @@ pub mod obj;
 pub mod obj_write;
 pub mod ply;
 mod ply_fast;
+pub(crate) mod ply_layout;
 pub mod ply_write;
 
 use std::io::{BufWriter, Write};
 use std::path::Path;
 
-use crate::{BuildReport, Error, Mesh, Result};
+use crate::build::BuildReport;
+
+use crate::error::{Error, Result};
+
+use crate::mesh::Mesh;
 
 pub use obj::{read_obj, read_obj_from_bytes};
 pub use obj_write::{write_obj, write_obj_to};

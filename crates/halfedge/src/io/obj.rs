@@ -17,7 +17,11 @@ use std::path::Path;
 
 use glam::DVec3;
 
-use crate::{BuildReport, Error, Mesh, Result};
+use crate::build::BuildReport;
+
+use crate::error::{Error, Result};
+
+use crate::mesh::Mesh;
 
 /// Reads an OBJ file (positions and faces; normals, texture coordinates and materials are
 /// ignored). Polygons are fan-triangulated by the builder.

@@ -8,7 +8,9 @@
 use std::io::Write;
 use std::path::Path;
 
-use crate::{Error, Mesh, Result};
+use crate::error::{Error, Result};
+
+use crate::mesh::Mesh;
 
 /// Writes a mesh as OBJ (see the [module docs](self)).
 pub fn write_obj(path: impl AsRef<Path>, mesh: &Mesh) -> Result<()> {

@@ -20,8 +20,8 @@ use std::path::Path;
 
 use ply_rs_bw::ply::{ElementDef, Encoding, Header, PropertyType, ScalarType};
 
-use super::ply::{index_property, push_face, push_strip, FaceKind, Layout, PolygonSoup};
-use crate::{Error, Result};
+use super::ply_layout::{index_property, push_face, push_strip, FaceKind, Layout, PolygonSoup};
+use crate::error::{Error, Result};
 
 /// Byte order of the payload.
 trait ByteOrder {

@@ -15,7 +15,9 @@ use ply_rs_bw::ply::{
 };
 use ply_rs_bw::writer::Writer;
 
-use crate::{Error, Mesh, Result};
+use crate::error::{Error, Result};
+
+use crate::mesh::Mesh;
 
 /// The PLY encodings the writer produces.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]

@@ -109,11 +109,11 @@ impl DetailSizes {
     pub(crate) fn make(self) -> DetailBuffers {
         let [n, o, c, f, e] = self.0;
         DetailBuffers {
-            neighbours: super::build::prefaulted(n),
-            offsets: super::build::prefaulted(o),
-            coefficients: super::build::prefaulted(c),
-            framed: super::build::prefaulted(f),
-            centres: super::build::prefaulted(e),
+            neighbours: super::buffers::prefaulted(n),
+            offsets: super::buffers::prefaulted(o),
+            coefficients: super::buffers::prefaulted(c),
+            framed: super::buffers::prefaulted(f),
+            centres: super::buffers::prefaulted(e),
         }
     }
 }
@@ -227,11 +227,11 @@ impl Details {
             framed,
             centres,
         } = buffers;
-        super::build::adopt(&mut self.neighbours, neighbours);
-        super::build::adopt(&mut self.offsets, offsets);
-        super::build::adopt(&mut self.coefficients, coefficients);
-        super::build::adopt(&mut self.framed, framed);
-        super::build::adopt(&mut self.centres, centres);
+        super::buffers::adopt(&mut self.neighbours, neighbours);
+        super::buffers::adopt(&mut self.offsets, offsets);
+        super::buffers::adopt(&mut self.coefficients, coefficients);
+        super::buffers::adopt(&mut self.framed, framed);
+        super::buffers::adopt(&mut self.centres, centres);
     }
 
     /// The scheme.
