@@ -19,6 +19,7 @@ use glam::DVec3;
 
 use crate::attribute_store::AttributeStore;
 use crate::binding::{Binding, Bound, Provenance};
+use crate::collapse::WaitingCollapses;
 use crate::error::{Error, Result};
 use crate::handle::{slot, Slots, NONE};
 use crate::handle::{FaceId, HalfedgeId, VertexId};
@@ -67,6 +68,8 @@ pub struct Mesh {
     /// Who this mesh is and how often it changed: what every [`Binding`] of a value
     /// derived from it is checked against.
     pub(crate) provenance: Provenance,
+    /// The collapses made through [`Mesh::collapse`] still waiting for their split.
+    pub(crate) waiting: WaitingCollapses,
     pub(crate) vertex_attributes: AttributeStore,
     pub(crate) halfedge_attributes: AttributeStore,
     pub(crate) face_attributes: AttributeStore,
@@ -81,7 +84,6 @@ impl std::fmt::Debug for Mesh {
             .finish()
     }
 }
-
 
 /// A clone is a mesh instance of its own: same contents, its own [`Provenance`].
 /// Values derived from the mesh before the clone (collapse records, per-vertex data,
@@ -101,6 +103,7 @@ impl Clone for Mesh {
             n_halfedges: self.n_halfedges,
             n_faces: self.n_faces,
             provenance: self.provenance.clone(),
+            waiting: self.waiting.clone(),
             vertex_attributes: self.vertex_attributes.clone(),
             halfedge_attributes: self.halfedge_attributes.clone(),
             face_attributes: self.face_attributes.clone(),
@@ -445,6 +448,7 @@ impl Mesh {
             .push_free(freed.into_iter().rev().filter(|i| i % 2 == 0));
         let freed = self.face_slots_.free_tombstones();
         self.face_slots_.push_free(freed.into_iter().rev());
+        self.waiting.clear();
         self.touch_topology();
     }
 }

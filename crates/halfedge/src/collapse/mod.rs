@@ -22,14 +22,17 @@
 //! rewrote named a removed halfedge, whose tombstone still has its `next` and `prev`, so
 //! [`Mesh::vertex_split`] restores the same connectivity, orientation and handles, the
 //! very `VertexId` of `v0` included. A hierarchy keeps only that compact part (88 bytes
-//! per collapse, see `Step`). Splits
-//! undo collapses in reverse order (as a hierarchy does), or out of order where the
-//! collapses in between did not touch the record's neighbourhood.
+//! per collapse, see `Step`). Splits undo collapses in reverse order (as a hierarchy
+//! does): a record of [`Mesh::collapse`] is refused while a later public collapse still
+//! waits for its split (splitting it first could strand the later record), and a record
+//! names one collapse event only (once undone and collapsed again, the old record is
+//! refused); see `collapse::waiting`.
 //!
 //! **A split whose record does not fit the mesh is refused before anything changes**
 //! ([`Error::SplitRefused`], saying why): a record of another mesh instance (a clone made
 //! before the collapse shares its history and accepts it; records made on a clone after
-//! cloning, or on an unrelated mesh, are refused), a record already split, a record
+//! cloning, or on an unrelated mesh, are refused), a record already split (or whose
+//! collapse was undone and made again), a record split out of order, a record
 //! whose removed elements were freed by [`Mesh::garbage_collection`], and a record whose
 //! neighbourhood changed since the collapse (a later collapse or split nearby that was not
 //! undone, [`Mesh::split_edge`], [`Mesh::add_triangle`]). The neighbourhood is compared
@@ -43,6 +46,7 @@ mod record;
 mod split;
 #[cfg(test)]
 mod tests;
+mod waiting;
 
 use crate::error::{Error, Result};
 use crate::handle::{slot, HalfedgeId, VertexId, NONE};
@@ -51,6 +55,8 @@ use crate::mesh::Mesh;
 pub use record::CollapseRecord;
 pub(crate) use record::Step;
 use record::{FACE_LEFT, FACE_RIGHT};
+use waiting::Waiting;
+pub(crate) use waiting::WaitingCollapses;
 
 /// Why [`Mesh::is_collapse_ok`] refuses a collapse (OpenMesh's
 /// `TriConnectivity::is_collapse_ok`, check for check, in this order).
@@ -157,19 +163,39 @@ impl Mesh {
                 reason,
             })?;
         let (step, fingerprint) = self.collapse_step(h, None);
+        let (instance, count) = (
+            self.provenance.instance(),
+            self.provenance.connectivity_count(),
+        );
         // (Always a record: the collapse has just made every index it names.)
-        self.public_record(
-            &step,
-            fingerprint,
-            (
-                self.provenance.instance(),
-                self.provenance.connectivity_count(),
-            ),
-        )
-        .ok_or(Error::CollapseRefused {
-            halfedge: h,
-            reason: CollapseVeto::EdgeDeleted,
-        })
+        let mut record = self
+            .public_record(&step, fingerprint, (instance, count))
+            .ok_or(Error::CollapseRefused {
+                halfedge: h,
+                reason: CollapseVeto::EdgeDeleted,
+            })?;
+        record.tracked = true;
+        self.waiting.insert(
+            step.v0,
+            Waiting {
+                instance,
+                count,
+                v1: step.v1,
+            },
+        );
+        Ok(record)
+    }
+
+    /// [`collapse`](Self::collapse) for a hierarchy that does not trust its mesh: checked
+    /// the same way, but not kept among the waiting public collapses (the hierarchy
+    /// splits its own records in order).
+    pub(crate) fn collapse_checked(&mut self, h: HalfedgeId) -> Result<(Step, u64)> {
+        self.is_collapse_ok(h)
+            .map_err(|reason| Error::CollapseRefused {
+                halfedge: h,
+                reason,
+            })?;
+        Ok(self.collapse_step(h, None))
     }
 
     /// True when `v0` and `v1` share no neighbour other than `vl` and `vr` (the link

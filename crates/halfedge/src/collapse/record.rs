@@ -78,7 +78,10 @@ pub struct CollapseRecord {
     pub(super) count: u64,
     /// Fingerprint of what the split relies on beyond the fields above (see
     /// [`Mesh::split_fingerprint`]), as the collapse left it.
-    pub(super) fingerprint: u64,
+    pub(crate) fingerprint: u64,
+    /// Made by [`Mesh::collapse`] and kept among its waiting collapses (see
+    /// `collapse::waiting`), not by a hierarchy.
+    pub(super) tracked: bool,
 }
 
 impl CollapseRecord {
@@ -87,16 +90,6 @@ impl CollapseRecord {
     /// the two opposite vertices that are always among them.
     pub fn opposite_vertices(&self) -> impl Iterator<Item = VertexId> {
         self.vl.into_iter().chain(self.vr)
-    }
-
-    /// The compact form of the record (what a hierarchy keeps).
-    pub(crate) fn step(&self) -> &Step {
-        &self.step
-    }
-
-    /// The fingerprint the split compares.
-    pub(crate) fn fingerprint(&self) -> u64 {
-        self.fingerprint
     }
 }
 
@@ -234,6 +227,7 @@ impl Mesh {
             mesh,
             count,
             fingerprint,
+            tracked: false,
         })
     }
 

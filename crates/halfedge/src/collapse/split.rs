@@ -30,6 +30,12 @@ impl Mesh {
                 r.v0, r.v1
             )));
         }
+        if let Some(why) = self.split_event_conflict(r.step.v0, r.mesh, r.count, r.tracked) {
+            return Err(Error::SplitRefused(format!(
+                "{why} (record of {} → {})",
+                r.v0, r.v1
+            )));
+        }
         self.vertex_split_unchecked(&r.step);
         Ok(())
     }
@@ -169,6 +175,7 @@ impl Mesh {
     /// read, so they may be held elsewhere meanwhile).
     pub(crate) fn vertex_split_connectivity(&mut self, step: &Step) {
         self.touch_topology();
+        self.waiting.remove(step.v0);
         let h = step.v0v1;
         let s = self.sides(h);
         // `v1 → vl`, or on the boundary the next boundary halfedge.

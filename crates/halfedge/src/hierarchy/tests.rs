@@ -11,7 +11,7 @@ use crate::handle::{HalfedgeId, VertexId};
 fn record_keys(h: &Hierarchy) -> Vec<(HalfedgeId, DVec3, DVec3, u64)> {
     h.records()
         .iter()
-        .map(|r| (r.v0v1, r.p0, r.p1, r.fingerprint()))
+        .map(|r| (r.v0v1, r.p0, r.p1, r.fingerprint))
         .collect()
 }
 

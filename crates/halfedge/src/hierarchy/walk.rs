@@ -339,8 +339,7 @@ impl Hierarchy {
                 fingerprint,
             )
         } else {
-            let record = self.mesh.collapse(h)?;
-            (*record.step(), record.fingerprint())
+            self.mesh.collapse_checked(h)?
         };
         if !clean {
             self.refreshes.record(r);

@@ -36,6 +36,7 @@ fn the_machines_reach_every_case() {
         "split refused: freed by garbage collection",
         "split refused: a link changed",
         "split refused: the fingerprint differs",
+        "split refused: a later collapse waits",
         "split_edge accepted",
         "split_edge refused",
         "ear added",
@@ -141,7 +142,7 @@ fn a_split_after_split_edge_in_its_neighbourhood_is_refused() {
 }
 
 #[test]
-fn out_of_order_splits_are_refused_where_the_collapses_meet() {
+fn out_of_order_splits_are_refused_and_name_the_record_to_split_first() {
     let mut mesh = generators::icosphere(1);
     let v = mesh.vertices().nth(15).unwrap();
     let a = collapse_at(&mut mesh, v);
@@ -150,7 +151,9 @@ fn out_of_order_splits_are_refused_where_the_collapses_meet() {
     mesh.vertex_split(&b).unwrap();
     mesh.vertex_split(&a).unwrap();
     mesh.check().unwrap();
-    // Collapses that do not meet may be undone in any order.
+    // Even where the collapses do not meet: a split made out of order could strand the
+    // later record (issue 29: 67 of 29,213 pairs on an icosphere), so splits undo public
+    // collapses in reverse order, and the refusal names the record to split first.
     let mut mesh = generators::icosphere(2);
     let original = raw(&mesh);
     let v = mesh.vertices().next().unwrap();
@@ -160,15 +163,79 @@ fn out_of_order_splits_are_refused_where_the_collapses_meet() {
         .find(|&w| mesh.position(w).distance(a.p0) > 1.5)
         .unwrap();
     let b = collapse_at(&mut mesh, far);
-    mesh.vertex_split(&a).unwrap();
-    mesh.check().unwrap();
+    let e = mesh.vertex_split(&a).unwrap_err().to_string();
+    assert!(e.contains(&format!("{} → {}", b.v0, b.v1)), "{e}");
     mesh.vertex_split(&b).unwrap();
+    mesh.vertex_split(&a).unwrap();
     mesh.check().unwrap();
     let restored = raw(&mesh);
     assert_eq!(
         (&restored.he, &restored.vertex_conn, &restored.face_conn),
         (&original.he, &original.vertex_conn, &original.face_conn)
     );
+}
+
+#[test]
+fn no_accepted_split_strands_a_record_still_waiting() {
+    // Every pair of collapses k then j on an icosphere (issue 29, 6c): the split of k is
+    // accepted only when j is no longer waiting, and whatever was accepted, every record
+    // still waiting can be split afterwards (in reverse order), giving the input back.
+    let base = generators::icosphere(1);
+    let original = raw(&base);
+    let edges: Vec<HalfedgeId> = base.halfedges().collect();
+    let mut pairs = 0;
+    for &k in &edges {
+        let mut after_k = base.clone();
+        let Ok(rk) = after_k.collapse(k) else {
+            continue;
+        };
+        for &j in edges.iter().step_by(7) {
+            let mut mesh = after_k.clone();
+            let Ok(rj) = mesh.collapse(j) else { continue };
+            pairs += 1;
+            let before = raw(&mesh);
+            assert!(mesh.vertex_split(&rk).is_err(), "k split while j waits");
+            assert_eq!(raw(&mesh), before, "a refused split changed the mesh");
+            mesh.vertex_split(&rj).unwrap();
+            mesh.vertex_split(&rk).unwrap();
+            mesh.check().unwrap();
+            let back = raw(&mesh);
+            assert_eq!(
+                (&back.he, &back.vertex_conn, &back.face_conn),
+                (&original.he, &original.vertex_conn, &original.face_conn)
+            );
+        }
+    }
+    assert!(pairs > 500, "{pairs} pairs");
+}
+
+#[test]
+fn a_record_names_one_collapse_event_only() {
+    // Issue 29, 6b: collapse h -> r1, split r1, collapse h -> r2: r1 names the first
+    // collapse, which was undone; it is refused (nothing changes) and r2 is accepted.
+    let mut mesh = generators::icosphere(2);
+    let original = raw(&mesh);
+    let h = mesh
+        .halfedges()
+        .find(|&h| mesh.is_collapse_ok(h).is_ok())
+        .unwrap();
+    let r1 = mesh.collapse(h).unwrap();
+    mesh.vertex_split(&r1).unwrap();
+    let r2 = mesh.collapse(h).unwrap();
+    let before = raw(&mesh);
+    let e = mesh.vertex_split(&r1).unwrap_err().to_string();
+    assert!(e.contains("earlier collapse"), "{e}");
+    assert_eq!(raw(&mesh), before);
+    mesh.vertex_split(&r2).unwrap();
+    mesh.check().unwrap();
+    let back = raw(&mesh);
+    assert_eq!(
+        (&back.he, &back.vertex_conn, &back.face_conn),
+        (&original.he, &original.vertex_conn, &original.face_conn)
+    );
+    // And once r2 is split, r1 and r2 are both refused as already split.
+    assert_refused(&mut mesh, &r1, "already split");
+    assert_refused(&mut mesh, &r2, "already split");
 }
 
 #[test]
@@ -332,4 +399,40 @@ fn huge_coordinates_never_give_an_overflowed_placement() {
             h.mesh().check().unwrap();
         }
     }
+}
+
+#[test]
+fn an_attribute_handle_of_another_mesh_is_refused_as_stale() {
+    // Issue 29, 6a: `a.attribute(attr_of_b, v)` panicked with "attribute was removed".
+    // Two meshes with attributes in the same column and of the same type: a handle of
+    // one never reads or writes the other's values, whatever the column.
+    let mut a = generators::icosphere(1);
+    let mut b = generators::icosphere(1);
+    let of_a = a.add_vertex_attribute("w", 1.0f64).unwrap();
+    let of_b = b.add_vertex_attribute("w", 2.0f64).unwrap();
+    let v = a.vertices().next().unwrap();
+    for result in [a.attribute(of_b, v).copied(), b.attribute(of_a, v).copied()] {
+        let e = result.unwrap_err();
+        assert!(matches!(e, Error::Stale(_)), "{e}");
+        assert!(e.to_string().contains("attribute handle"), "{e}");
+    }
+    assert!(a.attribute_values_mut(of_b).is_err());
+    assert!(a.remove_attribute(of_b).is_err());
+    assert_eq!(*a.attribute(of_a, v).unwrap(), 1.0);
+    assert!(!a.has_attribute(of_b));
+    // A clone has the attributes of its original: their handles work on it, and the
+    // clone's own new attributes are refused by the original.
+    let mut clone = a.clone();
+    assert_eq!(*clone.attribute(of_a, v).unwrap(), 1.0);
+    let of_clone = clone.add_vertex_attribute("x", 3u8).unwrap();
+    let mut dup = a.clone();
+    let of_dup = dup.add_vertex_attribute("x", 4u8).unwrap();
+    assert!(a.attribute(of_clone, v).is_err());
+    assert!(
+        clone.attribute(of_dup, v).is_err(),
+        "same column and type, other mesh"
+    );
+    // An element handle that is not of the mesh is an invalid handle, not a panic.
+    let w = generators::icosphere(3).vertices().last().unwrap();
+    assert!(matches!(a.attribute(of_a, w), Err(Error::InvalidHandle(_))));
 }

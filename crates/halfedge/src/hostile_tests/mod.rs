@@ -192,6 +192,14 @@ impl Stats {
             ),
             ("link", "split refused: a link changed"),
             ("neighbourhood", "split refused: the fingerprint differs"),
+            (
+                "later collapse still waits",
+                "split refused: a later collapse waits",
+            ),
+            (
+                "earlier collapse",
+                "split refused: an earlier collapse of the edge",
+            ),
         ]
         .into_iter()
         .find(|(key, _)| text.contains(key))
