@@ -49,6 +49,7 @@ pub(crate) struct HalfedgeRec {
 /// panic on a handle that was never part of it (a programming error, like an index out of
 /// bounds). Operations that take user input (`collapse`, building, IO) return
 /// [`Error`]s instead.
+#[derive(Default)]
 pub struct Mesh {
     /// Outgoing halfedge per vertex slot (`NONE`: isolated).
     pub(crate) vertex_conn: Vec<u32>,
@@ -77,27 +78,6 @@ impl std::fmt::Debug for Mesh {
             .field("edges", &self.n_edges())
             .field("faces", &self.n_faces)
             .finish()
-    }
-}
-
-impl Default for Mesh {
-    fn default() -> Self {
-        Self {
-            vertex_conn: Vec::new(),
-            vertex_slots_: Slots::default(),
-            he: Vec::new(),
-            halfedge_slots_: Slots::default(),
-            face_conn: Vec::new(),
-            face_slots_: Slots::default(),
-            positions: Vec::new(),
-            n_vertices: 0,
-            n_halfedges: 0,
-            n_faces: 0,
-            provenance: Provenance::new(),
-            vertex_attributes: AttributeStore::default(),
-            halfedge_attributes: AttributeStore::default(),
-            face_attributes: AttributeStore::default(),
-        }
     }
 }
 

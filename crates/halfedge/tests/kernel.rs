@@ -572,10 +572,7 @@ fn an_attribute_handle_of_another_mesh_is_refused_as_stale() {
     let of_a = a.add_vertex_attribute("w", 1.0f64).unwrap();
     let of_b = b.add_vertex_attribute("w", 2.0f64).unwrap();
     let v = a.vertices().next().unwrap();
-    for result in [
-        a.attribute(of_b, v).map(|x| *x),
-        b.attribute(of_a, v).map(|x| *x),
-    ] {
+    for result in [a.attribute(of_b, v).copied(), b.attribute(of_a, v).copied()] {
         let e = result.unwrap_err();
         assert!(matches!(e, halfedge::Error::Stale(_)), "{e}");
         assert!(e.to_string().contains("attribute handle"), "{e}");
