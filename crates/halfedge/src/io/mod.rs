@@ -1,5 +1,5 @@
 //! Mesh files: OBJ (read with `tobj`, written by hand) and PLY (read and written with
-//! `ply-rs-bw`, plus a fast route for common binary layouts).
+//! `ply-rs-bw`, plus a fast route for common binary layouts) and OFF ([`off`], by hand).
 //!
 //! **Reading** keeps every vertex of the file in file order (vertex `i` of the file has
 //! [`Mesh::vertex_index`](crate::Mesh::vertex_index) `i`, unreferenced vertices become
@@ -16,9 +16,12 @@
 
 pub mod obj;
 pub mod obj_write;
+pub mod off;
+pub mod off_write;
 pub mod ply;
 mod ply_fast;
 pub mod ply_write;
+mod tokens;
 
 use std::io::{BufWriter, Write};
 use std::path::Path;
@@ -27,26 +30,30 @@ use crate::{BuildReport, Error, Mesh, Result};
 
 pub use obj::{read_obj, read_obj_from_bytes};
 pub use obj_write::{write_obj, write_obj_to};
+pub use off::{read_off, read_off_from_bytes};
+pub use off_write::{write_off, write_off_to};
 pub use ply::{read_ply, read_ply_from_bytes};
 pub use ply_write::{write_ply, write_ply_to, PlyFormat};
 
-/// Reads a mesh file, choosing the format by extension (`.obj`, `.ply`, any case).
+/// Reads a mesh file, choosing the format by extension (`.obj`, `.ply`, `.off`, any case).
 pub fn read(path: impl AsRef<Path>) -> Result<(Mesh, BuildReport)> {
     let path = path.as_ref();
     match extension(path).as_deref() {
         Some("obj") => read_obj(path),
         Some("ply") => read_ply(path),
+        Some("off") => read_off(path),
         _ => Err(Error::UnknownFormat(path.to_owned())),
     }
 }
 
-/// Writes a mesh file, choosing the format by extension: `.obj`, or `.ply` (binary little
-/// endian; use [`write_ply`] for ASCII).
+/// Writes a mesh file, choosing the format by extension: `.obj`, `.ply` (binary little
+/// endian; use [`write_ply`] for ASCII) or `.off`.
 pub fn write(path: impl AsRef<Path>, mesh: &Mesh) -> Result<()> {
     let path = path.as_ref();
     match extension(path).as_deref() {
         Some("obj") => write_obj(path, mesh),
         Some("ply") => write_ply(path, mesh, PlyFormat::BinaryLittleEndian),
+        Some("off") => write_off(path, mesh),
         _ => Err(Error::UnknownFormat(path.to_owned())),
     }
 }
