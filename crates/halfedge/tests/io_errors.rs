@@ -130,7 +130,7 @@ fn missing_file_is_an_io_error_naming_it() {
 
 #[test]
 fn unknown_extension() {
-    let path = PathBuf::from("mesh.stl");
+    let path = PathBuf::from("mesh.xyz");
     assert!(matches!(io::read(&path), Err(Error::UnknownFormat(p)) if p == path));
     let mesh = halfedge::generators::icosphere(0);
     assert!(matches!(

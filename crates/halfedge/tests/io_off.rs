@@ -64,6 +64,7 @@ fn same_as_square(text: &str) {
     assert_eq!(bits(&mesh), bits(&square()), "{text}");
     assert_eq!(triangles(&mesh), [[0, 1, 2], [0, 2, 3]], "{text}");
     assert_eq!(report.dropped_faces, 0);
+    assert_eq!(report.merged_vertices, 0);
 }
 
 #[test]

@@ -1,5 +1,6 @@
 //! Mesh files: OBJ (read with `tobj`, written by hand) and PLY (read and written with
-//! `ply-rs-bw`, plus a fast route for common binary layouts) and OFF ([`off`], by hand).
+//! `ply-rs-bw`, plus a fast route for common binary layouts), OFF ([`off`], by hand) and
+//! STL ([`stl`], ASCII and binary, by hand; a triangle soup, welded on reading).
 //!
 //! **Reading** keeps every vertex of the file in file order (vertex `i` of the file has
 //! [`Mesh::vertex_index`](crate::Mesh::vertex_index) `i`, unreferenced vertices become
@@ -21,6 +22,8 @@ pub mod off_write;
 pub mod ply;
 mod ply_fast;
 pub mod ply_write;
+pub mod stl;
+pub mod stl_write;
 mod tokens;
 
 use std::io::{BufWriter, Write};
@@ -34,26 +37,32 @@ pub use off::{read_off, read_off_from_bytes};
 pub use off_write::{write_off, write_off_to};
 pub use ply::{read_ply, read_ply_from_bytes};
 pub use ply_write::{write_ply, write_ply_to, PlyFormat};
+pub use stl::{read_stl, read_stl_from_bytes};
+pub use stl_write::{write_stl, write_stl_to, StlFormat};
 
-/// Reads a mesh file, choosing the format by extension (`.obj`, `.ply`, `.off`, any case).
+/// Reads a mesh file, choosing the format by extension (`.obj`, `.ply`, `.off`, `.stl`,
+/// any case). STL files are welded (see [`stl`]): their vertex `i` is no file vertex.
 pub fn read(path: impl AsRef<Path>) -> Result<(Mesh, BuildReport)> {
     let path = path.as_ref();
     match extension(path).as_deref() {
         Some("obj") => read_obj(path),
         Some("ply") => read_ply(path),
         Some("off") => read_off(path),
+        Some("stl") => read_stl(path),
         _ => Err(Error::UnknownFormat(path.to_owned())),
     }
 }
 
 /// Writes a mesh file, choosing the format by extension: `.obj`, `.ply` (binary little
-/// endian; use [`write_ply`] for ASCII) or `.off`.
+/// endian; use [`write_ply`] for ASCII), `.off` or `.stl` (binary; use [`write_stl`] for
+/// ASCII).
 pub fn write(path: impl AsRef<Path>, mesh: &Mesh) -> Result<()> {
     let path = path.as_ref();
     match extension(path).as_deref() {
         Some("obj") => write_obj(path, mesh),
         Some("ply") => write_ply(path, mesh, PlyFormat::BinaryLittleEndian),
         Some("off") => write_off(path, mesh),
+        Some("stl") => write_stl(path, mesh, StlFormat::Binary),
         _ => Err(Error::UnknownFormat(path.to_owned())),
     }
 }
