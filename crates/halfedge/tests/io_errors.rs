@@ -96,7 +96,13 @@ fn the_test_squares_are_valid() {
 #[test]
 fn empty_files() {
     let dir = temp_dir("empty");
-    for name in ["empty.ply", "empty.obj"] {
+    for name in [
+        "empty.ply",
+        "empty.obj",
+        "empty.off",
+        "empty.stl",
+        "empty.obj.gz",
+    ] {
         let e = read_error(&dir, name, b"");
         assert_format(&e, name, &["empty file"]);
     }
@@ -130,13 +136,21 @@ fn missing_file_is_an_io_error_naming_it() {
 
 #[test]
 fn unknown_extension() {
-    let path = PathBuf::from("mesh.xyz");
-    assert!(matches!(io::read(&path), Err(Error::UnknownFormat(p)) if p == path));
     let mesh = halfedge::generators::icosphere(0);
-    assert!(matches!(
-        io::write(&path, &mesh),
-        Err(Error::UnknownFormat(_))
-    ));
+    for name in ["mesh.xyz", "mesh", "mesh.gz", "mesh.txt.gz", "mesh.obj.bz2"] {
+        let path = PathBuf::from(name);
+        let e = io::read(&path).unwrap_err();
+        assert!(matches!(&e, Error::UnknownFormat(p) if *p == path), "{e:?}");
+        // The message lists the formats there are.
+        let text = e.to_string();
+        for known in [".obj", ".ply", ".off", ".stl", ".obj.gz", ".stl.gz"] {
+            assert!(text.contains(known), "{text}");
+        }
+        assert!(matches!(
+            io::write(&path, &mesh),
+            Err(Error::UnknownFormat(_))
+        ));
+    }
 }
 
 #[test]
