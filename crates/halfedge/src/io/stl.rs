@@ -35,6 +35,8 @@
 //! missing or unexpected keyword, a facet without exactly three vertices, an ASCII file
 //! without `endsolid`. Reading never panics.
 
+use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
 use std::path::Path;
 
 use glam::DVec3;
@@ -98,7 +100,7 @@ fn is_ascii(bytes: &[u8]) -> bool {
 }
 
 /// The corners of every triangle, three per triangle, in file order.
-fn read_corners(bytes: &[u8], path: &Path) -> Result<Vec<DVec3>> {
+fn read_corners(bytes: &[u8], path: &Path) -> Result<Vec<[f32; 3]>> {
     let format = |message: String| Error::Format {
         path: path.to_owned(),
         message,
@@ -114,7 +116,7 @@ fn read_corners(bytes: &[u8], path: &Path) -> Result<Vec<DVec3>> {
     Ok(corners)
 }
 
-fn read_binary(bytes: &[u8], format: &dyn Fn(String) -> Error) -> Result<Vec<DVec3>> {
+fn read_binary(bytes: &[u8], format: &dyn Fn(String) -> Error) -> Result<Vec<[f32; 3]>> {
     let Some((n, size)) = binary_size(bytes) else {
         return Err(format(format!(
             "byte {}: truncated file: a binary STL starts with an 80-byte header and a \
@@ -158,13 +160,13 @@ fn read_binary(bytes: &[u8], format: &dyn Fn(String) -> Error) -> Result<Vec<DVe
                     84 + 50 * k + at
                 )));
             }
-            corners.push(DVec3::new(c[0].into(), c[1].into(), c[2].into()));
+            corners.push(c);
         }
     }
     Ok(corners)
 }
 
-fn read_ascii(bytes: &[u8], format: &dyn Fn(String) -> Error) -> Result<Vec<DVec3>> {
+fn read_ascii(bytes: &[u8], format: &dyn Fn(String) -> Error) -> Result<Vec<[f32; 3]>> {
     let mut tokens = Tokens::new(bytes, false);
     let mut corners = Vec::new();
     // `solid name`: the name is the rest of the line.
@@ -238,7 +240,7 @@ fn read_ascii(bytes: &[u8], format: &dyn Fn(String) -> Error) -> Result<Vec<DVec
                 Some(t) if !t.is("vertex") => return Err(unexpected(t, "'vertex'", facet)),
                 Some(_) => {}
             }
-            let mut p = [0.0f64; 3];
+            let mut p = [0.0f32; 3];
             for (axis, c) in p.iter_mut().enumerate() {
                 let Some(t) = tokens.next_token() else {
                     return Err(end(&tokens, "a coordinate", facet));
@@ -261,9 +263,9 @@ fn read_ascii(bytes: &[u8], format: &dyn Fn(String) -> Error) -> Result<Vec<DVec
                         t.shown()
                     )));
                 }
-                *c = value.into();
+                *c = value;
             }
-            corners.push(DVec3::from_array(p));
+            corners.push(p);
         }
         match tokens.next_token() {
             None => return Err(end(&tokens, "'endloop'", facet)),
@@ -293,22 +295,31 @@ fn read_ascii(bytes: &[u8], format: &dyn Fn(String) -> Error) -> Result<Vec<DVec
     Ok(corners)
 }
 
+/// A corner as a `DVec3` (exactly: every `f32` is an `f64`).
+fn position(c: [f32; 3]) -> DVec3 {
+    DVec3::new(c[0].into(), c[1].into(), c[2].into())
+}
+
 /// The soup: triangle `k` on the corners `3k`, `3k + 1`, `3k + 2`.
-fn build_soup(corners: Vec<DVec3>) -> Result<(Mesh, BuildReport)> {
+fn build_soup(corners: Vec<[f32; 3]>) -> Result<(Mesh, BuildReport)> {
     let n = corners.len() as u32;
     let block = PolygonBlock {
         indices: (0..n).collect(),
         offsets: None,
     };
-    Mesh::from_polygon_blocks(corners, vec![block])
+    let positions = corners.into_iter().map(position).collect();
+    Mesh::from_polygon_blocks(positions, vec![block])
 }
 
 /// The soup welded by the rule of [`Mesh::welded_seams`] (see the [module docs](self)),
 /// without building the soup first: the soup has one boundary loop per triangle.
-fn build_welded(corners: Vec<DVec3>) -> Result<(Mesh, BuildReport)> {
-    let (kept, map) = crate::weld::weld_exact(&corners);
+fn build_welded(corners: Vec<[f32; 3]>) -> Result<(Mesh, BuildReport)> {
+    let (kept, map) = weld_corners(&corners);
     if kept.len() < corners.len() {
-        let positions: Vec<DVec3> = kept.iter().map(|&i| corners[i as usize]).collect();
+        let positions: Vec<DVec3> = kept
+            .iter()
+            .map(|&i| position(corners[i as usize]))
+            .collect();
         // Corner `3k + j` of the soup is vertex `map[3k + j]` of the welded mesh: the map
         // is the welded triangles' index list.
         let block = PolygonBlock {
@@ -322,4 +333,78 @@ fn build_welded(corners: Vec<DVec3>) -> Result<(Mesh, BuildReport)> {
         }
     }
     build_soup(corners)
+}
+
+/// Corners at the same position (`-0.0` and `0.0` alike) merged, as
+/// [`crate::weld::weld_exact`] merges them (the same result on the corners as `f64`):
+/// the kept corners (the first at each position, in order) and every corner's kept
+/// corner's number. By a hash map of the `f32` bits, in one pass: four times quicker
+/// than sorting the `f64` positions on two cores.
+fn weld_corners(corners: &[[f32; 3]]) -> (Vec<u32>, Vec<u32>) {
+    type Keys = HashMap<[u32; 3], u32, BuildHasherDefault<KeyHasher>>;
+    let mut first: Keys = HashMap::with_capacity_and_hasher(corners.len() / 4, Default::default());
+    let mut kept = Vec::new();
+    let map = corners
+        .iter()
+        .enumerate()
+        .map(|(i, c)| {
+            // `+ 0.0` turns -0.0 into 0.0 and leaves every other value as it is.
+            let key = c.map(|x| (x + 0.0).to_bits());
+            *first.entry(key).or_insert_with(|| {
+                kept.push(i as u32);
+                (kept.len() - 1) as u32
+            })
+        })
+        .collect();
+    (kept, map)
+}
+
+/// A hasher for `[u32; 3]` keys: multiply-rotate over the words, then a full 64-bit
+/// finalizer (murmur3's), so that keys that differ only in high bits (coordinates on a
+/// coarse grid) spread over the table as well.
+#[derive(Default)]
+struct KeyHasher(u64);
+
+impl Hasher for KeyHasher {
+    fn finish(&self) -> u64 {
+        let mut h = self.0;
+        h ^= h >> 33;
+        h = h.wrapping_mul(0xff51_afd7_ed55_8ccd);
+        h ^= h >> 33;
+        h = h.wrapping_mul(0xc4ce_b9fe_1a85_ec53);
+        h ^ (h >> 33)
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        for chunk in bytes.chunks(4) {
+            let mut word = [0u8; 4];
+            word[..chunk.len()].copy_from_slice(chunk);
+            self.write_u32(u32::from_le_bytes(word));
+        }
+    }
+    fn write_u32(&mut self, x: u32) {
+        self.0 = (self.0.rotate_left(26) ^ u64::from(x)).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+    }
+    fn write_usize(&mut self, _: usize) {
+        // The length of a `[u32; 3]` key: always 3.
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The hash map weld gives what the sort of `crate::weld::weld_exact` gives, on
+    /// corners with repeats, signed zeros, near values and a coarse grid.
+    #[test]
+    fn weld_corners_is_weld_exact() {
+        let mut corners: Vec<[f32; 3]> = Vec::new();
+        for i in 0..3000u32 {
+            let k = (i.wrapping_mul(2_654_435_761) >> 20) % 500;
+            corners.push([(k % 10) as f32 * 0.25, (k / 10) as f32, 0.0]);
+            corners.push([-0.0, (k % 7) as f32, f32::from_bits(0x3f80_0000 + k % 3)]);
+        }
+        let (kept, map) = weld_corners(&corners);
+        let points: Vec<DVec3> = corners.iter().map(|&c| position(c)).collect();
+        assert_eq!((kept, map), crate::weld::weld_exact(&points));
+    }
 }
