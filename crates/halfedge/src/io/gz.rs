@@ -38,7 +38,9 @@ use super::ply::read_ply_from_bytes;
 use super::ply_write::{write_ply_to, PlyFormat};
 use super::stl::read_stl_from_bytes;
 use super::stl_write::{write_stl_to, StlFormat};
-use crate::{BuildReport, Error, Mesh, Result};
+use crate::build::BuildReport;
+use crate::error::{Error, Result};
+use crate::mesh::Mesh;
 
 /// The most a gzip file is decompressed to: 4 GiB (see the [module docs](self)).
 pub const MAX_DECOMPRESSED: u64 = 4 << 30;

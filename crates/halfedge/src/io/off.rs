@@ -37,8 +37,9 @@ use std::path::Path;
 use glam::DVec3;
 
 use super::tokens::Tokens;
-use crate::build::PolygonBlock;
-use crate::{BuildReport, Error, Mesh, Result};
+use crate::build::{BuildReport, PolygonBlock};
+use crate::error::{Error, Result};
+use crate::mesh::Mesh;
 
 /// Reads an OFF file (see the [module docs](self)).
 pub fn read_off(path: impl AsRef<Path>) -> Result<(Mesh, BuildReport)> {

@@ -9,7 +9,8 @@
 use std::io::Write;
 use std::path::Path;
 
-use crate::{Error, Mesh, Result};
+use crate::error::{Error, Result};
+use crate::mesh::Mesh;
 
 /// Writes a mesh as OFF (see the [module docs](self)).
 pub fn write_off(path: impl AsRef<Path>, mesh: &Mesh) -> Result<()> {

@@ -42,8 +42,9 @@ use std::path::Path;
 use glam::DVec3;
 
 use super::tokens::{Token, Tokens};
-use crate::build::PolygonBlock;
-use crate::{BuildReport, Error, Mesh, Result};
+use crate::build::{BuildReport, PolygonBlock};
+use crate::error::{Error, Result};
+use crate::mesh::Mesh;
 
 /// Reads an STL file (ASCII or binary) and welds its triangle soup (see the
 /// [module docs](self)).

@@ -16,7 +16,8 @@
 use std::io::Write;
 use std::path::Path;
 
-use crate::{Error, Mesh, Result};
+use crate::error::{Error, Result};
+use crate::mesh::Mesh;
 
 /// The STL encodings the writer produces.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
