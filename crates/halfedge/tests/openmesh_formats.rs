@@ -1,7 +1,8 @@
-//! The OpenMesh tier for OFF and STL: files generated here (from `data/`'s meshes and
-//! generated ones) are read by this kernel and by OpenMesh 1.2.1 (python3, pip package
-//! `openmesh==1.2.1`, through the workspace's `tests/openmesh/report.py` and
-//! `faces.py`), and the topology reports must agree (vertex, edge, face and halfedge
+//! The OpenMesh tier for OFF and STL: files generated here (from `data/`'s meshes,
+//! generated ones and the shared meshes of `../shared/meshes`) are read by this kernel
+//! and by OpenMesh 1.2.1 (python3, pip package `openmesh==1.2.1`, through the
+//! workspace's `tests/openmesh/report.py` and `faces.py`), and the topology reports must
+//! agree (vertex, edge, face and halfedge
 //! counts, boundary vertices and loops, components, Euler characteristic, valence
 //! histogram), and so must the triangles, in order: vertex for vertex for OFF, corner
 //! position for corner position for STL (`face_points.py`; see below).
@@ -17,14 +18,17 @@
 //!   OpenMesh always merges corners at the same `f32` position; this reader merges them
 //!   when that closes boundaries (the rule of `Mesh::welded_seams`) and else keeps the
 //!   soup. On the files compared here (closed, open, several components, genus 1,
-//!   non-manifold) both merge and agree; the one difference is a file where merging
-//!   closes nothing (the same triangle twice, say), which OpenMesh merges and then puts
-//!   on copies again: same counts, as `io_stl.rs` shows for that case.
+//!   non-manifold, the shared scans) both merge and agree. They differ only on a file
+//!   where merging closes nothing: OpenMesh merges and the builder puts the faces that
+//!   no longer fit on copies, this reader keeps the soup. For the same triangle given
+//!   twice both end with 6 vertices and 2 separate faces (`io_stl.rs` tests ours);
+//!   other such files may differ in their vertex count.
 //!
 //! These tests are `#[ignore]`d like the workspace's `tests/openmesh*.rs`, but live in
 //! the kernel so that they build with it alone: run them with `cargo test -p halfedge
 //! --release --test openmesh_formats -- --include-ignored` where python3 has
-//! `openmesh==1.2.1` and numpy (`.ci/run` installs them; the full suite's
+//! `openmesh==1.2.1` and numpy, and the shared meshes are beside the workspace for the
+//! third test (`.ci/run` sets both up; the full suite's
 //! `cargo test --workspace --release -- --include-ignored` runs them too).
 
 mod common;
@@ -329,6 +333,45 @@ fn stl_files_read_as_openmesh_reads_them() {
     assert!(
         problems.is_empty(),
         "STL topology differs from OpenMesh:\n{}",
+        problems.join("\n")
+    );
+}
+
+/// The shared meshes (scans and models, some with holes, several components or
+/// non-manifold parts), written as OFF and as binary STL, read alike by both.
+#[test]
+#[ignore = "OpenMesh tier: needs python3 with openmesh==1.2.1 and numpy (pip; builds with cmake and a C++ compiler) and ../shared/meshes (or MULTIRES_MESHES); run with cargo test -p halfedge --release --test openmesh_formats -- --include-ignored (.ci/run installs them)"]
+fn shared_meshes_as_off_and_stl_read_as_openmesh_reads_them() {
+    require_openmesh();
+    let shared = common::shared_meshes();
+    let dir = temp_dir("openmesh-shared");
+    let (mut off, mut stl) = (Vec::new(), Vec::new());
+    let mut names: Vec<PathBuf> = std::fs::read_dir(&shared)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| matches!(p.extension().and_then(|e| e.to_str()), Some("obj" | "ply")))
+        .collect();
+    names.sort();
+    assert!(
+        names.len() >= 9,
+        "expected the shared meshes, found {names:?}"
+    );
+    for path in names {
+        let (mesh, _) = io::read(&path).unwrap();
+        let stem = path.file_stem().unwrap().to_string_lossy().into_owned();
+        let file = dir.join(format!("{stem}.off"));
+        io::write_off(&file, &mesh).unwrap();
+        off.push(file);
+        let file = dir.join(format!("{stem}.stl"));
+        io::write_stl(&file, &mesh, StlFormat::Binary).unwrap();
+        stl.push(file);
+    }
+    let mut problems = compare(&off, Faces::ByIndex);
+    problems.extend(compare(&stl, Faces::ByPosition));
+    std::fs::remove_dir_all(&dir).ok();
+    assert!(
+        problems.is_empty(),
+        "topology differs from OpenMesh:\n{}",
         problems.join("\n")
     );
 }
