@@ -45,6 +45,11 @@ pub struct BuildReport {
     pub dropped_triangles: usize,
     /// Vertices no face refers to (kept as isolated vertices).
     pub unreferenced_vertices: usize,
+    /// Vertices merged into another one at exactly the same position by a reader that
+    /// welds: an STL file is a triangle soup, welded on reading (see
+    /// [`io::stl`](crate::io::stl)); its vertex `i` is then no file vertex. 0 for every
+    /// other format and for in-memory input.
+    pub merged_vertices: usize,
 }
 
 /// Why the add-face algorithm refused a face.

@@ -70,7 +70,10 @@ pub enum Error {
         message: String,
     },
     /// A file extension the IO layer does not know.
-    #[error("{0}: unknown mesh format (expected .obj or .ply)")]
+    #[error(
+        "{0}: unknown mesh format (expected .obj, .ply, .off or .stl, or one of them \
+         gzip-compressed: .obj.gz, .ply.gz, .off.gz, .stl.gz)"
+    )]
     UnknownFormat(PathBuf),
     /// A value derived from a mesh (per-vertex data, a selection) met a mesh it was not
     /// made for.

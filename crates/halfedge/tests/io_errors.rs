@@ -96,7 +96,13 @@ fn the_test_squares_are_valid() {
 #[test]
 fn empty_files() {
     let dir = temp_dir("empty");
-    for name in ["empty.ply", "empty.obj"] {
+    for name in [
+        "empty.ply",
+        "empty.obj",
+        "empty.off",
+        "empty.stl",
+        "empty.obj.gz",
+    ] {
         let e = read_error(&dir, name, b"");
         assert_format(&e, name, &["empty file"]);
     }
@@ -130,13 +136,21 @@ fn missing_file_is_an_io_error_naming_it() {
 
 #[test]
 fn unknown_extension() {
-    let path = PathBuf::from("mesh.stl");
-    assert!(matches!(io::read(&path), Err(Error::UnknownFormat(p)) if p == path));
     let mesh = halfedge::generators::icosphere(0);
-    assert!(matches!(
-        io::write(&path, &mesh),
-        Err(Error::UnknownFormat(_))
-    ));
+    for name in ["mesh.xyz", "mesh", "mesh.gz", "mesh.txt.gz", "mesh.obj.bz2"] {
+        let path = PathBuf::from(name);
+        let e = io::read(&path).unwrap_err();
+        assert!(matches!(&e, Error::UnknownFormat(p) if *p == path), "{e:?}");
+        // The message lists the formats there are.
+        let text = e.to_string();
+        for known in [".obj", ".ply", ".off", ".stl", ".obj.gz", ".stl.gz"] {
+            assert!(text.contains(known), "{text}");
+        }
+        assert!(matches!(
+            io::write(&path, &mesh),
+            Err(Error::UnknownFormat(_))
+        ));
+    }
 }
 
 #[test]
@@ -440,12 +454,14 @@ fn malformed_ascii_data() {
 #[test]
 fn malformed_obj() {
     let dir = temp_dir("obj");
+    // Bytes that are not UTF-8 in a number (a Latin-1 comment is read: see
+    // io_encodings.rs).
     let e = read_error(
         &dir,
         "latin1.obj",
-        b"v 0 0 0\nv 1 0 0\nv 0 1 0\n# caf\xe9\nf 1 2 3\n",
+        b"v 0 0 0\nv 1 0 0\nv 0 1\xe9 0\n# caf\xe9\nf 1 2 3\n",
     );
-    assert_format(&e, "latin1.obj", &["UTF-8"]);
+    assert_format(&e, "latin1.obj", &["line 3"]);
     let e = read_error(&dir, "short.obj", b"v 0 0 0\nv 1 0\nv 0 1 0\nf 1 2 3\n");
     assert!(matches!(e, Error::Format { .. }), "{e:?}");
     let e = read_error(&dir, "word.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 two 3\n");

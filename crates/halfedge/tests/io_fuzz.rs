@@ -3,10 +3,15 @@
 //! error that names the file and the place (the line of an OBJ file or of a PLY header or
 //! ASCII payload, the element or the byte of a binary PLY payload).
 //!
+//! The same for OFF, STL (ASCII and binary) and gzip-compressed files (an error of a
+//! binary STL names its triangle and byte, one of an ASCII STL or OFF file its line, one
+//! of gzip data the decompressed byte).
+//!
 //! Mutations: cuts, random bytes, garbage after a valid header, and token-level edits of
-//! OBJ and ASCII PLY text (numbers replaced by hostile ones: NaN, infinities, huge, zero
-//! and negative indices, repeated indices; lines deleted, doubled or swapped; element
-//! counts in PLY headers made huge). Seeds are fixed; `MULTIRES_HOSTILE_CASES` sets the
+//! OBJ, ASCII PLY, OFF and ASCII STL text (numbers replaced by hostile ones: NaN,
+//! infinities, huge, zero and negative indices, repeated indices; lines deleted, doubled
+//! or swapped; element counts in PLY and OFF headers and triangle counts of binary STL
+//! made huge). Seeds are fixed; `MULTIRES_HOSTILE_CASES` sets the
 //! number of cases per test for a long run (and `MULTIRES_HOSTILE_SEED` another seed).
 
 mod common;
@@ -16,7 +21,9 @@ use std::path::Path;
 use common::{square, Enc};
 use halfedge::generators;
 use halfedge::io::{
-    read_obj_from_bytes, read_ply_from_bytes, write_obj_to, write_ply_to, PlyFormat,
+    read_gz_from_bytes, read_obj_from_bytes, read_off_from_bytes, read_ply_from_bytes,
+    read_stl_from_bytes, write_obj_to, write_off_to, write_ply_to, write_stl_to, PlyFormat,
+    StlFormat,
 };
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngSeed};
@@ -38,7 +45,48 @@ fn config(default_cases: u32) -> Config {
     }
 }
 
-fn valid_files() -> Vec<(bool, Vec<u8>)> {
+/// The formats the suite reads.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Kind {
+    Obj,
+    Ply,
+    Off,
+    Stl,
+    /// Gzip-compressed OFF.
+    OffGz,
+    /// Gzip-compressed STL.
+    StlGz,
+}
+
+const KINDS: [Kind; 6] = [
+    Kind::Obj,
+    Kind::Ply,
+    Kind::Off,
+    Kind::Stl,
+    Kind::OffGz,
+    Kind::StlGz,
+];
+
+fn gzip(bytes: &[u8]) -> Vec<u8> {
+    use std::io::Write;
+    let mut e = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::fast());
+    e.write_all(bytes).unwrap();
+    e.finish().unwrap()
+}
+
+fn off_text() -> String {
+    let mut bytes = Vec::new();
+    write_off_to(&mut bytes, &generators::icosphere(1)).unwrap();
+    String::from_utf8(bytes).unwrap()
+}
+
+fn stl(format: StlFormat) -> Vec<u8> {
+    let mut bytes = Vec::new();
+    write_stl_to(&mut bytes, &generators::icosphere(1), format).unwrap();
+    bytes
+}
+
+fn valid_files() -> Vec<(Kind, Vec<u8>)> {
     let mesh = generators::icosphere(1);
     let mut files = Vec::new();
     for format in [
@@ -48,12 +96,24 @@ fn valid_files() -> Vec<(bool, Vec<u8>)> {
     ] {
         let mut bytes = Vec::new();
         write_ply_to(&mut bytes, &mesh, format).unwrap();
-        files.push((true, bytes));
+        files.push((Kind::Ply, bytes));
     }
     for enc in [Enc::Ascii, Enc::Le, Enc::Be] {
-        files.push((true, square(enc).bytes()));
+        files.push((Kind::Ply, square(enc).bytes()));
     }
-    files.push((false, obj_text().into_bytes()));
+    files.push((Kind::Obj, obj_text().into_bytes()));
+    files.push((Kind::Off, off_text().into_bytes()));
+    // COFF with vertex and face colours, comments, a polygon.
+    files.push((
+        Kind::Off,
+        b"COFF # colours\n5 3 0\n0 0 0 255 0 0\n1 0 0 0 255 0 255\n1 1 0 1 1 1\n0 1 0 1 1 1\n\
+          2 0 0 9 9 9\n4 0 1 2 3 255 0 0\n3 1 4 2 0.5 0.5 0.5 1\n# end\n3 0 0 1\n"
+            .to_vec(),
+    ));
+    files.push((Kind::Stl, stl(StlFormat::Binary)));
+    files.push((Kind::Stl, stl(StlFormat::Ascii)));
+    files.push((Kind::OffGz, gzip(off_text().as_bytes())));
+    files.push((Kind::StlGz, gzip(&stl(StlFormat::Binary))));
     files
 }
 
@@ -85,12 +145,22 @@ fn has_place(text: &str) -> bool {
     })
 }
 
-fn read(is_ply: bool, bytes: &[u8]) -> Result<(), TestCaseError> {
-    let name = if is_ply { "fuzz.ply" } else { "fuzz.obj" };
-    let result = if is_ply {
-        read_ply_from_bytes(bytes, Path::new(name))
-    } else {
-        read_obj_from_bytes(bytes, Path::new(name))
+fn read(kind: Kind, bytes: &[u8]) -> Result<(), TestCaseError> {
+    let name = match kind {
+        Kind::Obj => "fuzz.obj",
+        Kind::Ply => "fuzz.ply",
+        Kind::Off => "fuzz.off",
+        Kind::Stl => "fuzz.stl",
+        Kind::OffGz => "fuzz.off.gz",
+        Kind::StlGz => "fuzz.stl.gz",
+    };
+    let path = Path::new(name);
+    let result = match kind {
+        Kind::Obj => read_obj_from_bytes(bytes, path),
+        Kind::Ply => read_ply_from_bytes(bytes, path),
+        Kind::Off => read_off_from_bytes(bytes, path),
+        Kind::Stl => read_stl_from_bytes(bytes, path),
+        Kind::OffGz | Kind::StlGz => read_gz_from_bytes(bytes, path),
     };
     match result {
         Ok((mesh, _)) => {
@@ -197,41 +267,50 @@ proptest! {
     #![proptest_config(config(300))]
 
     #[test]
-    fn truncated_files_do_not_panic(file in 0usize..7, cut in 0.0f64..1.0) {
+    fn truncated_files_do_not_panic(file in any::<prop::sample::Index>(), cut in 0.0f64..1.0) {
         let files = valid_files();
-        let (is_ply, bytes) = &files[file];
+        let (kind, bytes) = &files[file.index(files.len())];
         let len = (cut * bytes.len() as f64) as usize;
-        read(*is_ply, &bytes[..len])?;
+        read(*kind, &bytes[..len])?;
     }
 
     #[test]
     fn corrupted_files_do_not_panic(
-        file in 0usize..7,
+        file in any::<prop::sample::Index>(),
         edits in proptest::collection::vec((0.0f64..1.0, any::<u8>()), 1..8),
     ) {
         let files = valid_files();
-        let (is_ply, bytes) = &files[file];
+        let (kind, bytes) = &files[file.index(files.len())];
         let mut bytes = bytes.clone();
         for (at, value) in edits {
             let i = ((at * bytes.len() as f64) as usize).min(bytes.len() - 1);
             bytes[i] = value;
         }
-        read(*is_ply, &bytes)?;
+        read(*kind, &bytes)?;
     }
 
     #[test]
-    fn garbage_does_not_panic(is_ply in any::<bool>(), bytes in proptest::collection::vec(any::<u8>(), 0..400)) {
-        read(is_ply, &bytes)?;
+    fn garbage_does_not_panic(kind in 0usize..KINDS.len(), bytes in proptest::collection::vec(any::<u8>(), 0..400)) {
+        read(KINDS[kind], &bytes)?;
         let mut with_header = b"ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n".to_vec();
         with_header.extend(&bytes);
-        read(true, &with_header)?;
+        read(Kind::Ply, &with_header)?;
+        // Garbage after a binary STL header and count, or an OFF header.
+        let mut stl = vec![b'x'; 80];
+        stl.extend(((bytes.len() / 50) as u32).to_le_bytes());
+        stl.extend(&bytes);
+        read(Kind::Stl, &stl)?;
+        let mut off = b"OFF\n3 1 0\n".to_vec();
+        off.extend(&bytes);
+        read(Kind::Off, &off)?;
+        read(Kind::OffGz, &gzip(&off))?;
     }
 
     #[test]
     fn hostile_edits_of_obj_text_are_read_or_refused_with_their_line(
         edits in proptest::collection::vec((any::<usize>(), any::<usize>(), any::<usize>()), 1..6),
     ) {
-        read(false, &edit_text(&obj_text(), &edits))?;
+        read(Kind::Obj, &edit_text(&obj_text(), &edits))?;
     }
 
     #[test]
@@ -240,7 +319,46 @@ proptest! {
     ) {
         let mut bytes = Vec::new();
         write_ply_to(&mut bytes, &generators::icosphere(1), PlyFormat::Ascii).unwrap();
-        read(true, &edit_text(&String::from_utf8(bytes).unwrap(), &edits))?;
+        read(Kind::Ply, &edit_text(&String::from_utf8(bytes).unwrap(), &edits))?;
+    }
+
+    #[test]
+    fn hostile_edits_of_off_text_are_read_or_refused_with_their_line(
+        edits in proptest::collection::vec((any::<usize>(), any::<usize>(), any::<usize>()), 1..6),
+        coff in any::<bool>(),
+    ) {
+        let text = if coff {
+            String::from_utf8(valid_files().into_iter().find(|(_, b)| b.starts_with(b"COFF")).unwrap().1).unwrap()
+        } else {
+            off_text()
+        };
+        read(Kind::Off, &edit_text(&text, &edits))?;
+    }
+
+    #[test]
+    fn hostile_edits_of_ascii_stl_are_read_or_refused_with_their_line(
+        edits in proptest::collection::vec((any::<usize>(), any::<usize>(), any::<usize>()), 1..6),
+    ) {
+        let text = String::from_utf8(stl(StlFormat::Ascii)).unwrap();
+        read(Kind::Stl, &edit_text(&text, &edits))?;
+    }
+
+    /// Huge counts in an OFF header or a binary STL never allocate what they announce.
+    #[test]
+    fn lying_off_and_stl_counts_are_refused(
+        vertices in prop_oneof![Just(0u64), 0u64..100, Just(u64::from(u32::MAX)), Just(1u64 << 40), Just(u64::MAX)],
+        faces in prop_oneof![0u64..100, Just(u64::from(u32::MAX)), Just(1u64 << 40), Just(u64::MAX)],
+        triangles in prop_oneof![0u32..100, Just(u32::MAX), Just(1u32 << 31)],
+    ) {
+        let mesh = generators::icosphere(1);
+        let text = off_text();
+        let counts = format!("{} {} {}", mesh.n_vertices(), mesh.n_faces(), mesh.n_edges());
+        let edited = text.replacen(&counts, &format!("{vertices} {faces} 0"), 1);
+        read(Kind::Off, edited.as_bytes())?;
+        let mut bytes = stl(StlFormat::Binary);
+        bytes[80..84].copy_from_slice(&triangles.to_le_bytes());
+        read(Kind::Stl, &bytes)?;
+        read(Kind::StlGz, &gzip(&bytes))?;
     }
 
     /// Huge or negative element counts and list lengths in a header never allocate what
@@ -264,7 +382,7 @@ proptest! {
             .replace("property list uchar", &format!("property list {list_count}"));
         let mut edited = header.into_bytes();
         edited.extend(&bytes[end..]);
-        read(true, &edited)?;
+        read(Kind::Ply, &edited)?;
     }
 }
 

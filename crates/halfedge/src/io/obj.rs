@@ -11,6 +11,11 @@
 //! when fewer than three vertices remain; polylines (`l`) are ignored. A line ending in
 //! `\` continues on the next one, as the OBJ format says (OpenMesh 1.2.1 reads only the
 //! first part of such a face). Every error names the line.
+//!
+//! The text need not be UTF-8: `tobj` reads UTF-8 lines, so bytes that are not UTF-8
+//! (a Latin-1 `usemtl Terraindæk`, a comment in another encoding) are replaced by U+FFFD
+//! first. Names and comments are not read, so such files read like their UTF-8
+//! equivalents; in a number such bytes are a malformed number, an error naming the line.
 
 use std::borrow::Cow;
 use std::path::Path;
@@ -33,8 +38,9 @@ pub fn read_obj(path: impl AsRef<Path>) -> Result<(Mesh, BuildReport)> {
 
 /// Reads OBJ text from memory; `path` is only used in error messages.
 ///
-/// Errors name the file and the line (for text that is not UTF-8: the line and the byte
-/// where it stops being UTF-8).
+/// Errors name the file and the line. Bytes that are not UTF-8 are read as U+FFFD: they
+/// do no harm in names and comments, and make a malformed number (an error naming its
+/// line) in a `v` or `f` line.
 pub fn read_obj_from_bytes(bytes: &[u8], path: &Path) -> Result<(Mesh, BuildReport)> {
     let format = |message: String| Error::Format {
         path: path.to_owned(),
@@ -43,11 +49,11 @@ pub fn read_obj_from_bytes(bytes: &[u8], path: &Path) -> Result<(Mesh, BuildRepo
     if bytes.is_empty() {
         return Err(format("line 1: empty file".into()));
     }
-    let text = std::str::from_utf8(bytes).map_err(|e| {
-        let at = e.valid_up_to();
-        let line = bytes[..at].iter().filter(|&&b| b == b'\n').count() + 1;
-        format(format!("line {line} (byte {at}): not UTF-8 text"))
-    })?;
+    // Bytes that are not UTF-8 (a Latin-1 material, group or object name, or comment)
+    // become U+FFFD: those lines are not read anyway. In a `v` or `f` line they make a
+    // malformed number, reported with its line. Valid UTF-8 is used as it is.
+    let text = String::from_utf8_lossy(bytes);
+    let text: &str = &text;
 
     // Count vertices, check face indices (so that errors can name the line) and keep the
     // lines tobj needs, as one object.
