@@ -25,9 +25,6 @@
 //! assert_eq!(mesh.select_linked(&[top]).unwrap().len(), mesh.n_vertices());
 //! ```
 
-use std::cmp::Ordering;
-use std::collections::BinaryHeap;
-
 use glam::DVec3;
 
 use crate::error::{Error, Result};
@@ -270,20 +267,6 @@ pub struct Component {
     pub centroid: DVec3,
 }
 
-#[derive(PartialEq)]
-struct Entry(f64, VertexId);
-impl Eq for Entry {}
-impl PartialOrd for Entry {
-    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
-        Some(self.cmp(other))
-    }
-}
-impl Ord for Entry {
-    fn cmp(&self, other: &Self) -> Ordering {
-        other.0.total_cmp(&self.0)
-    }
-}
-
 /// # Selection
 impl Mesh {
     /// The vertex with faces nearest to `point` (linear scan; ties go to the lowest
@@ -352,48 +335,6 @@ impl Mesh {
             }
         }
         Ok(s)
-    }
-
-    /// Edge-path distances from `seeds` (Dijkstra over edge lengths), by
-    /// [`vertex_index`](Self::vertex_index): `∞` for vertices farther than
-    /// `max_distance` or not reachable. The walk stops at `max_distance`, so a small
-    /// radius costs little on a large mesh. An edge path is never shorter than the
-    /// surface distance; on a regular triangulation it is up to about 15 % longer (the
-    /// fast-marching distance of `edit::distance::geodesic_ball` is the surface distance).
-    ///
-    /// # Errors
-    /// [`Error::InvalidHandle`] for a seed that is not a live vertex;
-    /// [`Error::InvalidArgument`] for a negative or NaN `max_distance`.
-    pub fn edge_distances(&self, seeds: &[VertexId], max_distance: f64) -> Result<VertexData<f64>> {
-        if max_distance.is_nan() || max_distance < 0.0 {
-            return Err(Error::InvalidArgument(format!(
-                "edge_distances needs a maximum distance ≥ 0, got {max_distance}"
-            )));
-        }
-        for &v in seeds {
-            self.ensure_vertex(v)?;
-        }
-        let mut dist = vec![f64::INFINITY; self.vertex_slots()];
-        let mut heap = BinaryHeap::new();
-        for &v in seeds {
-            dist[self.vertex_index(v)] = 0.0;
-            heap.push(Entry(0.0, v));
-        }
-        while let Some(Entry(d, v)) = heap.pop() {
-            if d > dist[self.vertex_index(v)] {
-                continue;
-            }
-            for h in self.outgoing_halfedges(v) {
-                let w = self.to_vertex(h);
-                let nd = d + self.edge_length(h);
-                let wi = self.vertex_index(w);
-                if nd <= max_distance && nd < dist[wi] {
-                    dist[wi] = nd;
-                    heap.push(Entry(nd, w));
-                }
-            }
-        }
-        Ok(VertexData::with_binding(dist, self.binding()))
     }
 
     /// The vertices within edge-path distance `radius` of `seeds` (a graph-geodesic
