@@ -28,6 +28,7 @@
 //! ```
 
 use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hash};
 
 use glam::DVec3;
 
@@ -154,42 +155,69 @@ impl Mesh {
 
 /// Vertices at bit-identical positions (up to the sign of zero) merged: the kept
 /// vertices (indices into `points`, in order) and every point's kept vertex's new
-/// index. By a parallel sort of the positions' bits, so a mesh of millions of vertices
-/// takes a few tens of milliseconds.
+/// index (see [`weld_by_key`]).
 pub(crate) fn weld_exact(points: &[DVec3]) -> (Vec<u32>, Vec<u32>) {
-    use rayon::prelude::*;
     // `+ 0.0` turns -0.0 into 0.0 and leaves every other value as it is.
-    let key = |p: DVec3| (p + DVec3::ZERO).to_array().map(f64::to_bits);
-    let mut order: Vec<([u64; 3], u32)> = points
-        .par_iter()
-        .enumerate()
-        .map(|(i, &p)| (key(p), i as u32))
-        .collect();
-    order.par_sort_unstable();
-    // Each point's group leader: the lowest index at its position (first in its run).
-    let mut leader: Vec<u32> = vec![0; points.len()];
-    let mut start = 0;
-    for k in 1..=order.len() {
-        if k == order.len() || order[k].0 != order[start].0 {
-            let first = order[start].1;
-            for &(_, i) in &order[start..k] {
-                leader[i as usize] = first;
-            }
-            start = k;
-        }
-    }
+    // A mesh's vertices are mostly distinct: room for all of them, no rehashing.
+    weld_by_key(points.len(), points.len(), |i| {
+        (points[i] + DVec3::ZERO).to_array().map(f64::to_bits)
+    })
+}
+
+/// Items with equal keys merged, the one exact weld of the crate (vertices of a mesh,
+/// corners of an STL soup): the kept items (the first of each key, in order) and every
+/// item's kept item's new index. One pass through a hash map of the keys
+/// ([`KeyHasher`]), with room for `expected` distinct keys.
+pub(crate) fn weld_by_key<K: Eq + Hash>(
+    n: usize,
+    expected: usize,
+    key: impl Fn(usize) -> K,
+) -> (Vec<u32>, Vec<u32>) {
+    let mut first: HashMap<K, u32, BuildHasherDefault<KeyHasher>> =
+        HashMap::with_capacity_and_hasher(expected.min(n), BuildHasherDefault::default());
     let mut kept = Vec::new();
-    let mut new_index: Vec<u32> = vec![0; points.len()];
-    for i in 0..points.len() {
-        let l = leader[i] as usize;
-        if l == i {
-            new_index[i] = kept.len() as u32;
-            kept.push(i as u32);
-        } else {
-            new_index[i] = new_index[l];
+    let map = (0..n)
+        .map(|i| {
+            *first.entry(key(i)).or_insert_with(|| {
+                kept.push(i as u32);
+                (kept.len() - 1) as u32
+            })
+        })
+        .collect();
+    (kept, map)
+}
+
+/// A hasher for keys of a few machine words (position bits): multiply-rotate over the
+/// words, then a full 64-bit finalizer (murmur3's), so that keys that differ only in high
+/// bits (coordinates on a coarse grid) spread over the table as well.
+#[derive(Default)]
+pub(crate) struct KeyHasher(u64);
+
+impl std::hash::Hasher for KeyHasher {
+    fn finish(&self) -> u64 {
+        let mut h = self.0;
+        h ^= h >> 33;
+        h = h.wrapping_mul(0xff51_afd7_ed55_8ccd);
+        h ^= h >> 33;
+        h = h.wrapping_mul(0xc4ce_b9fe_1a85_ec53);
+        h ^ (h >> 33)
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        for chunk in bytes.chunks(8) {
+            let mut word = [0u8; 8];
+            word[..chunk.len()].copy_from_slice(chunk);
+            self.write_u64(u64::from_le_bytes(word));
         }
     }
-    (kept, new_index)
+    fn write_u32(&mut self, x: u32) {
+        self.write_u64(u64::from(x));
+    }
+    fn write_u64(&mut self, x: u64) {
+        self.0 = (self.0.rotate_left(26) ^ x).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+    }
+    fn write_usize(&mut self, _: usize) {
+        // The length of an array key: always the same.
+    }
 }
 
 /// A hasher for grid cells (three `i64`s): multiply and rotate, far quicker than the
