@@ -126,8 +126,7 @@ fn bytes_that_are_not_utf8_inside_numbers_give_located_errors() {
 /// ASCII PLY headers with a Latin-1 comment: the PLY reader hands header lines to
 /// `ply-rs-bw`, which reads them as UTF-8 `String`s.
 #[test]
-#[ignore = "known failure (issue 30, item 3): a Latin-1 comment in a PLY header is refused as not UTF-8; the fix belongs in io/ply.rs (sanitize header comment lines before ply-rs-bw parses them), which is being restructured on main; run with cargo test -p halfedge --test io_encodings -- --ignored"]
-fn known_failure_latin1_comment_in_a_ply_header_is_read() {
+fn a_latin1_comment_in_a_ply_header_is_read() {
     for enc in [Enc::Ascii, Enc::Le] {
         let plain = square(enc).bytes();
         let at = plain.windows(7).position(|w| w == b"element").unwrap();

@@ -25,7 +25,7 @@
 //! non-finite coordinates and malformed headers are [`Error::Format`] errors naming the
 //! file, the element and the position; nothing panics.
 
-use std::io::{BufRead, BufReader, ErrorKind};
+use std::io::{BufRead, BufReader, ErrorKind, Read};
 use std::path::Path;
 
 use glam::DVec3;
@@ -120,7 +120,8 @@ pub(crate) fn read_ply_soup<R: BufRead>(mut input: R, path: &Path) -> Result<Pol
     if input.fill_buf().map_err(io)?.is_empty() {
         return Err(format("line 1: empty file".into()));
     }
-    let mut reader = Reader::new(input);
+    let header_text = readable_header(&mut input).map_err(io)?;
+    let mut reader = Reader::new(std::io::Cursor::new(header_text).chain(input));
     let header = Parser::<SkippedElement>::new()
         .read_header(&mut reader)
         .map_err(|e| {
@@ -151,6 +152,35 @@ pub(crate) fn read_ply_soup<R: BufRead>(mut input: R, path: &Path) -> Result<Pol
         return ply_fast::read_binary(&header, &plans, reader.get_mut(), &layout, path);
     }
     read_general(&header, reader, &layout, path)
+}
+
+/// The most header bytes read ahead of the parser (a header is a few hundred bytes; a
+/// file whose first 16 MiB hold no `end_header` is handed to the parser as it is, which
+/// refuses it).
+const MAX_HEADER_BYTES: usize = 1 << 24;
+
+/// The header's lines up to and including `end_header`, with bytes that are not UTF-8
+/// replaced (`ply-rs-bw` reads header lines as UTF-8 text: a Latin-1 `comment` or
+/// `obj_info` would refuse a readable file). Lines keep their numbers, so the parser's
+/// errors still name the file's line; a replaced byte anywhere but in a comment makes the
+/// line malformed, as it was.
+fn readable_header<R: BufRead>(input: &mut R) -> std::io::Result<Vec<u8>> {
+    let mut header = Vec::new();
+    let mut line = Vec::new();
+    while header.len() < MAX_HEADER_BYTES {
+        line.clear();
+        if input.read_until(b'\n', &mut line)? == 0 {
+            break;
+        }
+        match String::from_utf8_lossy(&line) {
+            std::borrow::Cow::Borrowed(_) => header.extend_from_slice(&line),
+            std::borrow::Cow::Owned(text) => header.extend_from_slice(text.as_bytes()),
+        }
+        if line.trim_ascii() == b"end_header" {
+            break;
+        }
+    }
+    Ok(header)
 }
 
 /// The general route: `ply-rs-bw` with own element structs.
