@@ -162,7 +162,7 @@ pub enum EditError {
     // ---- precise regions (Bendels & Klein): modules `regions`, `distance`, `shape`, `matrix`, `blend` ----
     /// A region of a Bendels & Klein edit has no vertex (or a border has no edge).
     #[error("the {0} region is empty")]
-    EmptyRegion(crate::regions::RegionKind),
+    EmptyRegion(crate::bendels_klein::RegionKind),
     /// The handle touches the fixed area: a vertex in both, or an edge joining them
     /// (Bendels & Klein, Sec. 2: the handle must lie in the complement of the fixed area).
     #[error("the handle touches the fixed area: handle vertex {handle} and fixed vertex {fixed}")]
@@ -176,7 +176,7 @@ pub enum EditError {
     #[error("the {region} border does not close: {reason}")]
     BorderNotClosed {
         /// Whose border.
-        region: crate::regions::RegionKind,
+        region: crate::bendels_klein::RegionKind,
         /// Where it breaks.
         reason: String,
     },
@@ -185,7 +185,7 @@ pub enum EditError {
     #[error("the {region} border does not separate the mesh: {reason}")]
     BorderDoesNotSeparate {
         /// Whose border.
-        region: crate::regions::RegionKind,
+        region: crate::bendels_klein::RegionKind,
         /// What was found.
         reason: String,
     },
@@ -196,7 +196,7 @@ pub enum EditError {
     /// The handle transform has no real matrix logarithm, so `α ⊙ A` is undefined
     /// (Alexa 2002, Sec. 3).
     #[error("the transform has no real logarithm: {0}")]
-    NoRealLogarithm(crate::matrix::NoLogReason),
+    NoRealLogarithm(crate::bendels_klein::affine_power::NoLogReason),
     /// A 4×4 matrix that should be affine has a bottom row other than (0, 0, 0, 1).
     #[error("the matrix is not affine: bottom row {0:?}, expected [0, 0, 0, 1]")]
     NotAffine([f64; 4]),
