@@ -6,22 +6,45 @@
 //! their fine vertices land exactly on the map's image of where they were) and its
 //! **fields** (coarse vertices moved by a map of space that is not affine, such as a twist
 //! ramping along its axis, [`Hierarchy::mark_field`]: their fine vertices are that map of
-//! where they were). Local-frame
-//! detail after Kobbelt, Campagna, Vorsatz & Seidel 1998; see the
-//! [coarse edits guide](crate::guide::coarse_edits).
+//! where they were). Local-frame detail after Kobbelt, Campagna, Vorsatz & Seidel 1998;
+//! see the [coarse edits guide](crate::guide::coarse_edits).
 //!
-//! Every method that can edit a coarse level says what it did:
-//! [`SubMesh::hierarchy_marks`](crate::deform::submesh::SubMesh::hierarchy_marks) (and
-//! [`SubMesh::apply_in_hierarchy`](crate::deform::submesh::SubMesh::apply_in_hierarchy)),
-//! [`AreaSession::hierarchy_marks`](crate::area::AreaSession::hierarchy_marks),
-//! [`Ffd::hierarchy_marks`](crate::deform::ffd::Ffd::hierarchy_marks);
-//! [`BlendSession::mark_in_hierarchy`](crate::bendels_klein::mesh::BlendSession::mark_in_hierarchy)
-//! marks a Bendels & Klein edit directly.
+//! Every edit that can be made at a coarse level says what it did through one trait,
+//! [`HierarchyEdit`]: a Lee 1999 [`AreaSession`](crate::lee::AreaSession), a Bendels &
+//! Klein [`BlendSession`](crate::bendels_klein::BlendSession), an applied sub-mesh edit
+//! ([`AppliedSubmeshEdit`](crate::deform::AppliedSubmeshEdit)) and an
+//! [`Ffd`](crate::deform::Ffd).
 
 use glam::DAffine3;
 use halfedge::{Binding, DetailMode, Field, Hierarchy, Mesh, VertexId};
 
-use crate::{EditError, Result};
+use crate::error::Error;
+
+/// An edit made at a coarse level of a [`Hierarchy`] that tells the hierarchy what it did
+/// (see the [module docs](self)): implemented by every editing session or applied edit
+/// that can edit a coarse level.
+pub trait HierarchyEdit {
+    /// What the edit did, for a [`Hierarchy`] whose current level `mesh` is (the
+    /// hierarchy's mesh, or a clone of it): the region, affine parts and fields of the edit.
+    ///
+    /// # Errors
+    /// The family's `Stale` error when the edit was not made on `mesh` at its current
+    /// level (or the kernel's [`halfedge::Stale`] for marks kept by an applied edit).
+    fn hierarchy_marks(&self, mesh: &Mesh) -> Result<HierarchyMarks, Error>;
+
+    /// Tells `hierarchy` what the edit did: its [`hierarchy_marks`](Self::hierarchy_marks)
+    /// given with [`HierarchyMarks::mark`], which composes with the marks the vertices
+    /// already have (use it once per edit). With the paper's translations
+    /// ([`DetailMode::Translation`]) nothing is marked.
+    ///
+    /// # Errors
+    /// As [`hierarchy_marks`](Self::hierarchy_marks) for the hierarchy's mesh; nothing is
+    /// marked then.
+    fn mark(&self, hierarchy: &mut Hierarchy) -> Result<(), Error> {
+        self.hierarchy_marks(hierarchy.mesh())?.mark(hierarchy)?;
+        Ok(())
+    }
+}
 
 /// The region, affine parts and fields of one edit, for the [`Hierarchy`] whose mesh it
 /// was made on (see the [module docs](self)).
@@ -51,19 +74,21 @@ impl HierarchyMarks {
     /// the edit may move, and `affine`, groups of vertices each moved by one affine map.
     ///
     /// # Errors
-    /// [`EditError::InvalidVertex`] for a vertex that is not live in `mesh`;
-    /// [`EditError::NonFiniteMatrix`] for a map that is not finite.
+    /// [`halfedge::Error::InvalidHandle`] for a vertex that is not live in `mesh`;
+    /// [`halfedge::Error::InvalidArgument`] for a map that is not finite.
     pub fn new(
         mesh: &Mesh,
         region: Vec<VertexId>,
         affine: Vec<(Vec<VertexId>, DAffine3)>,
-    ) -> Result<Self> {
+    ) -> Result<Self, halfedge::Error> {
         let all = region.iter().chain(affine.iter().flat_map(|(v, _)| v));
-        if let Some(&v) = all.into_iter().find(|&&v| !mesh.is_valid_vertex(v)) {
-            return Err(EditError::InvalidVertex(v));
+        for &v in all {
+            mesh.ensure_vertex(v)?;
         }
-        if affine.iter().any(|(_, map)| !map.is_finite()) {
-            return Err(EditError::NonFiniteMatrix);
+        if let Some(k) = affine.iter().position(|(_, map)| !map.is_finite()) {
+            return Err(halfedge::Error::InvalidArgument(format!(
+                "the affine map of part {k} is not finite"
+            )));
         }
         Ok(Self {
             binding: mesh.binding(),
@@ -94,6 +119,11 @@ impl HierarchyMarks {
         self
     }
 
+    /// `Ok` when the marks fit `mesh` (see [`Binding::check`]).
+    pub(crate) fn check(&self, mesh: &Mesh) -> Result<(), halfedge::Stale> {
+        self.binding.check(mesh, "the hierarchy marks")
+    }
+
     /// The vertices the edit may move.
     pub fn region(&self) -> &[VertexId] {
         &self.region
@@ -117,9 +147,9 @@ impl HierarchyMarks {
     /// ([`DetailMode::Translation`]) nothing is marked.
     ///
     /// # Errors
-    /// [`EditError::Stale`] when the marks were not made for the hierarchy's mesh at its
-    /// current level; nothing is marked then.
-    pub fn mark(&self, hierarchy: &mut Hierarchy) -> Result<()> {
+    /// [`halfedge::Error::Stale`] when the marks were not made for the hierarchy's mesh at
+    /// its current level; nothing is marked then.
+    pub fn mark(&self, hierarchy: &mut Hierarchy) -> Result<(), halfedge::Error> {
         self.give(hierarchy, true)
     }
 
@@ -130,11 +160,11 @@ impl HierarchyMarks {
     ///
     /// # Errors
     /// As [`mark`](Self::mark).
-    pub fn replace(&self, hierarchy: &mut Hierarchy) -> Result<()> {
+    pub fn replace(&self, hierarchy: &mut Hierarchy) -> Result<(), halfedge::Error> {
         self.give(hierarchy, false)
     }
 
-    fn give(&self, hierarchy: &mut Hierarchy, compose: bool) -> Result<()> {
+    fn give(&self, hierarchy: &mut Hierarchy, compose: bool) -> Result<(), halfedge::Error> {
         self.binding
             .check(hierarchy.mesh(), "the hierarchy marks")?;
         if hierarchy.detail_mode() != DetailMode::LocalFrame {

@@ -13,6 +13,6 @@ pub mod bendels_klein;
 pub mod deform;
 pub mod lee;
 
-pub use error::{EditError, Result};
-pub use hierarchy_edit::HierarchyMarks;
+pub use error::{Error, Result};
+pub use hierarchy_edit::{HierarchyEdit, HierarchyMarks};
 pub use vertices::{Snapshot, Vertices};

@@ -10,7 +10,7 @@ use glam::DVec3;
 use halfedge::{Mesh, VertexData, VertexId};
 use rayon::prelude::*;
 
-use crate::{EditError, Result};
+use halfedge::{Error, Stale};
 
 /// The vertices a deformer acts on.
 #[derive(Clone, Copy, Debug, Default)]
@@ -20,7 +20,7 @@ pub enum Vertices<'a> {
     All,
     /// The live vertices whose entry is `true`: per-vertex data of the mesh acted on
     /// (a [`halfedge::Selection::mask`], or [`VertexData::new`] over a `Vec<bool>`);
-    /// data made for another mesh is refused with [`EditError::Stale`].
+    /// data made for another mesh is refused as stale ([`halfedge::Stale`]).
     Mask(&'a VertexData<bool>),
     /// The listed vertices (duplicates are ignored).
     List(&'a [VertexId]),
@@ -70,7 +70,11 @@ pub(crate) fn live_mask(mesh: &Mesh) -> Vec<bool> {
 
 impl Vertices<'_> {
     /// Checks the selection against `mesh` and returns it as slot indices.
-    pub(crate) fn resolve(&self, mesh: &Mesh) -> Result<Resolved> {
+    ///
+    /// # Errors
+    /// [`Error::Stale`] for a mask of another mesh (or of this one before a change of
+    /// connectivity), [`Error::InvalidHandle`] for a listed vertex that is not live.
+    pub(crate) fn resolve(&self, mesh: &Mesh) -> Result<Resolved, Error> {
         let slots = mesh.vertex_slots();
         match *self {
             Vertices::All => {
@@ -85,13 +89,8 @@ impl Vertices<'_> {
                 }
             }
             Vertices::Mask(mask) => {
+                // A mask that fits the mesh has one entry per vertex slot.
                 mask.check(mesh)?;
-                if mask.len() != slots {
-                    return Err(EditError::VertexArrayLength {
-                        expected: slots,
-                        found: mask.len(),
-                    });
-                }
                 if all_slots_live(mesh) && mask.iter().all(|&b| b) {
                     return Ok(Resolved::Dense(slots));
                 }
@@ -106,9 +105,7 @@ impl Vertices<'_> {
             Vertices::List(list) => {
                 let mut indices = Vec::with_capacity(list.len());
                 for &v in list {
-                    if !mesh.is_valid_vertex(v) {
-                        return Err(EditError::InvalidVertex(v));
-                    }
+                    mesh.ensure_vertex(v)?;
                     indices.push(mesh.vertex_index(v) as u32);
                 }
                 indices.sort_unstable();
@@ -134,7 +131,11 @@ pub struct Snapshot {
 
 impl Snapshot {
     /// Records the current positions of `vertices`.
-    pub fn take(mesh: &Mesh, vertices: Vertices<'_>) -> Result<Self> {
+    ///
+    /// # Errors
+    /// As the vertex set is checked: [`Error::Stale`] for a mask of another mesh,
+    /// [`Error::InvalidHandle`] for a listed vertex that is not live.
+    pub fn take(mesh: &Mesh, vertices: Vertices<'_>) -> Result<Self, Error> {
         let resolved = vertices.resolve(mesh)?;
         Ok(Self::of_indices(mesh, resolved.to_indices()))
     }
@@ -173,9 +174,9 @@ impl Snapshot {
     /// Puts the recorded positions back, bit for bit.
     ///
     /// # Errors
-    /// [`EditError::Stale`], changing nothing, for another mesh than the one the snapshot
-    /// was taken on, or that mesh at another hierarchy level or with other connectivity.
-    pub fn restore(&self, mesh: &mut Mesh) -> Result<()> {
+    /// [`Stale`], changing nothing, for another mesh than the one the snapshot was taken
+    /// on, or that mesh at another hierarchy level or with other connectivity.
+    pub fn restore(&self, mesh: &mut Mesh) -> Result<(), Stale> {
         if let Some(binding) = &self.binding {
             binding.check(mesh, "the snapshot")?;
         }
@@ -211,52 +212,12 @@ pub(crate) fn scatter(positions: &mut [DVec3], indices: &[u32], new: &[DVec3]) {
         });
 }
 
-/// Checks that `d` is finite and not zero, and returns it normalised.
-pub(crate) fn unit_direction(name: &'static str, d: DVec3) -> Result<DVec3> {
-    // Scaled by its largest component first: (1e300, 1e300, 0) is a fine direction.
-    let largest = d.abs().max_element();
-    if !d.is_finite() || largest == 0.0 {
-        return Err(EditError::DegenerateDirection { name, value: d });
-    }
-    let d = d / largest;
-    Ok(d / d.length())
-}
-
-/// `Err(EditError::Overflow)` naming the first of the new positions (of the vertices
-/// with the given indices) that is not finite: checked before an edit writes them, so
-/// that no NaN or infinity ever reaches the mesh through an `Ok`.
-pub(crate) fn check_finite_positions(what: &str, indices: &[u32], new: &[DVec3]) -> Result<()> {
-    match new.par_iter().position_first(|p| !p.is_finite()) {
-        None => Ok(()),
-        Some(k) => Err(EditError::Overflow(format!(
-            "{what} would move vertex v{} to {} (the parameters are too large for the \
-             coordinates, or the vertex or a neighbour already had a non-finite position)",
-            indices.get(k).map_or(k, |&i| i as usize),
-            new[k]
-        ))),
-    }
-}
-
-/// Checks that a scalar parameter is finite.
-pub(crate) fn finite(name: &'static str, x: f64) -> Result<f64> {
-    if x.is_finite() {
-        Ok(x)
-    } else {
-        Err(EditError::InvalidParameter {
-            name,
-            reason: format!("{x} is not finite"),
-        })
-    }
-}
-
-/// Checks that a point is finite.
-pub(crate) fn finite_point(name: &'static str, p: DVec3) -> Result<DVec3> {
-    if p.is_finite() {
-        Ok(p)
-    } else {
-        Err(EditError::InvalidParameter {
-            name,
-            reason: format!("{p} is not finite"),
-        })
-    }
+/// The first of the new positions `new` (of the vertices with the given slot indices, or
+/// of slots `0..` when `indices` is empty) that is not finite, as `(slot, position)`: the
+/// check an edit makes before it writes, so that no NaN or infinity ever reaches the mesh
+/// through an `Ok`.
+pub(crate) fn first_non_finite(indices: &[u32], new: &[DVec3]) -> Option<(usize, DVec3)> {
+    new.par_iter()
+        .position_first(|p| !p.is_finite())
+        .map(|k| (indices.get(k).map_or(k, |&i| i as usize), new[k]))
 }

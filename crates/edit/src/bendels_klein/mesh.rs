@@ -36,14 +36,15 @@ use glam::{DMat4, DVec3};
 use halfedge::{Hierarchy, Mesh, VertexData, VertexId};
 use rayon::prelude::*;
 
-use crate::bendels_klein::affine_power::AffinePower;
+use crate::bendels_klein::blend::{BlendCore, RefineOptions, RefineReport};
 use crate::bendels_klein::distance::euclidean::{BorderGrid, QueryPoints};
 use crate::bendels_klein::distance::geodesic::{FastMarching, MarchSource};
+use crate::bendels_klein::error::{BendelsKleinError, Result, Site};
 use crate::bendels_klein::regions::{Regions, Role};
 use crate::bendels_klein::shape::ShapeFunction;
-use crate::hierarchy_edit::HierarchyMarks;
-use crate::vertices::{check_finite_positions, scatter};
-use crate::{EditError, Result};
+use crate::error::Error;
+use crate::hierarchy_edit::{HierarchyEdit, HierarchyMarks};
+use crate::vertices::{first_non_finite, scatter};
 
 /// Which distance the blend weights are built on (Bendels & Klein, Sec. 4).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -58,6 +59,7 @@ pub enum DistanceKind {
 
 /// Options of a [`BlendSession`].
 #[derive(Clone, Debug, Default, PartialEq)]
+#[non_exhaustive]
 pub struct BlendOptions {
     /// The distance fields. Default: geodesic.
     pub distance: DistanceKind,
@@ -65,62 +67,21 @@ pub struct BlendOptions {
     pub shape: ShapeFunction,
 }
 
-/// The largest [`RefineOptions::max_new_vertices`] accepted: about 400 MB of new mesh
-/// elements and per-vertex session data.
-pub const MAX_NEW_VERTICES: usize = 1 << 22;
-
-/// Options of [`BlendSession::refine`].
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct RefineOptions {
-    /// Edges of the deformable area longer than this (after the edit) are split.
-    pub max_edge_length: f64,
-    /// At most this many vertices are added (a guard against run-away refinement; at
-    /// most [`MAX_NEW_VERTICES`]).
-    pub max_new_vertices: usize,
-}
-
-impl RefineOptions {
-    /// Split edges longer than `max_edge_length`, at most a million new vertices.
-    #[must_use]
-    pub fn new(max_edge_length: f64) -> Self {
-        Self {
-            max_edge_length,
-            max_new_vertices: 1_000_000,
-        }
-    }
-}
-
-/// What [`BlendSession::refine`] did.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct RefineReport {
-    /// Vertices added (one per edge split).
-    pub new_vertices: usize,
-    /// Passes over the edges.
-    pub passes: usize,
-    /// Longest deformed edge of the deformable area afterwards.
-    pub longest_edge: f64,
-}
-
-/// An editing session with precisely specified regions (see the module docs).
+/// An editing session with precisely specified regions on a mesh (see the module docs).
 #[derive(Clone, Debug)]
 pub struct BlendSession {
     regions: Regions,
     distance: DistanceKind,
-    shape: ShapeFunction,
-    n_vertices: usize,
     original: VertexData<DVec3>,
-    d_handle: VertexData<f64>,
-    d_fixed: VertexData<f64>,
+    /// Roles, distances, weights, shape function and transform (shared with the polyline
+    /// and picture sessions).
+    core: BlendCore<DVec3, VertexData<f64>>,
     /// Front radii of the geodesic fields (handle, fixed); `∞` for Euclidean fields.
     r_handle: VertexData<f64>,
     r_fixed: VertexData<f64>,
-    alpha: VertexData<f64>,
-    /// True while every α is in [0, 1] (see `cannot_overflow`).
-    alphas_in_unit: bool,
     /// The largest coordinate magnitude of the original positions of non-fixed vertices
     /// (at least 1; `∞` when one is not finite).
     extent: f64,
-    power: AffinePower,
     grids: Option<(BorderGrid, BorderGrid)>,
     /// The mesh the session was made on (see [`halfedge::Binding`]).
     binding: halfedge::Binding,
@@ -131,15 +92,11 @@ impl BlendSession {
     /// fields and the blend weights. The mesh is not changed.
     ///
     /// # Errors
-    /// [`EditError::SessionMismatch`] when `regions` belong to another mesh.
+    /// [`BendelsKleinError::Stale`] when `regions` were made for another mesh (even one
+    /// with as many vertices), or for this one before a change of connectivity.
     pub fn new(mesh: &Mesh, regions: Regions, options: BlendOptions) -> Result<Self> {
+        regions.binding().check(mesh, "the regions")?;
         let slots = mesh.vertex_slots();
-        if regions.roles().len() != slots {
-            return Err(EditError::SessionMismatch(format!(
-                "regions cover {} vertex slots, the mesh has {slots}",
-                regions.roles().len()
-            )));
-        }
         let original = VertexData::new(mesh, mesh.positions().to_vec())?;
         // Distances are wanted on the deformable area and on both borders (refinement
         // interpolates them along edges that end on a border).
@@ -155,7 +112,7 @@ impl BlendSession {
         {
             wanted[mesh.vertex_index(v)] = true;
         }
-        let (d_handle, d_fixed, r_handle, r_fixed, grids) = match options.distance {
+        let (mut d_handle, mut d_fixed, r_handle, r_fixed, grids) = match options.distance {
             DistanceKind::Euclidean => {
                 let cell = 2.0 * mesh.mean_edge_length();
                 let cell = if cell > 0.0 && cell.is_finite() {
@@ -225,33 +182,32 @@ impl BlendSession {
             .filter(|(_, &role)| role != Role::Fixed)
             .map(|(p, _)| magnitude(*p))
             .fold(1.0, f64::max);
-        let mut session = Self {
-            binding: mesh.binding(),
-            n_vertices: mesh.n_vertices(),
-            alpha: VertexData::filled(mesh, 0.0),
-            alphas_in_unit: true,
-            extent,
-            regions,
-            distance: options.distance,
-            shape: options.shape,
-            original,
-            d_handle,
-            d_fixed,
-            r_handle,
-            r_fixed,
-            power: AffinePower::from_log(DMat4::IDENTITY, DMat4::ZERO),
-            grids,
-        };
         // Exact zeros on the borders themselves.
-        for (i, role) in session.regions.roles().iter().enumerate() {
+        for (i, role) in regions.roles().iter().enumerate() {
             match role {
-                Role::Handle => session.d_handle[i] = 0.0,
-                Role::Fixed => session.d_fixed[i] = 0.0,
+                Role::Handle => d_handle[i] = 0.0,
+                Role::Fixed => d_fixed[i] = 0.0,
                 Role::Deformable => {}
             }
         }
-        session.update_alpha();
-        Ok(session)
+        let core = BlendCore::new(
+            regions.roles().to_vec(),
+            d_handle,
+            d_fixed,
+            VertexData::filled(mesh, 0.0),
+            options.shape,
+        );
+        Ok(Self {
+            binding: mesh.binding(),
+            extent,
+            regions,
+            distance: options.distance,
+            original,
+            core,
+            r_handle,
+            r_fixed,
+            grids,
+        })
     }
 
     /// The regions.
@@ -267,29 +223,30 @@ impl BlendSession {
     /// The shape function.
     #[must_use]
     pub fn shape(&self) -> &ShapeFunction {
-        &self.shape
+        self.core.shape()
     }
-    /// The current handle transform (identity before the first edit).
+    /// The current handle transform (identity before the first edit), with its bottom
+    /// row exactly `(0, 0, 0, 1)`.
     #[must_use]
     pub fn transform(&self) -> DMat4 {
-        self.power.transform()
+        self.core.power().transform()
     }
     /// Blend weights by vertex index: 0 on the fixed area, 1 on the handle; bound to
     /// the mesh the session edits.
     #[must_use]
     pub fn alpha(&self) -> &VertexData<f64> {
-        &self.alpha
+        self.core.alpha()
     }
     /// Distances to the handle border by vertex index (`∞` off the deformable area and
     /// its borders).
     #[must_use]
     pub fn handle_distances(&self) -> &VertexData<f64> {
-        &self.d_handle
+        self.core.handle_distances()
     }
     /// Distances to the fixed border by vertex index.
     #[must_use]
     pub fn fixed_distances(&self) -> &VertexData<f64> {
-        &self.d_fixed
+        self.core.fixed_distances()
     }
     /// Original (undeformed) positions by vertex index.
     #[must_use]
@@ -300,26 +257,7 @@ impl BlendSession {
     /// Changes the shape function and recomputes the weights (the paper's Fig. 8). Call
     /// [`BlendSession::reapply`] to see it on the mesh.
     pub fn set_shape(&mut self, shape: ShapeFunction) {
-        self.shape = shape;
-        self.update_alpha();
-    }
-
-    fn update_alpha(&mut self) {
-        let shape = &self.shape;
-        let roles = self.regions.roles();
-        let (dh, df) = (&self.d_handle, &self.d_fixed);
-        self.alpha
-            .par_iter_mut()
-            .enumerate()
-            .with_min_len(4096)
-            .for_each(|(i, a)| {
-                *a = match roles[i] {
-                    Role::Fixed => 0.0,
-                    Role::Handle => 1.0,
-                    Role::Deformable => shape.eval(blend_ratio(df[i], dh[i])),
-                };
-            });
-        self.alphas_in_unit = self.alpha.par_iter().all(|a| (0.0..=1.0).contains(a));
+        self.core.set_shape(shape);
     }
 
     /// Fails unless `mesh` is the mesh the session was made on, at the same hierarchy
@@ -333,21 +271,25 @@ impl BlendSession {
     /// mesh is unchanged.
     ///
     /// # Errors
-    /// [`EditError::Stale`] for another mesh (or this one at another level); the errors of
+    /// [`BendelsKleinError::Stale`] for another mesh (or this one at another level); the errors of
     /// [`AffinePower::new`] (no real logarithm, not affine, not finite);
-    /// [`EditError::Overflow`] when a moved vertex would not land on a finite position
+    /// [`BendelsKleinError::Overflow`] when a moved vertex would not land on a finite position
     /// (a translation of 1e308). The mesh and the session's transform are unchanged on
     /// error.
     pub fn apply(&mut self, mesh: &mut Mesh, a: DMat4) -> Result<()> {
         self.check_mesh(mesh)?;
-        let previous = std::mem::replace(&mut self.power, AffinePower::new(a)?);
-        self.write(mesh).inspect_err(|_| self.power = previous)
+        let previous = self.core.set_transform(a)?;
+        let written = self.write(mesh);
+        if written.is_err() {
+            self.core.restore(previous);
+        }
+        written
     }
 
     /// Applies the current transform again (after [`BlendSession::set_shape`]).
     ///
     /// # Errors
-    /// [`EditError::Stale`] for another mesh (or this one at another level); [`EditError::Overflow`] as
+    /// [`BendelsKleinError::Stale`] for another mesh (or this one at another level); [`BendelsKleinError::Overflow`] as
     /// [`apply`](Self::apply) (the mesh is unchanged on error).
     pub fn reapply(&self, mesh: &mut Mesh) -> Result<()> {
         self.check_mesh(mesh)?;
@@ -357,10 +299,10 @@ impl BlendSession {
     /// Puts the handle and the deformable area back at their original positions.
     ///
     /// # Errors
-    /// [`EditError::Stale`] for another mesh (or this one at another level).
+    /// [`BendelsKleinError::Stale`] for another mesh (or this one at another level).
     pub fn reset(&self, mesh: &mut Mesh) -> Result<()> {
         self.check_mesh(mesh)?;
-        let roles = self.regions.roles();
+        let roles = self.core.roles();
         mesh.positions_mut()
             .par_iter_mut()
             .zip(self.original.par_iter())
@@ -379,40 +321,47 @@ impl BlendSession {
     /// `exp(‖L‖∞) · max(‖p‖∞, 1)`; with that far below `f64::MAX` (and finite original
     /// positions) the positions are written without a check.
     fn cannot_overflow(&self) -> bool {
-        let l = self.power.log();
+        let l = self.core.power().log();
         let norm = (0..3)
             .map(|r| l.row(r).abs().element_sum())
             .fold(0.0, f64::max);
-        self.alphas_in_unit && norm < 600.0 && norm.exp() * self.extent < 1e300
+        self.core.alphas_in_unit() && norm < 600.0 && norm.exp() * self.extent < 1e300
     }
 
     /// Writes `(α ⊙ A) p` for every non-fixed vertex from its original position; when
     /// that could overflow, the positions are computed apart and checked first
-    /// ([`EditError::Overflow`], nothing written).
+    /// ([`BendelsKleinError::Overflow`], nothing written).
     fn write(&self, mesh: &mut Mesh) -> Result<()> {
-        let roles = self.regions.roles();
-        let power = &self.power;
+        let core = &self.core;
+        let roles = core.roles();
         if !self.cannot_overflow() {
             let indices: Vec<u32> = (0..roles.len() as u32)
                 .filter(|&i| roles[i as usize] != Role::Fixed)
                 .collect();
             let new: Vec<DVec3> = indices
                 .par_iter()
-                .map(|&i| power.transform_point(self.alpha[i as usize], self.original[i as usize]))
+                .map(|&i| core.place_index(i as usize, self.original[i as usize]))
                 .collect();
-            check_finite_positions("the blended transform", &indices, &new)?;
+            if let Some((slot, position)) = first_non_finite(&indices, &new) {
+                let vertex = mesh.vertex_at(slot).expect("a moving vertex is live");
+                return Err(BendelsKleinError::Overflow {
+                    what: "the blended transform",
+                    site: Site::Vertex(vertex),
+                    position,
+                });
+            }
             scatter(mesh.positions_mut(), &indices, &new);
             return Ok(());
         }
         mesh.positions_mut()
             .par_iter_mut()
             .zip(self.original.par_iter())
-            .zip(self.alpha.par_iter())
+            .zip(core.alpha().par_iter())
             .zip(roles.par_iter())
             .with_min_len(4096)
             .for_each(|(((p, &o), &alpha), &role)| {
                 if role != Role::Fixed {
-                    *p = power.transform_point(alpha, o);
+                    *p = core.place(role, alpha, o);
                 }
             });
         Ok(())
@@ -427,31 +376,17 @@ impl BlendSession {
     /// coarse level, use [`refine_in_hierarchy`](Self::refine_in_hierarchy).
     ///
     /// # Errors
-    /// [`EditError::Stale`] for another mesh (or this one at another level); [`EditError::InvalidParameter`]
+    /// [`BendelsKleinError::Stale`] for another mesh (or this one at another level); [`BendelsKleinError::InvalidParameter`]
     /// for a threshold that is not finite and positive or a vertex budget above
-    /// [`MAX_NEW_VERTICES`]. An edge whose split point would not be finite is left
+    /// [`MAX_NEW_VERTICES`](super::MAX_NEW_VERTICES). An edge whose split point would not be finite is left
     /// alone.
     pub fn refine(&mut self, mesh: &mut Mesh, options: RefineOptions) -> Result<RefineReport> {
         self.check_mesh(mesh)?;
+        options.check()?;
         let max = options.max_edge_length;
-        if !(max.is_finite() && max > 0.0) {
-            return Err(EditError::InvalidParameter {
-                name: "max_edge_length",
-                reason: format!("must be finite and positive, got {max}"),
-            });
-        }
-        if options.max_new_vertices > MAX_NEW_VERTICES {
-            return Err(EditError::InvalidParameter {
-                name: "max_new_vertices",
-                reason: format!(
-                    "{} is more than {MAX_NEW_VERTICES}",
-                    options.max_new_vertices
-                ),
-            });
-        }
         let mut report = RefineReport::default();
         loop {
-            let roles = self.regions.roles();
+            let roles = self.core.roles();
             let mut long: Vec<(f64, halfedge::HalfedgeId)> = mesh
                 .edges()
                 .filter(|&h| {
@@ -476,7 +411,7 @@ impl BlendSession {
                 }
                 let (a, b) = (mesh.from_vertex(h), mesh.to_vertex(h));
                 let (ia, ib) = (mesh.vertex_index(a), mesh.vertex_index(b));
-                let roles = self.regions.roles();
+                let roles = self.core.roles();
                 if roles[ia] != Role::Deformable && roles[ib] != Role::Deformable {
                     continue;
                 }
@@ -490,7 +425,7 @@ impl BlendSession {
         }
         // The session follows its own new vertices.
         self.rebind(mesh);
-        let roles = self.regions.roles();
+        let roles = self.core.roles();
         report.longest_edge = mesh
             .edges()
             .filter(|&h| {
@@ -502,60 +437,10 @@ impl BlendSession {
         Ok(report)
     }
 
-    /// [`apply`](Self::apply) to the mesh of `hierarchy` (the session was made on it at
-    /// its current level), and tells the hierarchy that the handle moved by `a`
-    /// ([`Hierarchy::set_affine_mark`]), so that at every finer level the handle is
-    /// exactly `a` of its original vertices, and that the handle and the deformable
-    /// region are the edit's region ([`Hierarchy::mark_region`]), so that refinement
-    /// interpolates the blend's motion over them while the fixed region stays exactly
-    /// where it was. With the paper's translations ([`halfedge::DetailMode::Translation`])
-    /// nothing is marked.
-    ///
-    /// # Errors
-    /// As [`apply`](Self::apply); nothing is changed then.
-    pub fn apply_in_hierarchy(&mut self, hierarchy: &mut Hierarchy, a: DMat4) -> Result<()> {
-        self.apply(hierarchy.mesh_mut(), a)?;
-        self.mark_in_hierarchy(hierarchy)
-    }
-
-    /// The marks of [`apply_in_hierarchy`](Self::apply_in_hierarchy) alone, for an edit
-    /// applied elsewhere (to a copy of the hierarchy's mesh whose positions were then
-    /// copied back, as an interactive application does): the handle is marked with the
-    /// session's current transform ([`Hierarchy::set_affine_mark`]), the handle and the
-    /// deformable region as the edit's region ([`Hierarchy::mark_region`]). The session
-    /// must have been made on the hierarchy's mesh at its current level. With the paper's
-    /// translations nothing is marked.
-    ///
-    /// # Errors
-    /// [`EditError::Stale`] when the session was not made on the hierarchy's mesh at its
-    /// current level; nothing is marked then.
-    pub fn mark_in_hierarchy(&self, hierarchy: &mut Hierarchy) -> Result<()> {
-        self.check_mesh(hierarchy.mesh())?;
-        if hierarchy.detail_mode() == halfedge::DetailMode::LocalFrame {
-            self.mark_motion(hierarchy)?;
-        }
-        Ok(())
-    }
-
-    /// The marks of [`mark_in_hierarchy`](Self::mark_in_hierarchy), in local-frame mode.
-    fn mark_motion(&self, hierarchy: &mut Hierarchy) -> Result<()> {
-        self.hierarchy_marks(hierarchy.mesh())?.replace(hierarchy)
-    }
-
-    /// What the session's current edit did, for a [`Hierarchy`] whose mesh (at its
-    /// current level) the session was made on ([`HierarchyMarks`]): the handle moved by
-    /// the session's transform `A`, and the handle and the deformable region as the
-    /// edit's region. Refinement then puts every finer vertex of the handle at `A` of its
-    /// original position, places the finer vertices of the deformable region by their
-    /// local-frame detail on the blended neighbourhood, and leaves the fixed region bit
-    /// for bit. Use [`HierarchyMarks::replace`] after each application of a new
-    /// transform (or [`mark_in_hierarchy`](Self::mark_in_hierarchy), which does).
-    ///
-    /// # Errors
-    /// [`EditError::Stale`] when the session was not made on `mesh` at its current level.
-    pub fn hierarchy_marks(&self, mesh: &Mesh) -> Result<HierarchyMarks> {
+    /// The marks of the session's current edit (see its [`HierarchyEdit`] impl).
+    fn marks(&self, mesh: &Mesh) -> Result<HierarchyMarks> {
         self.check_mesh(mesh)?;
-        let map = glam::DAffine3::from_mat4(self.power.transform());
+        let map = glam::DAffine3::from_mat4(self.core.power().transform());
         Ok(HierarchyMarks::new(
             mesh,
             self.moving_vertices(mesh),
@@ -564,9 +449,20 @@ impl BlendSession {
         .bound_to(self.binding))
     }
 
+    /// Gives the marks of the current edit to `hierarchy`, replacing the affine marks the
+    /// handle had ([`HierarchyMarks::replace`]): the session applies every transform from
+    /// the original positions.
+    fn mark_replacing(&self, hierarchy: &mut Hierarchy) -> Result<()> {
+        self.check_mesh(hierarchy.mesh())?;
+        if hierarchy.detail_mode() == halfedge::DetailMode::LocalFrame {
+            self.marks(hierarchy.mesh())?.replace(hierarchy)?;
+        }
+        Ok(())
+    }
+
     /// The live vertices of the handle and the deformable region (what a blend may move).
     fn moving_vertices(&self, mesh: &Mesh) -> Vec<halfedge::VertexId> {
-        let roles = self.regions.roles();
+        let roles = self.core.roles();
         mesh.vertices()
             .filter(|&v| {
                 roles
@@ -579,9 +475,9 @@ impl BlendSession {
     /// Adaptive refinement (Sec. 6) of an edit made at a coarse level of a hierarchy:
     /// the session was made on `hierarchy`'s mesh at its current level and its edit
     /// applied there. The hierarchy can only keep new vertices at its input, so the
-    /// refinement is made there ([`Hierarchy::edit_input`]): the handle is marked with
-    /// the session's transform ([`Hierarchy::mark_affine`], with local-frame detail) so
-    /// that it lands exactly, the hierarchy walks to level 0 carrying the edit, every
+    /// refinement is made there ([`Hierarchy::edit_input`]): the edit is marked as
+    /// [`HierarchyEdit::mark`] marks it (the handle with the session's transform, with
+    /// local-frame detail) so that it lands exactly, the hierarchy walks to level 0 carrying the edit, every
     /// input edge with an end that descends from the handle or the deformable area and
     /// is longer than `options.max_edge_length` is split at its midpoint, longest first,
     /// in passes (at most `options.max_new_vertices` new vertices), the hierarchy is
@@ -590,49 +486,33 @@ impl BlendSession {
     /// new one to edit further.
     ///
     /// # Errors
-    /// [`EditError::SessionMismatch`] when the session was not made on the hierarchy's
-    /// mesh, or the hierarchy is between two levels; [`EditError::InvalidParameter`] for a
-    /// threshold that is not finite and positive or a vertex budget above
-    /// [`MAX_NEW_VERTICES`] (nothing changed then); the hierarchy's errors (it is then back
-    /// at its level).
+    /// [`BendelsKleinError::Stale`] when the session was not made on the hierarchy's mesh
+    /// at its current level; [`BendelsKleinError::BetweenLevels`] when the hierarchy is
+    /// between two levels; [`BendelsKleinError::InvalidParameter`] for a threshold that is
+    /// not finite and positive or a vertex budget above
+    /// [`MAX_NEW_VERTICES`](super::MAX_NEW_VERTICES) (nothing changed then); the
+    /// hierarchy's errors (it is then back at its level).
     pub fn refine_in_hierarchy(
         &self,
         hierarchy: &mut Hierarchy,
         options: RefineOptions,
     ) -> Result<RefineReport> {
         self.check_mesh(hierarchy.mesh())?;
+        options.check()?;
         let max = options.max_edge_length;
-        if !(max.is_finite() && max > 0.0) {
-            return Err(EditError::InvalidParameter {
-                name: "max_edge_length",
-                reason: format!("must be finite and positive, got {max}"),
-            });
-        }
-        // Each pass may double the edges near the edit: the budget bounds the memory.
-        if options.max_new_vertices > MAX_NEW_VERTICES {
-            return Err(EditError::InvalidParameter {
-                name: "max_new_vertices",
-                reason: format!(
-                    "{} is more than {MAX_NEW_VERTICES}",
-                    options.max_new_vertices
-                ),
-            });
-        }
-        let level = hierarchy.current_level().ok_or_else(|| {
-            EditError::SessionMismatch("the hierarchy is between two levels".into())
-        })?;
+        let level = hierarchy
+            .current_level()
+            .ok_or(BendelsKleinError::BetweenLevels)?;
         let ancestors = hierarchy.ancestors(level)?;
-        let roles = self.regions.roles();
+        let roles = self.core.roles();
         // Whether the input vertex at this index descends from a moving vertex.
         let moving: Vec<bool> = ancestors
             .iter()
             .map(|&a| roles.get(a as usize).is_some_and(|&r| r != Role::Fixed))
             .collect();
-        if hierarchy.detail_mode() == halfedge::DetailMode::LocalFrame {
-            self.mark_motion(hierarchy)?;
-        }
+        self.mark_replacing(hierarchy)?;
         let report = hierarchy.edit_input(|mesh| {
-            Ok::<_, EditError>(split_long_edges(
+            Ok::<_, BendelsKleinError>(split_long_edges(
                 mesh,
                 &moving,
                 max,
@@ -646,11 +526,9 @@ impl BlendSession {
     /// (new slots get neutral values until the split fills them in).
     fn rebind(&mut self, mesh: &Mesh) {
         self.original.rebind(mesh, DVec3::ZERO);
-        self.d_handle.rebind(mesh, f64::INFINITY);
-        self.d_fixed.rebind(mesh, f64::INFINITY);
+        self.core.rebind(mesh);
         self.r_handle.rebind(mesh, f64::INFINITY);
         self.r_fixed.rebind(mesh, f64::INFINITY);
-        self.alpha.rebind(mesh, 0.0);
         self.binding = mesh.binding();
     }
 
@@ -671,49 +549,31 @@ impl BlendSession {
         let (rh, rf) = (mean_radius(&self.r_handle), mean_radius(&self.r_fixed));
         let (dh, df) = match &self.grids {
             Some((handle, fixed)) => (handle.distance(origin), fixed.distance(origin)),
-            None => (
-                virtual_origin_distance(self.d_handle[ia], self.d_handle[ib], length, rh),
-                virtual_origin_distance(self.d_fixed[ia], self.d_fixed[ib], length, rf),
-            ),
+            None => {
+                let (d_handle, d_fixed) =
+                    (self.core.handle_distances(), self.core.fixed_distances());
+                (
+                    virtual_origin_distance(d_handle[ia], d_handle[ib], length, rh),
+                    virtual_origin_distance(d_fixed[ia], d_fixed[ib], length, rf),
+                )
+            }
         };
-        let alpha = self.shape.eval(blend_ratio(df, dh));
-        let position = self.power.transform_point(alpha, origin);
+        let alpha = self.core.weight(Role::Deformable, df, dh);
+        let position = self.core.place(Role::Deformable, alpha, origin);
         let Ok(m) = mesh.split_edge(h, position) else {
             return false;
         };
         let i = mesh.vertex_index(m);
         let slots = mesh.vertex_slots();
         self.rebind(mesh);
-        debug_assert_eq!(self.alpha.len(), slots);
+        debug_assert_eq!(self.core.alpha().len(), slots);
         self.original[i] = origin;
         self.extent = self.extent.max(magnitude(origin));
-        self.alphas_in_unit &= (0.0..=1.0).contains(&alpha);
-        self.d_handle[i] = dh;
-        self.d_fixed[i] = df;
+        self.core.set_new(i, dh, df, alpha);
         self.r_handle[i] = rh;
         self.r_fixed[i] = rf;
-        self.alpha[i] = alpha;
         self.regions.push_deformable(mesh, m);
-        self.n_vertices += 1;
         true
-    }
-}
-
-/// `d_fixed / (d_fixed + d_handle)` with the conventions of the module docs.
-#[inline]
-#[must_use]
-pub fn blend_ratio(d_fixed: f64, d_handle: f64) -> f64 {
-    match (d_fixed.is_finite(), d_handle.is_finite()) {
-        (true, true) => {
-            let sum = d_fixed + d_handle;
-            if sum > 0.0 {
-                d_fixed / sum
-            } else {
-                0.0
-            }
-        }
-        (false, true) => 1.0,
-        _ => 0.0,
     }
 }
 
@@ -798,6 +658,39 @@ fn split_long_edges(mesh: &mut Mesh, moving: &[bool], max: f64, budget: usize) -
     report
 }
 
+impl HierarchyEdit for BlendSession {
+    /// What the session's current edit did, for a [`Hierarchy`] whose mesh (at its
+    /// current level) the session was made on: the handle moved by the session's
+    /// transform `A`, and the handle and the deformable region as the edit's region.
+    /// Refinement then puts every finer vertex of the handle at `A` of its original
+    /// position, places the finer vertices of the deformable region by their local-frame
+    /// detail on the blended neighbourhood, and leaves the fixed region bit for bit.
+    ///
+    /// # Errors
+    /// [`BendelsKleinError::Stale`] when the session was not made on `mesh` at its
+    /// current level.
+    fn hierarchy_marks(&self, mesh: &Mesh) -> std::result::Result<HierarchyMarks, Error> {
+        Ok(self.marks(mesh)?)
+    }
+
+    /// Tells `hierarchy` what the session's current edit did: the handle is marked with
+    /// the session's transform, replacing the affine mark it had
+    /// ([`Hierarchy::set_affine_mark`]), since the session applies every transform from
+    /// the original positions (mark after each [`apply`](BlendSession::apply), as an
+    /// interactive drag does), and the handle and the deformable region are the edit's
+    /// region ([`Hierarchy::mark_region`]), so that refinement interpolates the blend's
+    /// motion over them while the fixed region stays exactly where it was. The edit may
+    /// have been applied to a copy of the hierarchy's mesh whose positions were copied
+    /// back. With the paper's translations ([`halfedge::DetailMode::Translation`])
+    /// nothing is marked.
+    ///
+    /// # Errors
+    /// As [`hierarchy_marks`](Self::hierarchy_marks); nothing is marked then.
+    fn mark(&self, hierarchy: &mut Hierarchy) -> std::result::Result<(), Error> {
+        Ok(self.mark_replacing(hierarchy)?)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -826,14 +719,5 @@ mod tests {
         // Large radii tend to the mean without cancellation.
         let d = virtual_origin_distance(1.0, 2.0, 1.5, 1e12);
         assert!((d - 1.5).abs() < 1e-9);
-    }
-
-    #[test]
-    fn blend_ratio_conventions() {
-        assert_eq!(blend_ratio(1.0, 3.0), 0.25);
-        assert_eq!(blend_ratio(0.0, 0.0), 0.0);
-        assert_eq!(blend_ratio(f64::INFINITY, 2.0), 1.0);
-        assert_eq!(blend_ratio(2.0, f64::INFINITY), 0.0);
-        assert_eq!(blend_ratio(f64::INFINITY, f64::INFINITY), 0.0);
     }
 }

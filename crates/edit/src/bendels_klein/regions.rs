@@ -20,32 +20,11 @@
 //! the deformable area, and the edges between them that bound a deformable triangle —
 //! the polylines the distance fields are measured from.
 
-use halfedge::{HalfedgeId, Mesh, VertexId};
+use halfedge::{Binding, HalfedgeId, Mesh, VertexData, VertexId};
 
-use crate::{EditError, Result};
+use crate::bendels_klein::error::{BendelsKleinError, RegionKind, Result, Site};
 
-/// Which region (for errors and reports).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum RegionKind {
-    /// The handle.
-    Handle,
-    /// The fixed area.
-    Fixed,
-    /// The deformable area.
-    Deformable,
-}
-
-impl std::fmt::Display for RegionKind {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(match self {
-            Self::Handle => "handle",
-            Self::Fixed => "fixed",
-            Self::Deformable => "deformable",
-        })
-    }
-}
-
-/// The role of one vertex in an edit.
+/// The role of one vertex (or point, or grid vertex) in a Bendels & Klein edit (Sec. 2).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Role {
     /// Never moves (also removed vertex slots and isolated vertices).
@@ -68,9 +47,12 @@ pub struct Border {
 }
 
 /// Handle, fixed and deformable vertex sets of one mesh, with their borders (Bendels &
-/// Klein, Sec. 2).
+/// Klein, Sec. 2). They keep the [`Binding`] of the mesh they were made for: a
+/// [`BlendSession`](crate::bendels_klein::BlendSession) refuses them on any other mesh
+/// (even one of the same size) with [`BendelsKleinError::Stale`].
 #[derive(Clone, Debug)]
 pub struct Regions {
+    binding: Binding,
     roles: Vec<Role>,
     handle: Vec<VertexId>,
     deformable: Vec<VertexId>,
@@ -84,10 +66,11 @@ impl Regions {
     /// (isolated vertices stay fixed).
     ///
     /// # Errors
-    /// [`EditError::InvalidVertex`] for a stale handle, [`EditError::HandleTouchesFixed`]
-    /// when a vertex is in both sets or an edge joins them, [`EditError::EmptyRegion`],
-    /// [`EditError::InvalidRegions`] when the handle or the fixed area has no deformable
-    /// neighbour.
+    /// [`halfedge::Error::InvalidHandle`] (as `BendelsKleinError::Mesh`) for a vertex that
+    /// is not live, [`BendelsKleinError::HandleTouchesFixed`] when a vertex is in both sets
+    /// or an edge joins them, [`BendelsKleinError::EmptyRegion`],
+    /// [`BendelsKleinError::NoDeformableNeighbour`] when the handle or the fixed area has
+    /// no deformable neighbour.
     pub fn from_sets(mesh: &Mesh, handle: &[VertexId], fixed: &[VertexId]) -> Result<Self> {
         let mut roles: Vec<Role> = (0..mesh.vertex_slots())
             .map(|i| match mesh.vertex_at(i) {
@@ -97,41 +80,40 @@ impl Regions {
             .collect();
         let mut in_handle = vec![false; roles.len()];
         for &v in handle {
-            if !mesh.is_valid_vertex(v) {
-                return Err(EditError::InvalidVertex(v));
-            }
+            mesh.ensure_vertex(v)?;
             roles[mesh.vertex_index(v)] = Role::Handle;
             in_handle[mesh.vertex_index(v)] = true;
         }
         for &v in fixed {
-            if !mesh.is_valid_vertex(v) {
-                return Err(EditError::InvalidVertex(v));
-            }
+            mesh.ensure_vertex(v)?;
             if in_handle[mesh.vertex_index(v)] {
-                return Err(EditError::HandleTouchesFixed {
-                    handle: v,
-                    fixed: v,
+                return Err(BendelsKleinError::HandleTouchesFixed {
+                    handle: Site::Vertex(v),
+                    fixed: Site::Vertex(v),
                 });
             }
             roles[mesh.vertex_index(v)] = Role::Fixed;
         }
-        Self::from_roles(mesh, roles)
+        Self::from_role_slots(mesh, roles)
     }
 
-    /// One role per vertex slot ([`Mesh::vertex_index`]); removed slots are taken as
-    /// fixed.
+    /// One role per vertex of `mesh` (per-vertex data of it, for example
+    /// `VertexData::filled(mesh, Role::Deformable)` with the handle and fixed vertices
+    /// set); removed slots are taken as fixed.
     ///
     /// # Errors
-    /// [`EditError::InvalidRegions`] for a wrong length or a region without deformable
-    /// neighbour, [`EditError::HandleTouchesFixed`], [`EditError::EmptyRegion`].
-    pub fn from_roles(mesh: &Mesh, mut roles: Vec<Role>) -> Result<Self> {
-        if roles.len() != mesh.vertex_slots() {
-            return Err(EditError::InvalidRegions(format!(
-                "{} roles for {} vertex slots",
-                roles.len(),
-                mesh.vertex_slots()
-            )));
-        }
+    /// [`BendelsKleinError::Stale`] when `roles` was made for another mesh (or this one
+    /// before a change of connectivity); [`BendelsKleinError::NoDeformableNeighbour`] for
+    /// a region without deformable neighbour, [`BendelsKleinError::HandleTouchesFixed`],
+    /// [`BendelsKleinError::EmptyRegion`].
+    pub fn from_roles(mesh: &Mesh, roles: VertexData<Role>) -> Result<Self> {
+        roles.check(mesh)?;
+        Self::from_role_slots(mesh, roles.into_values())
+    }
+
+    /// [`from_roles`](Self::from_roles) on one role per vertex slot of `mesh`.
+    fn from_role_slots(mesh: &Mesh, mut roles: Vec<Role>) -> Result<Self> {
+        debug_assert_eq!(roles.len(), mesh.vertex_slots());
         for (i, role) in roles.iter_mut().enumerate() {
             if mesh.vertex_at(i).is_none() {
                 *role = Role::Fixed;
@@ -153,15 +135,15 @@ impl Regions {
             (deformable.len(), RegionKind::Deformable),
         ] {
             if set == 0 {
-                return Err(EditError::EmptyRegion(kind));
+                return Err(BendelsKleinError::EmptyRegion(kind));
             }
         }
         let role = |v: VertexId| roles[mesh.vertex_index(v)];
         for &v in &handle {
             if let Some(w) = mesh.adjacent_vertices(v).find(|&w| role(w) == Role::Fixed) {
-                return Err(EditError::HandleTouchesFixed {
-                    handle: v,
-                    fixed: w,
+                return Err(BendelsKleinError::HandleTouchesFixed {
+                    handle: Site::Vertex(v),
+                    fixed: Site::Vertex(w),
                 });
             }
         }
@@ -172,12 +154,11 @@ impl Regions {
             (&fixed_border, RegionKind::Fixed),
         ] {
             if b.vertices.is_empty() {
-                return Err(EditError::InvalidRegions(format!(
-                    "the {kind} area has no deformable neighbour, so it bounds nothing"
-                )));
+                return Err(BendelsKleinError::NoDeformableNeighbour { region: kind });
             }
         }
         Ok(Self {
+            binding: mesh.binding(),
             roles,
             handle,
             deformable,
@@ -191,8 +172,8 @@ impl Regions {
     /// the fixed loop (see the module docs for which side is which).
     ///
     /// # Errors
-    /// [`EditError::BorderNotClosed`] when a loop is not a closed chain of live
-    /// halfedges, [`EditError::BorderDoesNotSeparate`] when a loop does not split the
+    /// [`BendelsKleinError::BorderNotClosed`] when a loop is not a closed chain of live
+    /// halfedges, [`BendelsKleinError::BorderDoesNotSeparate`] when a loop does not split the
     /// mesh or the loops bound no common area, and the errors of
     /// [`Regions::from_roles`].
     pub fn from_loops(
@@ -225,7 +206,7 @@ impl Regions {
             (&f_left, &f_right, RegionKind::Fixed),
         ] {
             if (0..count).any(|r| left[r] && right[r]) {
-                return Err(EditError::BorderDoesNotSeparate {
+                return Err(BendelsKleinError::BorderDoesNotSeparate {
                     region: kind,
                     reason: "both sides of the loop are joined around it".into(),
                 });
@@ -235,7 +216,7 @@ impl Regions {
             .map(|r| (h_left[r] || h_right[r]) && (f_left[r] || f_right[r]))
             .collect();
         if !middle.iter().any(|&m| m) {
-            return Err(EditError::BorderDoesNotSeparate {
+            return Err(BendelsKleinError::BorderDoesNotSeparate {
                 region: RegionKind::Deformable,
                 reason: "the handle loop and the fixed loop bound no common area".into(),
             });
@@ -247,7 +228,7 @@ impl Regions {
             match (middle_left, middle_right) {
                 (true, false) => Ok(right.to_vec()),
                 (false, true) => Ok(left.to_vec()),
-                _ => Err(EditError::BorderDoesNotSeparate {
+                _ => Err(BendelsKleinError::BorderDoesNotSeparate {
                     region: kind,
                     reason: "the deformable area lies on both sides of the loop".into(),
                 }),
@@ -276,9 +257,9 @@ impl Regions {
             let i = mesh.vertex_index(v);
             roles[i] = match (seen_handle[i], seen_fixed[i], seen_middle[i]) {
                 (true, true, _) => {
-                    return Err(EditError::HandleTouchesFixed {
-                        handle: v,
-                        fixed: v,
+                    return Err(BendelsKleinError::HandleTouchesFixed {
+                        handle: Site::Vertex(v),
+                        fixed: Site::Vertex(v),
                     })
                 }
                 (true, false, _) => Role::Handle,
@@ -287,7 +268,7 @@ impl Regions {
                 (false, false, false) => Role::Fixed,
             };
         }
-        Self::from_roles(mesh, roles)
+        Self::from_role_slots(mesh, roles)
     }
 
     /// Regions bounded by two closed loops through picked vertices, consecutive picks
@@ -295,7 +276,7 @@ impl Regions {
     /// 3D cursor.
     ///
     /// # Errors
-    /// [`EditError::BorderNotClosed`] when the picks do not give a closed loop, and the
+    /// [`BendelsKleinError::BorderNotClosed`] when the picks do not give a closed loop, and the
     /// errors of [`Regions::from_loops`].
     pub fn from_picks(
         mesh: &Mesh,
@@ -304,7 +285,7 @@ impl Regions {
     ) -> Result<Self> {
         let loop_of = |picks: &[VertexId], kind| {
             mesh.closed_loop_through(picks)
-                .map_err(|e| EditError::BorderNotClosed {
+                .map_err(|e| BendelsKleinError::BorderNotClosed {
                     region: kind,
                     reason: e.to_string(),
                 })
@@ -314,6 +295,11 @@ impl Regions {
         Self::from_loops(mesh, &handle_loop, &fixed_loop)
     }
 
+    /// The mesh the regions were made for (see [`halfedge::Binding`]).
+    #[must_use]
+    pub fn binding(&self) -> Binding {
+        self.binding
+    }
     /// The role of a vertex.
     #[must_use]
     pub fn role(&self, mesh: &Mesh, v: VertexId) -> Role {
@@ -353,8 +339,10 @@ impl Regions {
         &self.fixed_border
     }
 
-    /// Records a vertex created in the deformable area (refinement).
+    /// Records a vertex created in the deformable area (refinement), and binds the regions
+    /// to `mesh` as the split left it.
     pub(crate) fn push_deformable(&mut self, mesh: &Mesh, v: VertexId) {
+        self.binding = mesh.binding();
         let i = mesh.vertex_index(v);
         if self.roles.len() <= i {
             self.roles.resize(i + 1, Role::Fixed);
@@ -366,7 +354,7 @@ impl Regions {
 
 fn check_closed(mesh: &Mesh, lp: &[HalfedgeId], kind: RegionKind) -> Result<()> {
     let fail = |reason: String| {
-        Err(EditError::BorderNotClosed {
+        Err(BendelsKleinError::BorderNotClosed {
             region: kind,
             reason,
         })
@@ -501,41 +489,43 @@ mod tests {
         // Touching: shared vertex, then an edge.
         assert!(matches!(
             Regions::from_sets(&mesh, &[v(100)], &[v(100)]),
-            Err(EditError::HandleTouchesFixed { .. })
+            Err(BendelsKleinError::HandleTouchesFixed { .. })
         ));
         assert!(matches!(
             Regions::from_sets(&mesh, &[v(100)], &[v(101)]),
-            Err(EditError::HandleTouchesFixed { .. })
+            Err(BendelsKleinError::HandleTouchesFixed { .. })
         ));
         // Empty sets.
         assert!(matches!(
             Regions::from_sets(&mesh, &[], &[v(0)]),
-            Err(EditError::EmptyRegion(RegionKind::Handle))
+            Err(BendelsKleinError::EmptyRegion(RegionKind::Handle))
         ));
         assert!(matches!(
             Regions::from_sets(&mesh, &[v(200)], &[]),
-            Err(EditError::EmptyRegion(RegionKind::Fixed))
+            Err(BendelsKleinError::EmptyRegion(RegionKind::Fixed))
         ));
         let all_but: Vec<VertexId> = mesh.vertices().filter(|&w| w != v(0)).collect();
         assert!(matches!(
             Regions::from_sets(&mesh, &[v(0)], &all_but),
-            Err(EditError::EmptyRegion(RegionKind::Deformable))
+            Err(BendelsKleinError::EmptyRegion(RegionKind::Deformable))
         ));
-        let roles = vec![Role::Fixed; mesh.vertex_slots()];
+        let roles = VertexData::filled(&mesh, Role::Fixed);
         assert!(matches!(
             Regions::from_roles(&mesh, roles),
-            Err(EditError::EmptyRegion(RegionKind::Handle))
+            Err(BendelsKleinError::EmptyRegion(RegionKind::Handle))
         ));
+        // Roles of another mesh of the same size are stale.
+        let twin = generators::grid(20, 20, 1.0, 1.0);
         assert!(matches!(
-            Regions::from_roles(&mesh, vec![Role::Fixed; 3]),
-            Err(EditError::InvalidRegions(_))
+            Regions::from_roles(&mesh, VertexData::filled(&twin, Role::Deformable)),
+            Err(BendelsKleinError::Stale(_))
         ));
         // A loop that does not close.
         let open: Vec<HalfedgeId> = mesh.shortest_edge_path(v(0), v(20), None).unwrap();
         let closed = mesh.closed_loop_through(&[v(150), v(160), v(360)]).unwrap();
         assert!(matches!(
             Regions::from_loops(&mesh, &open, &closed),
-            Err(EditError::BorderNotClosed {
+            Err(BendelsKleinError::BorderNotClosed {
                 region: RegionKind::Handle,
                 ..
             })
@@ -576,7 +566,7 @@ mod tests {
         let small = [v(12, 0), v(14, 0), v(14, 2), v(12, 2)];
         assert!(matches!(
             Regions::from_picks(&mesh, &small, &meridian),
-            Err(EditError::BorderDoesNotSeparate {
+            Err(BendelsKleinError::BorderDoesNotSeparate {
                 region: RegionKind::Fixed,
                 ..
             })

@@ -15,7 +15,7 @@
 //!   (Catmull–Rom), smoother but free to overshoot, and the values are clamped to
 //!   [0, 1]. [`CurveOptions::flat_ends`] sets `f'(0) = f'(1) = 0`.
 
-use crate::{EditError, Result};
+use crate::bendels_klein::error::{BendelsKleinError, ControlPointProblem, Result};
 
 /// A shape function `f: [0, 1] → [0, 1]`, `f(0) = 0`, `f(1) = 1` (Bendels & Klein,
 /// Sec. 5).
@@ -112,9 +112,9 @@ impl ShapeCurve {
     /// [0, 1]) and (1, 1).
     ///
     /// # Errors
-    /// [`EditError::InvalidShapeCurve`] for points outside the open unit interval in x,
+    /// [`BendelsKleinError::InvalidShapeCurve`] for points outside the open unit interval in x,
     /// outside [0, 1] in y, non-finite or not strictly increasing in x;
-    /// [`EditError::ShapeNotMonotone`] when `options.monotone` and the y decrease.
+    /// [`BendelsKleinError::ShapeNotMonotone`] when `options.monotone` and the y decrease.
     pub fn new(interior: &[(f64, f64)], options: CurveOptions) -> Result<Self> {
         let mut xs = Vec::with_capacity(interior.len() + 2);
         let mut ys = Vec::with_capacity(interior.len() + 2);
@@ -122,19 +122,25 @@ impl ShapeCurve {
         ys.push(0.0);
         for (i, &(x, y)) in interior.iter().enumerate() {
             if !x.is_finite() || !y.is_finite() {
-                return Err(EditError::InvalidShapeCurve(format!(
-                    "control point {i} ({x}, {y}) is not finite"
-                )));
+                return Err(BendelsKleinError::InvalidShapeCurve {
+                    index: i,
+                    point: (x, y),
+                    problem: ControlPointProblem::NotFinite,
+                });
             }
             if x <= 0.0 || x >= 1.0 || !(0.0..=1.0).contains(&y) {
-                return Err(EditError::InvalidShapeCurve(format!(
-                    "control point {i} ({x}, {y}) is outside (0, 1) × [0, 1]"
-                )));
+                return Err(BendelsKleinError::InvalidShapeCurve {
+                    index: i,
+                    point: (x, y),
+                    problem: ControlPointProblem::OutsideUnitSquare,
+                });
             }
             if x <= *xs.last().expect("starts with 0") {
-                return Err(EditError::InvalidShapeCurve(format!(
-                    "control point {i} ({x}, {y}): x must increase strictly"
-                )));
+                return Err(BendelsKleinError::InvalidShapeCurve {
+                    index: i,
+                    point: (x, y),
+                    problem: ControlPointProblem::NotIncreasing,
+                });
             }
             xs.push(x);
             ys.push(y);
@@ -168,12 +174,12 @@ impl ShapeCurve {
     /// point of the curve). On error the curve is unchanged.
     ///
     /// # Errors
-    /// As [`ShapeCurve::new`]; [`EditError::InvalidParameter`] for a bad index.
+    /// As [`ShapeCurve::new`]; [`BendelsKleinError::InvalidParameter`] for a bad index.
     pub fn move_point(&mut self, index: usize, point: (f64, f64)) -> Result<()> {
         let mut points = self.control_points();
         let slot = points
             .get_mut(index)
-            .ok_or_else(|| EditError::InvalidParameter {
+            .ok_or_else(|| BendelsKleinError::InvalidParameter {
                 name: "index",
                 reason: format!("the curve has {} control points", self.xs.len() - 2),
             })?;
@@ -191,7 +197,7 @@ impl ShapeCurve {
         let mut m = vec![0.0; n];
         if self.options.monotone {
             if let Some(k) = secants.iter().position(|&d| d < 0.0) {
-                return Err(EditError::ShapeNotMonotone {
+                return Err(BendelsKleinError::ShapeNotMonotone {
                     x0: self.xs[k],
                     x1: self.xs[k + 1],
                 });
@@ -373,23 +379,23 @@ mod tests {
         let o = CurveOptions::default();
         assert!(matches!(
             ShapeCurve::new(&[(0.5, 0.8), (0.6, 0.4)], o),
-            Err(EditError::ShapeNotMonotone { .. })
+            Err(BendelsKleinError::ShapeNotMonotone { .. })
         ));
         assert!(matches!(
             ShapeCurve::new(&[(0.0, 0.5)], o),
-            Err(EditError::InvalidShapeCurve(_))
+            Err(BendelsKleinError::InvalidShapeCurve { .. })
         ));
         assert!(matches!(
             ShapeCurve::new(&[(0.5, 1.5)], o),
-            Err(EditError::InvalidShapeCurve(_))
+            Err(BendelsKleinError::InvalidShapeCurve { .. })
         ));
         assert!(matches!(
             ShapeCurve::new(&[(0.5, 0.5), (0.5, 0.6)], o),
-            Err(EditError::InvalidShapeCurve(_))
+            Err(BendelsKleinError::InvalidShapeCurve { .. })
         ));
         assert!(matches!(
             ShapeCurve::new(&[(f64::NAN, 0.5)], o),
-            Err(EditError::InvalidShapeCurve(_))
+            Err(BendelsKleinError::InvalidShapeCurve { .. })
         ));
         // Non-monotone points are fine without the monotone option, and stay in [0, 1].
         let c = ShapeCurve::new(

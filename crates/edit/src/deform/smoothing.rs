@@ -22,10 +22,11 @@ use glam::DVec3;
 use halfedge::{Mesh, VertexData};
 use rayon::prelude::*;
 
+use crate::deform::checks::{check_finite_positions, finite};
+use crate::deform::error::{DeformError, Result};
 use crate::deform::submesh::SubMesh;
 use crate::laplace::cotan_weight;
-use crate::vertices::{check_finite_positions, finite, Vertices};
-use crate::{EditError, Result};
+use crate::vertices::Vertices;
 
 /// The edge weights of the Laplacian.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -106,7 +107,7 @@ impl Smoother {
     ) -> Result<Self> {
         let resolved = region.resolve(mesh)?;
         if resolved.len() == 0 {
-            return Err(EditError::EmptySubMesh);
+            return Err(DeformError::EmptySubMesh);
         }
         let slots = mesh.vertex_slots();
         let candidates = resolved.to_indices();
@@ -238,19 +239,15 @@ impl Smoother {
         weights: SmoothingWeights,
         fix_boundary: bool,
     ) -> Result<Self> {
+        // `collars` checks that the sub-mesh fits `mesh` (then its mask has one entry per
+        // vertex slot).
+        let collars = submesh.collars(mesh, collar)?;
         let mut mask = submesh.mask().to_vec();
-        if mask.len() != mesh.vertex_slots() {
-            return Err(EditError::VertexArrayLength {
-                expected: mesh.vertex_slots(),
-                found: mask.len(),
-            });
-        }
-        for ring in submesh.collars(mesh, collar)? {
+        for ring in collars {
             for i in ring {
                 mask[i as usize] = true;
             }
         }
-        // `collars` checked that the sub-mesh fits `mesh`.
         let mask = VertexData::new(mesh, mask)?;
         Self::new(mesh, Vertices::Mask(&mask), weights, fix_boundary)
     }
@@ -267,10 +264,10 @@ impl Smoother {
     /// iterations or λ = μ = 0.
     ///
     /// # Errors
-    /// Nothing is changed on error: [`EditError::InvalidParameter`] for non-finite
-    /// factors or more than [`MAX_ITERATIONS`](Self::MAX_ITERATIONS) iterations, [`EditError::Overflow`] when
+    /// Nothing is changed on error: [`DeformError::InvalidParameter`] for non-finite
+    /// factors or more than [`MAX_ITERATIONS`](Self::MAX_ITERATIONS) iterations, [`DeformError::Overflow`] when
     /// the factors make the positions diverge (λ = 1e300), and
-    /// [`EditError::Stale`] for another mesh (or this one at another hierarchy level or
+    /// [`DeformError::Stale`] for another mesh (or this one at another hierarchy level or
     /// with other connectivity).
     pub fn taubin(
         &mut self,
@@ -297,7 +294,7 @@ impl Smoother {
     fn run(&mut self, mesh: &mut Mesh, factors: &[f64], iterations: usize) -> Result<()> {
         self.binding.check(mesh, "the smoother")?;
         if iterations > MAX_ITERATIONS {
-            return Err(EditError::InvalidParameter {
+            return Err(DeformError::InvalidParameter {
                 name: "iterations",
                 reason: format!("{iterations} is more than {MAX_ITERATIONS}"),
             });

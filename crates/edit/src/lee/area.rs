@@ -7,7 +7,7 @@ use std::collections::{HashMap, HashSet, VecDeque};
 use halfedge::{FaceId, HalfedgeId, Mesh, VertexId};
 use rayon::prelude::*;
 
-use crate::{EditError, Result};
+use crate::lee::error::{LeeError, Result};
 
 /// Which side of the boundary loop is the editing area.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -44,14 +44,12 @@ impl EditingArea {
     /// order, the last joined to the first), filled on `side` (Lee 1999, §3.2).
     ///
     /// # Errors
-    /// Kernel errors for bad picks or an impossible loop; [`EditError::LoopDoesNotSeparate`],
-    /// [`EditError::SeedOnLoop`], [`EditError::SeedNotBesideLoop`], and every error of
+    /// Kernel errors for bad picks or an impossible loop; [`LeeError::LoopDoesNotSeparate`],
+    /// [`LeeError::SeedOnLoop`], [`LeeError::SeedNotBesideLoop`], and every error of
     /// [`from_faces`](Self::from_faces) when the filled side is not a disk.
     pub fn from_picks(mesh: &Mesh, picks: &[VertexId], side: AreaSide) -> Result<Self> {
         for &v in picks {
-            if !mesh.is_valid_vertex(v) {
-                return Err(EditError::InvalidVertex(v));
-            }
+            mesh.ensure_vertex(v)?;
         }
         let loop_halfedges = mesh.closed_loop_through(picks)?;
         let (region, count) = mesh.face_regions(&loop_halfedges);
@@ -71,28 +69,24 @@ impl EditingArea {
             }
         }
         if left.iter().any(|r| right.contains(r)) {
-            return Err(EditError::LoopDoesNotSeparate);
+            return Err(LeeError::LoopDoesNotSeparate);
         }
         let candidates: Vec<u32> = left.iter().chain(&right).copied().collect();
         let chosen = match side {
             AreaSide::Vertex(v) => {
-                if !mesh.is_valid_vertex(v) {
-                    return Err(EditError::InvalidVertex(v));
-                }
+                mesh.ensure_vertex(v)?;
                 let on_loop = loop_halfedges.iter().any(|&h| mesh.from_vertex(h) == v);
                 if on_loop {
-                    return Err(EditError::SeedOnLoop(v));
+                    return Err(LeeError::SeedOnLoop(v));
                 }
                 let f = mesh
                     .adjacent_faces(v)
                     .next()
-                    .ok_or(EditError::SeedNotBesideLoop)?;
+                    .ok_or(LeeError::SeedNotBesideLoop)?;
                 region[mesh.face_index(f)]
             }
             AreaSide::Face(f) => {
-                if !mesh.is_valid_face(f) {
-                    return Err(EditError::InvalidFace(f));
-                }
+                mesh.ensure_face(f)?;
                 region[mesh.face_index(f)]
             }
             AreaSide::Smaller => {
@@ -103,11 +97,11 @@ impl EditingArea {
                 *candidates
                     .iter()
                     .min_by(|&&a, &&b| area[a as usize].total_cmp(&area[b as usize]))
-                    .ok_or(EditError::LoopDoesNotSeparate)?
+                    .ok_or(LeeError::LoopDoesNotSeparate)?
             }
         };
         if !candidates.contains(&chosen) {
-            return Err(EditError::SeedNotBesideLoop);
+            return Err(LeeError::SeedNotBesideLoop);
         }
         let faces: Vec<FaceId> = mesh
             .faces()
@@ -122,16 +116,14 @@ impl EditingArea {
     /// that does not touch the mesh boundary.
     ///
     /// # Errors
-    /// [`EditError::InvalidFace`], [`EditError::AreaEmpty`],
-    /// [`EditError::AreaTouchesMeshBoundary`], [`EditError::AreaPinched`],
-    /// [`EditError::AreaNotDisk`].
+    /// [`halfedge::Error::InvalidHandle`] (as `LeeError::Mesh`), [`LeeError::AreaEmpty`],
+    /// [`LeeError::AreaTouchesMeshBoundary`], [`LeeError::AreaPinched`],
+    /// [`LeeError::AreaNotDisk`].
     pub fn from_faces(mesh: &Mesh, faces: &[FaceId]) -> Result<Self> {
         let mut in_area = vec![false; mesh.face_slots()];
         let mut list = Vec::with_capacity(faces.len());
         for &f in faces {
-            if !mesh.is_valid_face(f) {
-                return Err(EditError::InvalidFace(f));
-            }
+            mesh.ensure_face(f)?;
             let slot = &mut in_area[mesh.face_index(f)];
             if !*slot {
                 *slot = true;
@@ -139,7 +131,7 @@ impl EditingArea {
             }
         }
         if list.is_empty() {
-            return Err(EditError::AreaEmpty);
+            return Err(LeeError::AreaEmpty);
         }
         let inside = |h: HalfedgeId| mesh.face(h).is_some_and(|f| in_area[mesh.face_index(f)]);
 
@@ -158,11 +150,11 @@ impl EditingArea {
                 }
                 let o = mesh.opposite(h);
                 if mesh.is_boundary_halfedge(o) {
-                    return Err(EditError::AreaTouchesMeshBoundary { vertex: v });
+                    return Err(LeeError::AreaTouchesMeshBoundary { vertex: v });
                 }
                 if !inside(o) {
                     if boundary_out[vi].is_some() {
-                        return Err(EditError::AreaPinched { vertex: v });
+                        return Err(LeeError::AreaPinched { vertex: v });
                     }
                     boundary_out[vi] = Some(h);
                     n_boundary_halfedges += 1;
@@ -224,7 +216,7 @@ impl EditingArea {
         let n_edges = (3 * n_faces + n_boundary_halfedges) / 2;
         let euler = all_vertices.len() as i64 - n_edges as i64 + n_faces as i64;
         if loops.len() != 1 || components != 1 || euler != 1 {
-            return Err(EditError::AreaNotDisk {
+            return Err(LeeError::AreaNotDisk {
                 boundary_loops: loops.len(),
                 components,
                 euler,
@@ -261,12 +253,10 @@ impl EditingArea {
     /// filled. Handy for examples and benches.
     ///
     /// # Errors
-    /// [`EditError::InvalidVertex`]; the errors of [`from_faces`](Self::from_faces) when
+    /// [`halfedge::Error::InvalidHandle`] (as `LeeError::Mesh`); the errors of [`from_faces`](Self::from_faces) when
     /// the rings wrap around a handle or reach the mesh boundary.
     pub fn disk_around(mesh: &Mesh, seed: VertexId, vertex_count: usize) -> Result<Self> {
-        if !mesh.is_valid_vertex(seed) {
-            return Err(EditError::InvalidVertex(seed));
-        }
+        mesh.ensure_vertex(seed)?;
         // Rings and faces kept by slot in hash maps: the work and memory follow the disk,
         // not the mesh (at a coarse level of a large hierarchy the slots are many times
         // the live elements).
@@ -305,7 +295,7 @@ impl EditingArea {
     /// a face added before it in the list (Lee 1999, §3.2). Picks are kept.
     ///
     /// # Errors
-    /// [`EditError::FaceNotAdjacent`], and the errors of [`from_faces`](Self::from_faces)
+    /// [`LeeError::FaceNotAdjacent`], and the errors of [`from_faces`](Self::from_faces)
     /// when the result is not a disk.
     pub fn grown(&self, mesh: &Mesh, faces: &[FaceId]) -> Result<Self> {
         self.check_mesh(mesh)?;
@@ -315,15 +305,13 @@ impl EditingArea {
         }
         let mut all = self.faces.clone();
         for &f in faces {
-            if !mesh.is_valid_face(f) {
-                return Err(EditError::InvalidFace(f));
-            }
+            mesh.ensure_face(f)?;
             if in_area[mesh.face_index(f)] {
                 continue;
             }
             let adjacent = mesh.face_neighbors(f).any(|g| in_area[mesh.face_index(g)]);
             if !adjacent {
-                return Err(EditError::FaceNotAdjacent { face: f });
+                return Err(LeeError::FaceNotAdjacent { face: f });
             }
             in_area[mesh.face_index(f)] = true;
             all.push(f);
@@ -398,7 +386,7 @@ impl EditingArea {
     /// with the same connectivity (see [`halfedge::Binding`]).
     ///
     /// # Errors
-    /// [`EditError::Stale`].
+    /// [`LeeError::Stale`].
     pub fn check_mesh(&self, mesh: &Mesh) -> Result<()> {
         Ok(self.binding.check(mesh, "the editing area")?)
     }
@@ -767,7 +755,7 @@ mod tests {
         assert_eq!(other.faces().len() + area.faces().len(), mesh.n_faces());
         assert!(matches!(
             EditingArea::from_picks(&mesh, &picks, AreaSide::Vertex(picks[0])),
-            Err(EditError::SeedOnLoop(_))
+            Err(LeeError::SeedOnLoop(_))
         ));
     }
 
@@ -808,7 +796,7 @@ mod tests {
             .collect();
         assert!(matches!(
             EditingArea::from_faces(&mesh, &ring),
-            Err(EditError::AreaNotDisk {
+            Err(LeeError::AreaNotDisk {
                 boundary_loops: 2,
                 ..
             })
@@ -816,11 +804,11 @@ mod tests {
         let corner: Vec<FaceId> = mesh.faces().take(4).collect();
         assert!(matches!(
             EditingArea::from_faces(&mesh, &corner),
-            Err(EditError::AreaTouchesMeshBoundary { .. })
+            Err(LeeError::AreaTouchesMeshBoundary { .. })
         ));
         assert!(matches!(
             EditingArea::from_faces(&mesh, &[]),
-            Err(EditError::AreaEmpty)
+            Err(LeeError::AreaEmpty)
         ));
     }
 
@@ -856,7 +844,7 @@ mod tests {
             .unwrap();
         assert!(matches!(
             area.grown(&mesh, &[far]),
-            Err(EditError::FaceNotAdjacent { .. })
+            Err(LeeError::FaceNotAdjacent { .. })
         ));
     }
 

@@ -28,7 +28,7 @@ use halfedge::{FaceId, Mesh, VertexId};
 use rayon::prelude::*;
 
 use crate::lee::area::EditingArea;
-use crate::{EditError, Result};
+use crate::lee::error::{LeeError, Result, SolveFailure};
 
 /// The spring constants of the harmonic map.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -97,14 +97,14 @@ impl Embedding {
     /// Embeds `area` onto a rectangle.
     ///
     /// # Errors
-    /// [`EditError::Stale`], [`EditError::CornerNotOnBoundary`],
-    /// [`EditError::RepeatedCorner`], [`EditError::InvalidParameter`] for a bad aspect
-    /// ratio, [`EditError::Solver`] when the sparse solve fails.
+    /// [`LeeError::Stale`], [`LeeError::CornerNotOnBoundary`],
+    /// [`LeeError::RepeatedCorner`], [`LeeError::InvalidParameter`] for a bad aspect
+    /// ratio, [`LeeError::Solver`] when the sparse solve fails.
     pub fn new(mesh: &Mesh, area: &EditingArea, options: &EmbeddingOptions) -> Result<Self> {
         area.check_mesh(mesh)?;
         if let Some(a) = options.aspect_ratio {
             if !(a.is_finite() && a > 0.0) {
-                return Err(EditError::InvalidParameter {
+                return Err(LeeError::InvalidParameter {
                     name: "aspect_ratio",
                     reason: format!("{a} must be positive and finite"),
                 });
@@ -418,9 +418,14 @@ fn solve_interior(
     let (solution, solver) = match cholesky {
         Some(x) => (x, EmbeddingSolver::Cholesky),
         None => {
-            let lu = matrix
-                .sp_lu()
-                .map_err(|e| EditError::Solver(format!("sparse LU of the embedding: {e:?}")))?;
+            let lu = matrix.sp_lu().map_err(|e| LeeError::Solver {
+                failure: match e {
+                    faer::sparse::linalg::LuError::SymbolicSingular { index } => {
+                        SolveFailure::NoPivot { step: index }
+                    }
+                    faer::sparse::linalg::LuError::Generic(_) => SolveFailure::Resources,
+                },
+            })?;
             (lu.solve(&rhs), EmbeddingSolver::Lu)
         }
     };
@@ -428,9 +433,9 @@ fn solve_interior(
     for i in 0..n_int {
         let p = DVec2::new(solution[(i, 0)], solution[(i, 1)]);
         if !p.is_finite() {
-            return Err(EditError::Solver(format!(
-                "the embedding of interior vertex {i} is not finite (singular system)"
-            )));
+            return Err(LeeError::Solver {
+                failure: SolveFailure::NonFinite { vertex: i },
+            });
         }
         uv.push(p);
     }
@@ -581,13 +586,11 @@ fn map_boundary(
     let boundary = area.boundary();
     let n = boundary.len();
     let position_in_loop = |v: VertexId| -> Result<usize> {
-        if !mesh.is_valid_vertex(v) {
-            return Err(EditError::InvalidVertex(v));
-        }
+        mesh.ensure_vertex(v)?;
         boundary
             .iter()
             .position(|&b| b == v)
-            .ok_or(EditError::CornerNotOnBoundary { vertex: v })
+            .ok_or(LeeError::CornerNotOnBoundary { vertex: v })
     };
     let corners: Vec<usize> = match &options.boundary {
         BoundaryMapping::Corners(c) => {
@@ -595,7 +598,7 @@ fn map_boundary(
             for &v in c {
                 let p = position_in_loop(v)?;
                 if positions.contains(&p) {
-                    return Err(EditError::RepeatedCorner { vertex: v });
+                    return Err(LeeError::RepeatedCorner { vertex: v });
                 }
                 positions.push(p);
             }

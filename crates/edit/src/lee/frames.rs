@@ -12,7 +12,7 @@ use halfedge::{Mesh, VertexId};
 use rayon::prelude::*;
 
 use crate::lee::area::EditingArea;
-use crate::{EditError, Result};
+use crate::lee::error::{LeeError, Result};
 
 /// The kind of local frames.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -51,11 +51,11 @@ impl LocalFrames {
     /// when the kind names no seed.
     ///
     /// # Errors
-    /// [`EditError::PrimitiveOutsideArea`] when the seed is not in the area (the seed is
-    /// a picked vertex like a primitive's); [`EditError::Stale`] for an area of
-    /// another mesh; [`EditError::VertexArrayLength`] when
+    /// [`LeeError::PrimitiveOutsideArea`] when the seed is not in the area (the seed is
+    /// a picked vertex like a primitive's); [`LeeError::Stale`] for an area of
+    /// another mesh; [`LeeError::AreaPositionCount`] when
     /// `positions` does not have one entry per local vertex, and
-    /// [`EditError::InvalidParameter`] for a `default_seed` out of range (normal frames).
+    /// [`LeeError::InvalidParameter`] for a `default_seed` out of range (normal frames).
     pub fn new(
         mesh: &Mesh,
         area: &EditingArea,
@@ -68,13 +68,13 @@ impl LocalFrames {
         };
         area.check_mesh(mesh)?;
         if positions.len() != area.vertices().len() {
-            return Err(EditError::VertexArrayLength {
+            return Err(LeeError::AreaPositionCount {
                 expected: area.vertices().len(),
                 found: positions.len(),
             });
         }
         if default_seed >= positions.len() {
-            return Err(EditError::InvalidParameter {
+            return Err(LeeError::InvalidParameter {
                 name: "default_seed",
                 reason: format!(
                     "local vertex {default_seed} of an area of {} vertices",
@@ -85,12 +85,12 @@ impl LocalFrames {
         let seed = match seed {
             Some(v) => area
                 .local_index(mesh, *v)
-                .ok_or(EditError::PrimitiveOutsideArea { vertex: *v })?,
+                .ok_or(LeeError::PrimitiveOutsideArea { vertex: *v })?,
             None => default_seed,
         };
         if let Some(x) = x_axis {
             if !x.is_finite() {
-                return Err(EditError::InvalidParameter {
+                return Err(LeeError::InvalidParameter {
                     name: "x_axis",
                     reason: format!("{x} is not finite"),
                 });

@@ -57,7 +57,7 @@
 
 use glam::{DVec2, DVec3};
 
-use crate::{EditError, Result};
+use crate::lee::error::{LeeError, Result};
 
 /// Largest number of levels accepted: the finest lattice then has `(2^11 + 3)²`
 /// control points (about 4.2 million, 101 MB of `DVec3`), and an editing session's drag
@@ -164,7 +164,7 @@ impl ControlLattice {
     /// The zero lattice with `m × m` cells over `[min, max]`.
     ///
     /// # Errors
-    /// [`EditError::InvalidParameter`] unless `1 ≤ m ≤ 2^(MAX_LEVELS − 1)` (the finest
+    /// [`LeeError::InvalidParameter`] unless `1 ≤ m ≤ 2^(MAX_LEVELS − 1)` (the finest
     /// lattice of [`MAX_LEVELS`]).
     pub fn zeros(m: usize, min: DVec2, max: DVec2) -> Result<Self> {
         check_cells(m)?;
@@ -214,7 +214,7 @@ impl ControlLattice {
     /// (B-spline refinement, Lee, Wolberg & Shin 1997, §4.2).
     ///
     /// # Errors
-    /// [`EditError::InvalidParameter`] when the refined lattice would be finer than the
+    /// [`LeeError::InvalidParameter`] when the refined lattice would be finer than the
     /// finest of [`MAX_LEVELS`] (see [`ControlLattice::zeros`]).
     pub fn refined(&self) -> Result<Self> {
         check_cells(2 * self.m)?;
@@ -239,7 +239,7 @@ impl ControlLattice {
 /// `Ok` for a lattice of `1 ..= 2^(MAX_LEVELS − 1)` cells per axis.
 fn check_cells(m: usize) -> Result<()> {
     if !(1..=level_size(MAX_LEVELS)).contains(&m) {
-        return Err(EditError::InvalidParameter {
+        return Err(LeeError::InvalidParameter {
             name: "m",
             reason: format!(
                 "a lattice of {m} cells per axis (needs 1..={}, the finest of {MAX_LEVELS} levels)",
@@ -548,17 +548,17 @@ impl Mba {
     /// lattice `m_l = 2^{l−1}`), no boundary fixing, zero base.
     ///
     /// # Errors
-    /// [`EditError::InvalidParameter`] for a degenerate or non-finite rectangle or
+    /// [`LeeError::InvalidParameter`] for a degenerate or non-finite rectangle or
     /// `levels` outside `1 ..= MAX_LEVELS`.
     pub fn new(min: DVec2, max: DVec2, levels: usize) -> Result<Self> {
         if !(min.is_finite() && max.is_finite() && max.x > min.x && max.y > min.y) {
-            return Err(EditError::InvalidParameter {
+            return Err(LeeError::InvalidParameter {
                 name: "domain",
                 reason: format!("the rectangle {min}..{max} must be finite and non-empty"),
             });
         }
         if !(1..=MAX_LEVELS).contains(&levels) {
-            return Err(EditError::InvalidParameter {
+            return Err(LeeError::InvalidParameter {
                 name: "levels",
                 reason: format!("{levels} is outside 1..={MAX_LEVELS}"),
             });
@@ -616,11 +616,11 @@ impl Mba {
     /// The fit `f_k` over levels `k ..= l` only (`k = l + 1`: the data-only function).
     ///
     /// # Errors
-    /// [`EditError::InvalidParameter`] for `k` outside `1 ..= l+1`; see
+    /// [`LeeError::InvalidParameter`] for `k` outside `1 ..= l+1`; see
     /// [`fit_scaled`](Self::fit_scaled) for the data.
     pub fn fit_from_level(&self, k: usize, points: &[DVec2], values: &[DVec3]) -> Result<MbaFit> {
         if !(1..=self.levels + 1).contains(&k) {
-            return Err(EditError::InvalidParameter {
+            return Err(LeeError::InvalidParameter {
                 name: "k",
                 reason: format!("level {k} is outside 1..={}", self.levels + 1),
             });
@@ -631,12 +631,12 @@ impl Mba {
     /// The function `f_s` of the continuous scale parameter `s ∈ [0, 1]` (Lee 1999 §5.2).
     ///
     /// # Errors
-    /// [`EditError::InvalidParameter`] for `s` outside `[0, 1]` or a non-zero base with
-    /// boundary fixing; [`EditError::MbaLengthMismatch`], [`EditError::MbaNonFiniteData`],
-    /// [`EditError::MbaPointOutsideDomain`] for bad data.
+    /// [`LeeError::InvalidParameter`] for `s` outside `[0, 1]` or a non-zero base with
+    /// boundary fixing; [`LeeError::MbaLengthMismatch`], [`LeeError::MbaNonFiniteData`],
+    /// [`LeeError::MbaPointOutsideDomain`] for bad data.
     pub fn fit_scaled(&self, s: f64, points: &[DVec2], values: &[DVec3]) -> Result<MbaFit> {
         if !(0.0..=1.0).contains(&s) {
-            return Err(EditError::InvalidParameter {
+            return Err(LeeError::InvalidParameter {
                 name: "s",
                 reason: format!("the scale {s} is outside [0, 1]"),
             });
@@ -647,7 +647,7 @@ impl Mba {
     fn fit_split(&self, split: ScaleSplit, points: &[DVec2], values: &[DVec3]) -> Result<MbaFit> {
         self.check_data(points, values)?;
         if self.fixed_boundary && self.base != MbaBase::Zero {
-            return Err(EditError::InvalidParameter {
+            return Err(LeeError::InvalidParameter {
                 name: "base",
                 reason: "a non-zero base cannot be combined with boundary fixing".into(),
             });
@@ -673,9 +673,7 @@ impl Mba {
             .chain([&base.a, &base.b, &base.c])
             .find(|p| !p.is_finite())
         {
-            return Err(EditError::Overflow(format!(
-                "the fit reaches {p}: the values are too large (or too far apart) for f64"
-            )));
+            return Err(LeeError::FitOverflow { value: *p });
         }
         let data_weight = split.data_weight(self.levels);
         // f_{l+1} carries the data values themselves, without the base.
@@ -700,7 +698,7 @@ impl Mba {
 
     fn check_data(&self, points: &[DVec2], values: &[DVec3]) -> Result<()> {
         if points.len() != values.len() {
-            return Err(EditError::MbaLengthMismatch {
+            return Err(LeeError::MbaLengthMismatch {
                 points: points.len(),
                 values: values.len(),
             });
@@ -708,10 +706,10 @@ impl Mba {
         let tol = 1e-9 * (self.max - self.min);
         for (index, (p, z)) in points.iter().zip(values).enumerate() {
             if !(p.is_finite() && z.is_finite()) {
-                return Err(EditError::MbaNonFiniteData { index });
+                return Err(LeeError::MbaNonFiniteData { index });
             }
             if p.cmplt(self.min - tol).any() || p.cmpgt(self.max + tol).any() {
-                return Err(EditError::MbaPointOutsideDomain {
+                return Err(LeeError::MbaPointOutsideDomain {
                     index,
                     point: *p,
                     min: self.min,

@@ -22,6 +22,7 @@
 
 mod area;
 mod embedding;
+pub(crate) mod error;
 mod fit;
 mod frames;
 pub mod mba;
@@ -31,5 +32,6 @@ pub use area::{AreaSide, EditingArea};
 pub use embedding::{
     BoundaryMapping, Embedding, EmbeddingOptions, EmbeddingSolver, EmbeddingWeights,
 };
+pub use error::{LeeError, SolveFailure};
 pub use frames::{FrameKind, LocalFrames};
 pub use session::{AreaSession, SessionOptions, MAX_SESSION_LEVELS};

@@ -53,14 +53,15 @@ use glam::{DAffine3, DVec2, DVec3};
 use halfedge::{Mesh, VertexId};
 use rayon::prelude::*;
 
-use crate::hierarchy_edit::HierarchyMarks;
+use crate::error::Error;
+use crate::hierarchy_edit::{HierarchyEdit, HierarchyMarks};
 use crate::lee::area::EditingArea;
 use crate::lee::embedding::{Embedding, EmbeddingOptions};
+use crate::lee::error::{LeeError, Result};
 use crate::lee::fit::{self, CellIndex, FitPlan, FitState, FIRST_LEVEL};
 use crate::lee::frames::{FrameKind, LocalFrames};
 use crate::lee::mba::{level_size, LatticeBasis, MAX_LEVELS};
-use crate::vertices::{check_finite_positions, scatter};
-use crate::{EditError, Result};
+use crate::vertices::{first_non_finite, scatter};
 
 /// Options of [`AreaSession::new`].
 #[derive(Clone, Debug, PartialEq)]
@@ -154,7 +155,7 @@ impl AreaSession {
     ///
     /// # Errors
     /// The errors of [`Embedding::new`] and [`LocalFrames::new`];
-    /// [`EditError::InvalidParameter`] for a bad scale or level count.
+    /// [`LeeError::InvalidParameter`] for a bad scale or level count.
     pub fn new(mesh: &Mesh, area: EditingArea, options: &SessionOptions) -> Result<Self> {
         check_scale(options.scale)?;
         if let Some(l) = options.levels {
@@ -288,7 +289,7 @@ impl AreaSession {
     /// [`drag`](Self::drag) or [`apply`](Self::apply). No re-embedding.
     ///
     /// # Errors
-    /// [`EditError::InvalidParameter`] outside `[0, 1]` or NaN.
+    /// [`LeeError::InvalidParameter`] outside `[0, 1]` or NaN.
     pub fn set_scale(&mut self, s: f64) -> Result<()> {
         check_scale(s)?;
         self.scale = s;
@@ -299,7 +300,7 @@ impl AreaSession {
     /// keeps its reach.
     ///
     /// # Errors
-    /// [`EditError::InvalidParameter`] outside `3 ..=` [`MAX_SESSION_LEVELS`]; nothing
+    /// [`LeeError::InvalidParameter`] outside `3 ..=` [`MAX_SESSION_LEVELS`]; nothing
     /// changes then.
     pub fn set_levels(&mut self, levels: usize) -> Result<()> {
         self.levels = check_levels(levels)?;
@@ -312,7 +313,7 @@ impl AreaSession {
     /// drag or apply. No re-embedding.
     ///
     /// # Errors
-    /// [`EditError::Stale`]; the errors of [`LocalFrames::new`].
+    /// [`LeeError::Stale`]; the errors of [`LocalFrames::new`].
     pub fn set_frames(&mut self, mesh: &Mesh, kind: FrameKind) -> Result<()> {
         self.area.check_mesh(mesh)?;
         let seed = nearest_to_centre(&self.area, &self.embedding);
@@ -327,25 +328,23 @@ impl AreaSession {
     /// positions ([`commit`](Self::commit)).
     ///
     /// # Errors
-    /// [`EditError::EmptyPrimitive`], [`EditError::InvalidVertex`],
-    /// [`EditError::PrimitiveOutsideArea`], [`EditError::PrimitiveOnAreaBoundary`],
-    /// [`EditError::Stale`]; nothing changes on error.
+    /// [`LeeError::EmptyPrimitive`], [`halfedge::Error::InvalidHandle`] (as `LeeError::Mesh`),
+    /// [`LeeError::PrimitiveOutsideArea`], [`LeeError::PrimitiveOnAreaBoundary`],
+    /// [`LeeError::Stale`]; nothing changes on error.
     pub fn set_primitive(&mut self, mesh: &Mesh, vertices: &[VertexId]) -> Result<()> {
         self.area.check_mesh(mesh)?;
         if vertices.is_empty() {
-            return Err(EditError::EmptyPrimitive);
+            return Err(LeeError::EmptyPrimitive);
         }
         let mut primitive = Vec::with_capacity(vertices.len());
         for &v in vertices {
-            if !mesh.is_valid_vertex(v) {
-                return Err(EditError::InvalidVertex(v));
-            }
+            mesh.ensure_vertex(v)?;
             let i = self
                 .area
                 .local_index(mesh, v)
-                .ok_or(EditError::PrimitiveOutsideArea { vertex: v })?;
+                .ok_or(LeeError::PrimitiveOutsideArea { vertex: v })?;
             if i >= self.area.n_interior() {
-                return Err(EditError::PrimitiveOnAreaBoundary { vertex: v });
+                return Err(LeeError::PrimitiveOnAreaBoundary { vertex: v });
             }
             primitive.push(i as u32);
         }
@@ -371,7 +370,7 @@ impl AreaSession {
     /// displacements are reset.
     ///
     /// # Errors
-    /// [`EditError::Stale`].
+    /// [`LeeError::Stale`].
     pub fn commit(&mut self, mesh: &Mesh) -> Result<()> {
         self.area.check_mesh(mesh)?;
         let rest: Vec<DVec3> = self
@@ -392,7 +391,7 @@ impl AreaSession {
     /// Undoes the current edit: the area's interior vertices go back to the rest positions.
     ///
     /// # Errors
-    /// [`EditError::Stale`].
+    /// [`LeeError::Stale`].
     pub fn cancel(&mut self, mesh: &mut Mesh) -> Result<()> {
         self.area.check_mesh(mesh)?;
         let positions = mesh.positions_mut();
@@ -408,13 +407,13 @@ impl AreaSession {
     /// replaces the previous displacement.
     ///
     /// # Errors
-    /// [`EditError::NonFiniteDisplacement`], [`EditError::EmptyPrimitive`],
-    /// [`EditError::Stale`], [`EditError::Overflow`] when a moved vertex would not
+    /// [`LeeError::NonFiniteDisplacement`], [`LeeError::EmptyPrimitive`],
+    /// [`LeeError::Stale`], [`LeeError::Overflow`] when a moved vertex would not
     /// land on a finite position (a displacement of 1e308); the mesh and the current
     /// displacement are unchanged on error.
     pub fn drag(&mut self, mesh: &mut Mesh, displacement: DVec3) -> Result<()> {
         if !displacement.is_finite() {
-            return Err(EditError::NonFiniteDisplacement { displacement });
+            return Err(LeeError::NonFiniteDisplacement { displacement });
         }
         self.ready(mesh)?;
         let previous = std::mem::replace(
@@ -430,12 +429,12 @@ impl AreaSession {
     /// position as target (they hold the surface there).
     ///
     /// # Errors
-    /// [`EditError::NonFiniteTarget`], [`EditError::NotInPrimitive`],
-    /// [`EditError::Stale`].
+    /// [`LeeError::NonFiniteTarget`], [`LeeError::NotInPrimitive`],
+    /// [`LeeError::Stale`].
     pub fn move_vertex(&mut self, mesh: &Mesh, v: VertexId, target: DVec3) -> Result<()> {
         self.area.check_mesh(mesh)?;
         if !target.is_finite() {
-            return Err(EditError::NonFiniteTarget { vertex: v, target });
+            return Err(LeeError::NonFiniteTarget { vertex: v, target });
         }
         let c = self
             .area
@@ -443,7 +442,7 @@ impl AreaSession {
             .filter(|&i| i < self.area.n_interior())
             .map(|i| self.data_of_local[i])
             .filter(|&c| c != NONE)
-            .ok_or(EditError::NotInPrimitive { vertex: v })?;
+            .ok_or(LeeError::NotInPrimitive { vertex: v })?;
         let i = self.primitive[c as usize] as usize;
         self.displacements[c as usize] = target - self.rest[i];
         Ok(())
@@ -453,46 +452,17 @@ impl AreaSession {
     /// frames (after [`move_vertex`](Self::move_vertex), or to show a new scale).
     ///
     /// # Errors
-    /// [`EditError::EmptyPrimitive`], [`EditError::Stale`], [`EditError::Overflow`]
+    /// [`LeeError::EmptyPrimitive`], [`LeeError::Stale`], [`LeeError::Overflow`]
     /// (targets too far for the coordinates); the mesh is unchanged on error.
     pub fn apply(&mut self, mesh: &mut Mesh) -> Result<()> {
         self.ready(mesh)?;
         self.update(mesh)
     }
 
-    /// What the edit as last applied ([`drag`](Self::drag) or [`apply`](Self::apply)
-    /// since the rest positions were taken) means for a
-    /// [`Hierarchy`](halfedge::Hierarchy) whose current level `mesh` is: the region is
-    /// the area's interior (its boundary stays, Lee 1999 §5.3), and every primitive
-    /// vertex is translated by its displacement, so that refined back the fine vertices
-    /// collapsed into the primitive land on the dragged target exactly. Give the marks
-    /// once per edit ([`HierarchyMarks::mark`], which composes with earlier edits), for
-    /// example when a drag ends.
-    ///
-    /// # Errors
-    /// [`EditError::Stale`] when `mesh` is not the one the session was made on.
-    pub fn hierarchy_marks(&self, mesh: &Mesh) -> Result<HierarchyMarks> {
-        self.area.check_mesh(mesh)?;
-        let vertices = self.area.vertices();
-        let mut affine: Vec<(Vec<VertexId>, DAffine3)> = Vec::new();
-        for (c, &i) in self.primitive.iter().enumerate() {
-            let d = self.displacements[c];
-            let v = vertices[i as usize];
-            match affine.iter_mut().find(|(_, map)| map.translation == d) {
-                Some((group, _)) => group.push(v),
-                None => affine.push((vec![v], DAffine3::from_translation(d))),
-            }
-        }
-        Ok(
-            HierarchyMarks::new(mesh, self.area.interior().to_vec(), affine)?
-                .bound_to(self.area.binding()),
-        )
-    }
-
     fn ready(&self, mesh: &Mesh) -> Result<()> {
         self.area.check_mesh(mesh)?;
         if self.primitive.is_empty() {
-            return Err(EditError::EmptyPrimitive);
+            return Err(LeeError::EmptyPrimitive);
         }
         Ok(())
     }
@@ -538,10 +508,46 @@ impl AreaSession {
                 new[i] = evaluator.position_with(i, detail);
             }
         }
-        check_finite_positions("the drag", slots, &new)?;
+        if let Some((vertex, position)) = first_non_finite(slots, &new) {
+            return Err(LeeError::Overflow {
+                what: "the drag",
+                vertex,
+                position,
+            });
+        }
         // In slot order: the writes into the mesh's position array run forward.
         scatter(mesh.positions_mut(), slots, &new);
         Ok(())
+    }
+}
+
+impl HierarchyEdit for AreaSession {
+    /// What the edit as last applied ([`drag`](AreaSession::drag) or
+    /// [`apply`](AreaSession::apply) since the rest positions were taken) means for a
+    /// [`Hierarchy`](halfedge::Hierarchy) whose current level `mesh` is: the region is
+    /// the area's interior (its boundary stays, Lee 1999 §5.3), and every primitive
+    /// vertex is translated by its displacement, so that refined back the fine vertices
+    /// collapsed into the primitive land on the dragged target exactly. Give the marks
+    /// once per edit ([`HierarchyEdit::mark`], which composes with earlier edits), for
+    /// example when a drag ends.
+    ///
+    /// # Errors
+    /// [`LeeError::Stale`] when `mesh` is not the one the session was made on.
+    fn hierarchy_marks(&self, mesh: &Mesh) -> Result<HierarchyMarks, Error> {
+        self.area.check_mesh(mesh)?;
+        let vertices = self.area.vertices();
+        let mut affine: Vec<(Vec<VertexId>, DAffine3)> = Vec::new();
+        for (c, &i) in self.primitive.iter().enumerate() {
+            let d = self.displacements[c];
+            let v = vertices[i as usize];
+            match affine.iter_mut().find(|(_, map)| map.translation == d) {
+                Some((group, _)) => group.push(v),
+                None => affine.push((vec![v], DAffine3::from_translation(d))),
+            }
+        }
+        let marks = HierarchyMarks::new(mesh, self.area.interior().to_vec(), affine)
+            .map_err(LeeError::from)?;
+        Ok(marks.bound_to(self.area.binding()))
     }
 }
 
@@ -636,7 +642,7 @@ impl CompactBasis {
 
 fn check_scale(s: f64) -> Result<()> {
     if !(0.0..=1.0).contains(&s) {
-        return Err(EditError::InvalidParameter {
+        return Err(LeeError::InvalidParameter {
             name: "scale",
             reason: format!("{s} is outside [0, 1]"),
         });
@@ -646,7 +652,7 @@ fn check_scale(s: f64) -> Result<()> {
 
 fn check_levels(l: usize) -> Result<usize> {
     if !(FIRST_LEVEL..=MAX_SESSION_LEVELS).contains(&l) {
-        return Err(EditError::InvalidParameter {
+        return Err(LeeError::InvalidParameter {
             name: "levels",
             reason: format!(
                 "{l} is outside {FIRST_LEVEL}..={MAX_SESSION_LEVELS} (level {FIRST_LEVEL} is \

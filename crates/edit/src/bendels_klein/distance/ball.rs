@@ -23,7 +23,7 @@
 use halfedge::{Mesh, Selection, VertexData, VertexId};
 
 use super::geodesic::{FastMarching, MarchSource};
-use crate::{EditError, Result};
+use crate::bendels_klein::error::{BendelsKleinError, Result};
 
 /// The vertices within geodesic (surface) distance `radius` of `seeds`, and the distance
 /// of every vertex slot (`∞` beyond the radius or unreachable). The seeds are always in
@@ -31,23 +31,21 @@ use crate::{EditError, Result};
 /// seeds' Euclidean balls.
 ///
 /// # Errors
-/// [`EditError::InvalidVertex`] for a seed that is not a live vertex;
-/// [`EditError::InvalidParameter`] for a negative or NaN radius.
+/// [`halfedge::Error::InvalidHandle`] (as `BendelsKleinError::Mesh`) for a seed that is not a live vertex;
+/// [`BendelsKleinError::InvalidParameter`] for a negative or NaN radius.
 pub fn geodesic_ball(
     mesh: &Mesh,
     seeds: &[VertexId],
     radius: f64,
 ) -> Result<(Selection, VertexData<f64>)> {
     if radius.is_nan() || radius < 0.0 {
-        return Err(EditError::InvalidParameter {
+        return Err(BendelsKleinError::InvalidParameter {
             name: "radius",
             reason: format!("{radius} is not a distance ≥ 0"),
         });
     }
     for &v in seeds {
-        if !mesh.is_valid_vertex(v) {
-            return Err(EditError::InvalidVertex(v));
-        }
+        mesh.ensure_vertex(v)?;
     }
     let mut near = VertexData::filled(mesh, false);
     for &s in seeds {

@@ -34,7 +34,7 @@ use std::collections::HashMap;
 use glam::DVec3;
 use rayon::prelude::*;
 
-use crate::{EditError, Result};
+use crate::bendels_klein::error::{BendelsKleinError, Result};
 
 /// Euclidean distance from `p` to the segment `[a, b]` (a point when `a == b`): the
 /// arithmetic every query of this module uses, so brute force and grid agree exactly.
@@ -95,10 +95,10 @@ impl BorderGrid {
     /// An empty grid with the given cell size (the paper: twice the mean edge length).
     ///
     /// # Errors
-    /// [`EditError::InvalidParameter`] unless `cell_size` is finite and positive.
+    /// [`BendelsKleinError::InvalidParameter`] unless `cell_size` is finite and positive.
     pub fn new(cell_size: f64) -> Result<Self> {
         if !(cell_size.is_finite() && cell_size > 0.0) {
-            return Err(EditError::InvalidParameter {
+            return Err(BendelsKleinError::InvalidParameter {
                 name: "cell_size",
                 reason: format!("must be finite and positive, got {cell_size}"),
             });
@@ -113,7 +113,7 @@ impl BorderGrid {
     /// A grid holding `segments`, with cell size `cell_size`.
     ///
     /// # Errors
-    /// As [`BorderGrid::new`], and [`EditError::InvalidParameter`] for non-finite
+    /// As [`BorderGrid::new`], and [`BendelsKleinError::InvalidParameter`] for non-finite
     /// endpoints.
     pub fn from_segments(
         cell_size: f64,
@@ -152,7 +152,7 @@ impl BorderGrid {
     /// the grid is unchanged.
     ///
     /// # Errors
-    /// [`EditError::InvalidParameter`] for a non-finite endpoint, or when the segments
+    /// [`BendelsKleinError::InvalidParameter`] for a non-finite endpoint, or when the segments
     /// are so long for the cell size that tracing them would take more than
     /// [`MAX_TRACED_PIECES`] pieces.
     pub fn set_segments(
@@ -164,7 +164,7 @@ impl BorderGrid {
             .iter()
             .position(|(a, b)| !(a.is_finite() && b.is_finite()))
         {
-            return Err(EditError::InvalidParameter {
+            return Err(BendelsKleinError::InvalidParameter {
                 name: "segments",
                 reason: format!("segment {i} has a non-finite endpoint"),
             });
@@ -191,7 +191,7 @@ impl BorderGrid {
         if pieces.is_finite() && pieces + (self.len() as f64) <= MAX_TRACED_PIECES as f64 {
             return Ok(());
         }
-        Err(EditError::InvalidParameter {
+        Err(BendelsKleinError::InvalidParameter {
             name: "cell_size",
             reason: format!(
                 "cells of {} would be traced {pieces} times by the segments (at most \
@@ -208,7 +208,7 @@ impl BorderGrid {
     /// As [`set_segments`](Self::set_segments).
     pub fn insert_segment(&mut self, a: DVec3, b: DVec3) -> Result<usize> {
         if !(a.is_finite() && b.is_finite()) {
-            return Err(EditError::InvalidParameter {
+            return Err(BendelsKleinError::InvalidParameter {
                 name: "segment",
                 reason: "non-finite endpoint".into(),
             });

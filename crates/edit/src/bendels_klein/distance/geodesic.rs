@@ -51,7 +51,7 @@ use glam::{DVec2, DVec3};
 use halfedge::{Binding, HalfedgeId, Mesh, VertexData, VertexId};
 use rayon::prelude::*;
 
-use crate::{EditError, Result};
+use crate::bendels_klein::error::{BendelsKleinError, Result};
 
 /// The two-point update rule of [`FastMarching`] (see the module docs).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -339,8 +339,8 @@ impl FastMarching {
     /// active vertices are used: distances within a region.
     ///
     /// # Errors
-    /// [`EditError::Stale`] when `active` was made for another mesh (or this one in
-    /// another state) than the solver; [`EditError::InvalidParameter`] for a source
+    /// [`BendelsKleinError::Stale`] when `active` was made for another mesh (or this one in
+    /// another state) than the solver; [`BendelsKleinError::InvalidParameter`] for a source
     /// index out of range or a NaN start value.
     pub fn distances(
         &self,
@@ -366,24 +366,19 @@ impl FastMarching {
         const OFF: u8 = 2;
         let n = self.len();
         if let Some(mask) = active {
+            // The same binding as the solver's: one entry per vertex slot.
             self.binding
                 .check_same(&mask.binding(), "the active mask")?;
-            if mask.len() != n {
-                return Err(EditError::VertexArrayLength {
-                    expected: n,
-                    found: mask.len(),
-                });
-            }
         }
         for source in sources {
             if source.vertex >= n {
-                return Err(EditError::InvalidParameter {
+                return Err(BendelsKleinError::InvalidParameter {
                     name: "source vertex",
                     reason: format!("index {} is outside the {n} vertex slots", source.vertex),
                 });
             }
             if source.distance.is_nan() || source.radius.is_nan() {
-                return Err(EditError::InvalidParameter {
+                return Err(BendelsKleinError::InvalidParameter {
                     name: "source",
                     reason: format!("{source:?} has a NaN start value or radius"),
                 });
@@ -479,8 +474,8 @@ impl FastMarching {
     /// [`FastMarching::distances`] from isolated point sources at distance 0.
     ///
     /// # Errors
-    /// [`EditError::Stale`] when the solver was made for another mesh (or this one
-    /// before a change of connectivity); [`EditError::InvalidVertex`] for a source that
+    /// [`BendelsKleinError::Stale`] when the solver was made for another mesh (or this one
+    /// before a change of connectivity); [`halfedge::Error::InvalidHandle`] (as `BendelsKleinError::Mesh`) for a source that
     /// is not a live vertex of `mesh`; as [`FastMarching::distances`].
     pub fn distances_from_points(
         &self,
@@ -519,11 +514,8 @@ fn live_sources(
     vertices
         .iter()
         .map(|&v| {
-            if mesh.is_valid_vertex(v) {
-                Ok(source(mesh.vertex_index(v)))
-            } else {
-                Err(EditError::InvalidVertex(v))
-            }
+            mesh.ensure_vertex(v)?;
+            Ok(source(mesh.vertex_index(v)))
         })
         .collect()
 }

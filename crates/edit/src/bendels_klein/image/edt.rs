@@ -12,7 +12,7 @@
 
 use rayon::prelude::*;
 
-use super::mask::Mask;
+use crate::bendels_klein::image::mask::Mask;
 
 /// Columns per parallel block of the column pass.
 const BLOCK: usize = 512;

@@ -4,8 +4,8 @@
 use glam::DVec2;
 use rayon::prelude::*;
 
-use super::raster::Raster;
-use super::{ImageEditError, ImageResult};
+use crate::bendels_klein::error::{BendelsKleinError, Result, MAX_PIXELS};
+use crate::bendels_klein::image::raster::Raster;
 
 /// A set of pixels of a `width × height` picture: the handle or the fixed region of an
 /// image edit.
@@ -16,23 +16,25 @@ pub struct Mask {
     bits: Vec<bool>,
 }
 
-fn pixels(width: u32, height: u32) -> ImageResult<usize> {
+fn pixels(width: u32, height: u32) -> Result<usize> {
     (width as usize)
         .checked_mul(height as usize)
-        .filter(|&n| n <= super::MAX_PIXELS)
-        .ok_or(ImageEditError::TooLarge {
+        .filter(|&n| n <= MAX_PIXELS)
+        .ok_or(BendelsKleinError::TooLarge {
             width,
             height,
             channels: 1,
         })
 }
 
-fn check_polygon(polygon: &[DVec2]) -> ImageResult<()> {
+fn check_polygon(polygon: &[DVec2]) -> Result<()> {
     if polygon.len() < 3 {
-        return Err(ImageEditError::PolygonTooShort(polygon.len()));
+        return Err(BendelsKleinError::TooFewPoints {
+            points: polygon.len(),
+        });
     }
     if let Some(index) = polygon.iter().position(|p| !p.is_finite()) {
-        return Err(ImageEditError::NonFinitePolygon { index });
+        return Err(BendelsKleinError::NonFinitePoint { index });
     }
     Ok(())
 }
@@ -41,9 +43,9 @@ impl Mask {
     /// The empty mask.
     ///
     /// # Errors
-    /// [`ImageEditError::TooLarge`] above [`super::MAX_PIXELS`] pixels (checked before
+    /// [`BendelsKleinError::TooLarge`] above [`MAX_PIXELS`] pixels (checked before
     /// allocating).
-    pub fn empty(width: u32, height: u32) -> ImageResult<Self> {
+    pub fn empty(width: u32, height: u32) -> Result<Self> {
         Ok(Self {
             width,
             height,
@@ -55,9 +57,9 @@ impl Mask {
     /// joined to the first), in pixel coordinates (see the module docs).
     ///
     /// # Errors
-    /// [`ImageEditError::PolygonTooShort`], [`ImageEditError::NonFinitePolygon`],
-    /// [`ImageEditError::TooLarge`].
-    pub fn polygon(width: u32, height: u32, polygon: &[DVec2]) -> ImageResult<Self> {
+    /// [`BendelsKleinError::TooFewPoints`], [`BendelsKleinError::NonFinitePoint`],
+    /// [`BendelsKleinError::TooLarge`].
+    pub fn polygon(width: u32, height: u32, polygon: &[DVec2]) -> Result<Self> {
         check_polygon(polygon)?;
         let mut mask = Self::empty(width, height)?;
         let w = width as usize;
@@ -97,7 +99,7 @@ impl Mask {
     ///
     /// # Errors
     /// As [`Mask::polygon`].
-    pub fn outside_polygon(width: u32, height: u32, polygon: &[DVec2]) -> ImageResult<Self> {
+    pub fn outside_polygon(width: u32, height: u32, polygon: &[DVec2]) -> Result<Self> {
         let mut mask = Self::polygon(width, height, polygon)?;
         mask.invert();
         Ok(mask)
@@ -107,8 +109,8 @@ impl Mask {
     /// border stays, everything inside may move).
     ///
     /// # Errors
-    /// [`ImageEditError::TooLarge`] above [`super::MAX_PIXELS`] pixels.
-    pub fn border(width: u32, height: u32, thickness: u32) -> ImageResult<Self> {
+    /// [`BendelsKleinError::TooLarge`] above [`MAX_PIXELS`] pixels.
+    pub fn border(width: u32, height: u32, thickness: u32) -> Result<Self> {
         let mut mask = Self::empty(width, height)?;
         let t = thickness;
         for y in 0..height {
@@ -144,8 +146,8 @@ impl Mask {
     /// Adds the pixels of `other`.
     ///
     /// # Errors
-    /// [`ImageEditError::MaskSize`] when the sizes differ (then nothing changes).
-    pub fn union_with(&mut self, other: &Mask) -> ImageResult<()> {
+    /// [`BendelsKleinError::MaskSize`] when the sizes differ (then nothing changes).
+    pub fn union_with(&mut self, other: &Mask) -> Result<()> {
         other.check_size(self.width, self.height)?;
         for (a, &b) in self.bits.iter_mut().zip(&other.bits) {
             *a |= b;
@@ -188,9 +190,9 @@ impl Mask {
         self.bits.iter().filter(|&&b| b).count()
     }
 
-    pub(super) fn check_size(&self, width: u32, height: u32) -> ImageResult<()> {
+    pub(super) fn check_size(&self, width: u32, height: u32) -> Result<()> {
         if (self.width, self.height) != (width, height) {
-            return Err(ImageEditError::MaskSize {
+            return Err(BendelsKleinError::MaskSize {
                 got: (self.width, self.height),
                 expected: (width, height),
             });

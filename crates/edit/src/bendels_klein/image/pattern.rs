@@ -1,8 +1,8 @@
 //! A procedurally drawn test picture, so that tests, examples, benches and the guide
 //! edit images the project makes itself.
 
-use super::raster::Raster;
-use super::ImageResult;
+use crate::bendels_klein::error::Result;
+use crate::bendels_klein::image::raster::Raster;
 
 /// An RGB test picture of `width × height`: a checkerboard of 16-pixel squares under a
 /// soft diagonal gradient (straight lines that show every bend of an edit), with a
@@ -11,8 +11,8 @@ use super::ImageResult;
 /// Deterministic.
 ///
 /// # Errors
-/// [`super::ImageEditError::TooLarge`] above [`super::MAX_PIXELS`] pixels.
-pub fn test_pattern(width: u32, height: u32) -> ImageResult<Raster> {
+/// [`super::BendelsKleinError::TooLarge`] above [`MAX_PIXELS`] pixels.
+pub fn test_pattern(width: u32, height: u32) -> Result<Raster> {
     let mut out = Raster::filled(width, height, &[0, 0, 0])?;
     let (w, h) = (f64::from(width), f64::from(height));
     let (cx, cy) = (0.5 * (w - 1.0), 0.5 * (h - 1.0));

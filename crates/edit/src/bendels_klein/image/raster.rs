@@ -3,7 +3,7 @@
 
 use std::path::Path;
 
-use super::{ImageEditError, ImageResult};
+use crate::bendels_klein::error::{BendelsKleinError, Result, MAX_PIXELS};
 
 /// The sample type of a [`Raster`]: `u8` (8 bits per channel, the default) or `u16`
 /// (16 bits, as 16-bit PNGs hold them). Sealed: only these two.
@@ -144,9 +144,9 @@ impl Picture {
     /// to 8 bits).
     ///
     /// # Errors
-    /// [`ImageEditError::Png`] when the file cannot be read or decoded;
-    /// [`ImageEditError::TooLarge`] above [`super::MAX_PIXELS`] pixels.
-    pub fn read_png(path: impl AsRef<Path>) -> ImageResult<Self> {
+    /// [`BendelsKleinError::Png`] when the file cannot be read or decoded;
+    /// [`BendelsKleinError::TooLarge`] above [`MAX_PIXELS`] pixels.
+    pub fn read_png(path: impl AsRef<Path>) -> Result<Self> {
         let decoded = decode_png(path.as_ref())?;
         use image::DynamicImage as D;
         Ok(match decoded {
@@ -159,8 +159,8 @@ impl Picture {
 }
 
 /// Decodes the PNG at `path` (errors name the file).
-fn decode_png(path: &Path) -> ImageResult<image::DynamicImage> {
-    let wrap = |source: image::ImageError| ImageEditError::Png {
+fn decode_png(path: &Path) -> Result<image::DynamicImage> {
+    let wrap = |source: image::ImageError| BendelsKleinError::Png {
         path: path.to_path_buf(),
         source,
     };
@@ -173,15 +173,15 @@ fn decode_png(path: &Path) -> ImageResult<image::DynamicImage> {
 }
 
 /// `width × height × channels`, checked.
-fn byte_len(width: u32, height: u32, channels: u8) -> ImageResult<usize> {
+fn byte_len(width: u32, height: u32, channels: u8) -> Result<usize> {
     if !(1..=4).contains(&channels) {
-        return Err(ImageEditError::Channels(channels));
+        return Err(BendelsKleinError::Channels(channels));
     }
     (width as usize)
         .checked_mul(height as usize)
-        .filter(|&n| n <= super::MAX_PIXELS)
+        .filter(|&n| n <= MAX_PIXELS)
         .and_then(|n| n.checked_mul(channels as usize))
-        .ok_or(ImageEditError::TooLarge {
+        .ok_or(BendelsKleinError::TooLarge {
             width,
             height,
             channels,
@@ -192,13 +192,13 @@ impl<S: Sample> RasterOf<S> {
     /// A picture from its samples (row-major, channels interleaved).
     ///
     /// # Errors
-    /// [`ImageEditError::Channels`] for a channel count outside 1..=4,
-    /// [`ImageEditError::TooLarge`] above [`super::MAX_PIXELS`] pixels,
-    /// [`ImageEditError::DataLength`] when `data` has another length.
-    pub fn new(width: u32, height: u32, channels: u8, data: Vec<S>) -> ImageResult<Self> {
+    /// [`BendelsKleinError::Channels`] for a channel count outside 1..=4,
+    /// [`BendelsKleinError::TooLarge`] above [`MAX_PIXELS`] pixels,
+    /// [`BendelsKleinError::DataLength`] when `data` has another length.
+    pub fn new(width: u32, height: u32, channels: u8, data: Vec<S>) -> Result<Self> {
         let expected = byte_len(width, height, channels)?;
         if data.len() != expected {
-            return Err(ImageEditError::DataLength {
+            return Err(BendelsKleinError::DataLength {
                 got: data.len(),
                 expected,
             });
@@ -215,7 +215,7 @@ impl<S: Sample> RasterOf<S> {
     ///
     /// # Errors
     /// As [`Raster::new`].
-    pub fn filled(width: u32, height: u32, value: &[S]) -> ImageResult<Self> {
+    pub fn filled(width: u32, height: u32, value: &[S]) -> Result<Self> {
         let channels = u8::try_from(value.len()).unwrap_or(u8::MAX);
         let len = byte_len(width, height, channels)?;
         let data = value.iter().copied().cycle().take(len).collect();
@@ -277,14 +277,14 @@ impl<S: Sample> RasterOf<S> {
     /// 8-bit samples (× 257). [`Picture::read_png`] keeps a file's own depth.
     ///
     /// # Errors
-    /// [`ImageEditError::Png`] when the file cannot be read or decoded;
-    /// [`ImageEditError::TooLarge`] above [`super::MAX_PIXELS`] pixels.
-    pub fn read_png(path: impl AsRef<Path>) -> ImageResult<Self> {
+    /// [`BendelsKleinError::Png`] when the file cannot be read or decoded;
+    /// [`BendelsKleinError::TooLarge`] above [`MAX_PIXELS`] pixels.
+    pub fn read_png(path: impl AsRef<Path>) -> Result<Self> {
         Self::from_decoded(decode_png(path.as_ref())?)
     }
 
     /// The raster of a decoded picture, at this depth.
-    fn from_decoded(decoded: image::DynamicImage) -> ImageResult<Self> {
+    fn from_decoded(decoded: image::DynamicImage) -> Result<Self> {
         let (width, height) = (decoded.width(), decoded.height());
         let (channels, data) = S::decode(decoded);
         Self::new(width, height, channels, data)
@@ -294,11 +294,11 @@ impl<S: Sample> RasterOf<S> {
     /// depth (8 or 16 bits).
     ///
     /// # Errors
-    /// [`ImageEditError::Png`] when the file cannot be written.
-    pub fn write_png(&self, path: impl AsRef<Path>) -> ImageResult<()> {
+    /// [`BendelsKleinError::Png`] when the file cannot be written.
+    pub fn write_png(&self, path: impl AsRef<Path>) -> Result<()> {
         let path = path.as_ref();
         S::encode(path, &self.data, self.width, self.height, self.channels).map_err(|source| {
-            ImageEditError::Png {
+            BendelsKleinError::Png {
                 path: path.to_path_buf(),
                 source,
             }

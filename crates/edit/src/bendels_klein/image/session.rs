@@ -1,21 +1,20 @@
 //! The image editing session: grid mesh, distances, blend and resampling (Bendels &
 //! Klein, Secs. 2–5 and 7 on a picture; see the module docs of [`super`]).
 
-use glam::{DMat3, DMat4, DVec2};
+use glam::{DMat3, DVec2};
 use rayon::prelude::*;
 
-use super::edt::squared_distances_at;
-use super::mask::Mask;
-use super::raster::{RasterOf, Sample};
-use super::{ImageEditError, ImageResult};
-use crate::bendels_klein::affine_power::{embed_affine2, AffinePower};
-use crate::bendels_klein::mesh::blend_ratio;
-use crate::bendels_klein::regions::{RegionKind, Role};
+use crate::bendels_klein::blend::BlendCore;
+use crate::bendels_klein::error::{BendelsKleinError, RegionKind, Result, Site};
+use crate::bendels_klein::image::edt::squared_distances_at;
+use crate::bendels_klein::image::mask::Mask;
+use crate::bendels_klein::image::raster::{RasterOf, Sample};
+use crate::bendels_klein::regions::Role;
 use crate::bendels_klein::shape::ShapeFunction;
-use crate::EditError;
 
 /// Options of an [`ImageSession`].
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct ImageOptions {
     /// Pixels between grid vertices (the paper: "a regular grid mesh"). Smaller steps
     /// follow the regions' outlines and the shape function more closely and cost more
@@ -60,15 +59,11 @@ pub struct ImageSessionOf<S: Sample> {
     fixed: Mask,
     xs: Vec<u32>,
     ys: Vec<u32>,
-    roles: Vec<Role>,
-    d_handle: Vec<f64>,
-    d_fixed: Vec<f64>,
-    alpha: Vec<f64>,
     original: Vec<DVec2>,
     deformed: Vec<DVec2>,
-    shape: ShapeFunction,
-    transform: DMat3,
-    power: AffinePower,
+    /// Roles, distances, weights, shape function and transform of the grid vertices
+    /// (shared with the mesh and polyline sessions).
+    core: BlendCore<DVec2>,
 }
 
 /// Grid coordinates along one side: `0, step, 2 step, …` and the last pixel.
@@ -92,25 +87,25 @@ impl<S: Sample> ImageSessionOf<S> {
     /// on a handle pixel is handle, on a fixed pixel fixed, the others deformable.
     ///
     /// # Errors
-    /// [`ImageEditError::TooSmall`] for a picture under 2×2 pixels,
-    /// [`ImageEditError::GridStep`] for a step of 0, [`ImageEditError::MaskSize`],
-    /// [`ImageEditError::EmptyRegion`], [`ImageEditError::Overlap`],
-    /// [`ImageEditError::HandleTouchesFixed`].
+    /// [`BendelsKleinError::TooSmall`] for a picture under 2×2 pixels,
+    /// [`BendelsKleinError::GridStep`] for a step of 0, [`BendelsKleinError::MaskSize`],
+    /// [`BendelsKleinError::EmptyRegion`], [`BendelsKleinError::Overlap`],
+    /// [`BendelsKleinError::HandleTouchesFixed`].
     pub fn new(
         image: RasterOf<S>,
         handle: Mask,
         fixed: Mask,
         options: ImageOptions,
-    ) -> ImageResult<Self> {
+    ) -> Result<Self> {
         let (w, h) = (image.width(), image.height());
         if w < 2 || h < 2 {
-            return Err(ImageEditError::TooSmall {
+            return Err(BendelsKleinError::TooSmall {
                 width: w,
                 height: h,
             });
         }
         if options.grid_step == 0 {
-            return Err(ImageEditError::GridStep);
+            return Err(BendelsKleinError::GridStep);
         }
         handle.check_size(w, h)?;
         fixed.check_size(w, h)?;
@@ -135,24 +130,23 @@ impl<S: Sample> ImageSessionOf<S> {
                 original.push(DVec2::new(f64::from(x), f64::from(y)));
             }
         }
-        let mut session = Self {
+        let core = BlendCore::new(
+            roles,
+            dh.into_iter().map(f64::sqrt).collect(),
+            df.into_iter().map(f64::sqrt).collect(),
+            vec![0.0; n],
+            options.shape,
+        );
+        Ok(Self {
             source: image,
             handle,
             fixed,
             xs,
             ys,
-            roles,
-            d_handle: dh.into_iter().map(f64::sqrt).collect(),
-            d_fixed: df.into_iter().map(f64::sqrt).collect(),
-            alpha: vec![0.0; n],
             deformed: original.clone(),
             original,
-            shape: options.shape,
-            transform: DMat3::IDENTITY,
-            power: AffinePower::from_log(DMat4::IDENTITY, DMat4::ZERO),
-        };
-        session.update_alpha();
-        Ok(session)
+            core,
+        })
     }
 
     /// The input picture.
@@ -188,32 +182,32 @@ impl<S: Sample> ImageSessionOf<S> {
     /// The role of every grid vertex.
     #[must_use]
     pub fn roles(&self) -> &[Role] {
-        &self.roles
+        self.core.roles()
     }
     /// The weight α of every grid vertex (0 fixed, 1 handle).
     #[must_use]
     pub fn alpha(&self) -> &[f64] {
-        &self.alpha
+        self.core.alpha()
     }
     /// Distances of the grid vertices to the nearest handle pixel.
     #[must_use]
     pub fn handle_distances(&self) -> &[f64] {
-        &self.d_handle
+        self.core.handle_distances()
     }
     /// Distances of the grid vertices to the nearest fixed pixel.
     #[must_use]
     pub fn fixed_distances(&self) -> &[f64] {
-        &self.d_fixed
+        self.core.fixed_distances()
     }
     /// The current handle transform (identity before the first edit).
     #[must_use]
     pub fn transform(&self) -> DMat3 {
-        self.transform
+        self.core.transform()
     }
     /// The shape function.
     #[must_use]
     pub fn shape(&self) -> &ShapeFunction {
-        &self.shape
+        self.core.shape()
     }
 
     /// Applies the handle transform `a` (3×3 homogeneous, pixel coordinates) to the
@@ -222,73 +216,49 @@ impl<S: Sample> ImageSessionOf<S> {
     /// the picture. On error nothing changes.
     ///
     /// # Errors
-    /// [`ImageEditError::Edit`] with [`crate::EditError::NoRealLogarithm`] (a
-    /// reflection, a singular map, a half turn), [`crate::EditError::NotAffine`] or
-    /// [`crate::EditError::NonFiniteMatrix`]; [`crate::EditError::Overflow`] naming the
-    /// first grid vertex that would leave the finite range (then nothing changes).
-    pub fn apply(&mut self, a: DMat3) -> ImageResult<()> {
-        let power = AffinePower::new(embed_affine2(a))?;
-        let old_power = std::mem::replace(&mut self.power, power);
-        let old_transform = std::mem::replace(&mut self.transform, a);
+    /// [`BendelsKleinError::NoRealLogarithm`] (a reflection, a singular map, a half turn),
+    /// [`BendelsKleinError::NotAffine`] or [`BendelsKleinError::NonFiniteMatrix`];
+    /// [`BendelsKleinError::Overflow`] naming the first grid vertex that would leave the
+    /// finite range (then nothing changes).
+    pub fn apply(&mut self, a: DMat3) -> Result<()> {
+        let previous = self.core.set_transform(a)?;
         let saved = self.deformed.clone();
         self.deform();
         if let Some(index) = self.deformed.iter().position(|p| !p.is_finite()) {
+            let position = self.deformed[index].extend(0.0);
             self.deformed = saved;
-            self.power = old_power;
-            self.transform = old_transform;
-            return Err(EditError::Overflow(format!(
-                "grid vertex {index} would move to a non-finite position under {a}"
-            ))
-            .into());
+            self.core.restore(previous);
+            return Err(BendelsKleinError::Overflow {
+                what: "the blended transform",
+                site: Site::GridVertex(index),
+                position,
+            });
         }
         Ok(())
     }
 
     /// Changes the shape function (the paper's Fig. 8) and re-deforms the grid.
     pub fn set_shape(&mut self, shape: ShapeFunction) {
-        self.shape = shape;
-        self.update_alpha();
+        self.core.set_shape(shape);
         self.deform();
     }
 
     /// Back to the identity: the grid undeformed.
     pub fn reset(&mut self) {
-        self.transform = DMat3::IDENTITY;
-        self.power = AffinePower::from_log(DMat4::IDENTITY, DMat4::ZERO);
+        self.core.reset_transform();
         self.deformed.clone_from(&self.original);
     }
 
-    fn update_alpha(&mut self) {
-        let shape = &self.shape;
-        let (roles, dh, df) = (&self.roles, &self.d_handle, &self.d_fixed);
-        self.alpha
-            .par_iter_mut()
-            .enumerate()
-            .with_min_len(4096)
-            .for_each(|(i, a)| {
-                *a = match roles[i] {
-                    Role::Fixed => 0.0,
-                    Role::Handle => 1.0,
-                    Role::Deformable => shape.eval(blend_ratio(df[i], dh[i])),
-                }
-            });
-    }
-
+    /// Moves every grid vertex from its original by the blend.
     fn deform(&mut self) {
-        let (power, a) = (&self.power, &self.transform);
+        let core = &self.core;
         self.deformed
             .par_iter_mut()
             .zip(self.original.par_iter())
-            .zip(self.alpha.par_iter())
-            .zip(self.roles.par_iter())
+            .zip(core.alpha().par_iter())
+            .zip(core.roles().par_iter())
             .with_min_len(4096)
-            .for_each(|(((d, &o), &alpha), &role)| {
-                *d = match role {
-                    Role::Fixed => o,
-                    Role::Handle => a.transform_point2(o),
-                    Role::Deformable => power.transform_point2(alpha, o),
-                }
-            });
+            .for_each(|(((d, &o), &alpha), &role)| *d = core.place(role, alpha, o));
     }
 
     /// The three vertices of triangle `t` (two per cell, `(00, 10, 11)` and
@@ -354,11 +324,11 @@ impl<S: Sample> ImageSessionOf<S> {
     /// sampling (see the module docs of [`super`]).
     ///
     /// # Errors
-    /// [`ImageEditError::OutputMismatch`] for another size or channel count.
-    pub fn render_into(&self, out: &mut RasterOf<S>) -> ImageResult<RenderStats> {
+    /// [`BendelsKleinError::OutputMismatch`] for another size or channel count.
+    pub fn render_into(&self, out: &mut RasterOf<S>) -> Result<RenderStats> {
         let shape = |r: &RasterOf<S>| (r.width(), r.height(), r.channels());
         if shape(out) != shape(&self.source) {
-            return Err(ImageEditError::OutputMismatch {
+            return Err(BendelsKleinError::OutputMismatch {
                 got: shape(out),
                 expected: shape(&self.source),
             });
@@ -380,7 +350,7 @@ impl<S: Sample> ImageSessionOf<S> {
             .filter_map(|cell| {
                 let v00 = (cell / (nx - 1)) * nx + cell % (nx - 1);
                 let corners = [v00, v00 + 1, v00 + nx, v00 + nx + 1];
-                if corners.iter().all(|&v| self.alpha[v] == 0.0) {
+                if corners.iter().all(|&v| self.core.alpha()[v] == 0.0) {
                     return None;
                 }
                 let ys = corners.map(|v| self.deformed[v].y);
@@ -430,7 +400,7 @@ impl<S: Sample> ImageSessionOf<S> {
                         let Some(t) = Triangle::new(
                             tri.map(|v| self.deformed[v]),
                             tri.map(|v| self.original[v]),
-                            tri.iter().map(|&v| self.alpha[v]).sum::<f64>() as f32,
+                            tri.iter().map(|&v| self.core.alpha()[v]).sum::<f64>() as f32,
                             h,
                         ) else {
                             continue;
@@ -569,18 +539,20 @@ impl Triangle {
 }
 
 /// The handle and the fixed region: non-empty, disjoint, not touching.
-fn check_regions(handle: &Mask, fixed: &Mask) -> ImageResult<()> {
+fn check_regions(handle: &Mask, fixed: &Mask) -> Result<()> {
     if handle.count() == 0 {
-        return Err(ImageEditError::EmptyRegion(RegionKind::Handle));
+        return Err(BendelsKleinError::EmptyRegion(RegionKind::Handle));
     }
     if fixed.count() == 0 {
-        return Err(ImageEditError::EmptyRegion(RegionKind::Fixed));
+        return Err(BendelsKleinError::EmptyRegion(RegionKind::Fixed));
     }
     let (w, h) = (handle.width(), handle.height());
     let overlap = (0..h).into_par_iter().find_map_first(|y| {
         (0..w)
             .find(|&x| handle.contains(x, y) && fixed.contains(x, y))
-            .map(|x| ImageEditError::Overlap { x, y })
+            .map(|x| BendelsKleinError::Overlap {
+                site: Site::Pixel { x, y },
+            })
     });
     if let Some(error) = overlap {
         return Err(error);
@@ -591,9 +563,12 @@ fn check_regions(handle: &Mask, fixed: &Mask) -> ImageResult<()> {
                 let (nx, ny) = (i64::from(x) + dx, i64::from(y) + dy);
                 let inside = nx >= 0 && ny >= 0 && nx < i64::from(w) && ny < i64::from(h);
                 (inside && fixed.contains(nx as u32, ny as u32)).then(|| {
-                    ImageEditError::HandleTouchesFixed {
-                        handle: (x, y),
-                        fixed: (nx as u32, ny as u32),
+                    BendelsKleinError::HandleTouchesFixed {
+                        handle: Site::Pixel { x, y },
+                        fixed: Site::Pixel {
+                            x: nx as u32,
+                            y: ny as u32,
+                        },
                     }
                 })
             })

@@ -4,6 +4,7 @@ use rand_chacha::ChaCha8Rng;
 
 use super::edt::{squared_distance_transform, squared_distances_at};
 use super::*;
+use crate::bendels_klein::error::{BendelsKleinError, RegionKind, Site};
 use crate::bendels_klein::regions::Role;
 use crate::bendels_klein::shape::ShapeFunction;
 
@@ -311,13 +312,13 @@ fn polygon_masks_take_pixel_centres() {
     assert_eq!(border.count(), 48 - 6 * 4);
     assert!(matches!(
         Mask::polygon(8, 6, &square[..2]),
-        Err(ImageEditError::PolygonTooShort(2))
+        Err(BendelsKleinError::TooFewPoints { points: 2 })
     ));
     let mut bad = square;
     bad[2].y = f64::NAN;
     assert!(matches!(
         Mask::polygon(8, 6, &bad),
-        Err(ImageEditError::NonFinitePolygon { index: 2 })
+        Err(BendelsKleinError::NonFinitePoint { index: 2 })
     ));
 }
 
@@ -401,7 +402,7 @@ fn png_round_trips_every_channel_count() {
     }
     assert!(matches!(
         Raster::read_png(dir.join("missing.png")),
-        Err(ImageEditError::Png { .. })
+        Err(BendelsKleinError::Png { .. })
     ));
     std::fs::remove_dir_all(&dir).unwrap();
 }
@@ -410,18 +411,18 @@ fn png_round_trips_every_channel_count() {
 fn bad_input_is_refused_and_refusals_change_nothing() {
     assert!(matches!(
         Raster::new(2, 2, 5, vec![0; 20]),
-        Err(ImageEditError::Channels(5))
+        Err(BendelsKleinError::Channels(5))
     ));
     assert!(matches!(
         Raster::new(2, 2, 3, vec![0; 11]),
-        Err(ImageEditError::DataLength {
+        Err(BendelsKleinError::DataLength {
             got: 11,
             expected: 12
         })
     ));
     assert!(matches!(
         Raster::new(u32::MAX, u32::MAX, 4, vec![]),
-        Err(ImageEditError::TooLarge { .. }) | Err(ImageEditError::DataLength { .. })
+        Err(BendelsKleinError::TooLarge { .. }) | Err(BendelsKleinError::DataLength { .. })
     ));
     let image = test_pattern(32, 32).unwrap();
     let fixed = Mask::border(32, 32, 1).unwrap();
@@ -435,7 +436,7 @@ fn bad_input_is_refused_and_refusals_change_nothing() {
             Mask::empty(1, 5).unwrap(),
             options.clone()
         ),
-        Err(ImageEditError::TooSmall {
+        Err(BendelsKleinError::TooSmall {
             width: 1,
             height: 5
         })
@@ -446,7 +447,7 @@ fn bad_input_is_refused_and_refusals_change_nothing() {
     };
     assert!(matches!(
         ImageSession::new(image.clone(), handle.clone(), fixed.clone(), step0),
-        Err(ImageEditError::GridStep)
+        Err(BendelsKleinError::GridStep)
     ));
     assert!(matches!(
         ImageSession::new(
@@ -455,7 +456,7 @@ fn bad_input_is_refused_and_refusals_change_nothing() {
             fixed.clone(),
             options.clone()
         ),
-        Err(ImageEditError::MaskSize { .. })
+        Err(BendelsKleinError::MaskSize { .. })
     ));
     assert!(matches!(
         ImageSession::new(
@@ -464,9 +465,7 @@ fn bad_input_is_refused_and_refusals_change_nothing() {
             fixed.clone(),
             options.clone()
         ),
-        Err(ImageEditError::EmptyRegion(
-            crate::bendels_klein::regions::RegionKind::Handle
-        ))
+        Err(BendelsKleinError::EmptyRegion(RegionKind::Handle))
     ));
     assert!(matches!(
         ImageSession::new(
@@ -475,22 +474,22 @@ fn bad_input_is_refused_and_refusals_change_nothing() {
             Mask::empty(32, 32).unwrap(),
             options.clone()
         ),
-        Err(ImageEditError::EmptyRegion(
-            crate::bendels_klein::regions::RegionKind::Fixed
-        ))
+        Err(BendelsKleinError::EmptyRegion(RegionKind::Fixed))
     ));
     let mut overlapping = fixed.clone();
     overlapping.set(16, 16, true);
     assert!(matches!(
         ImageSession::new(image.clone(), handle.clone(), overlapping, options.clone()),
-        Err(ImageEditError::Overlap { x: 16, y: 16 })
+        Err(BendelsKleinError::Overlap {
+            site: Site::Pixel { x: 16, y: 16 }
+        })
     ));
     let bottom = (0..32).rev().find(|&y| handle.contains(16, y)).unwrap();
     let mut touching = fixed.clone();
     touching.set(17, bottom + 1, true);
     let result = ImageSession::new(image.clone(), handle.clone(), touching, options.clone());
     assert!(
-        matches!(result, Err(ImageEditError::HandleTouchesFixed { fixed, .. }) if fixed == (17, bottom + 1)),
+        matches!(result, Err(BendelsKleinError::HandleTouchesFixed { fixed, .. }) if fixed == Site::Pixel { x: 17, y: bottom + 1 }),
         "{:?}",
         result.err()
     );
@@ -500,7 +499,7 @@ fn bad_input_is_refused_and_refusals_change_nothing() {
     let grid = session.deformed_grid().to_vec();
     assert!(matches!(
         session.apply(DMat3::from_scale(DVec2::new(1.0, -1.0))),
-        Err(ImageEditError::Edit(crate::EditError::NoRealLogarithm(_)))
+        Err(BendelsKleinError::NoRealLogarithm(_))
     ));
     let mut nan = a;
     nan.z_axis.x = f64::NAN;
@@ -510,7 +509,7 @@ fn bad_input_is_refused_and_refusals_change_nothing() {
     let mut wrong = Raster::filled(32, 32, &[0, 0, 0, 0]).unwrap();
     assert!(matches!(
         session.render_into(&mut wrong),
-        Err(ImageEditError::OutputMismatch { .. })
+        Err(BendelsKleinError::OutputMismatch { .. })
     ));
     assert_eq!(wrong, Raster::filled(32, 32, &[0, 0, 0, 0]).unwrap());
 }

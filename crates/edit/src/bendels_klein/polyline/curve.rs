@@ -1,137 +1,63 @@
 //! Points and polylines (Bendels & Klein, Sec. 2, Fig. 1 top).
 
-use glam::{DMat3, DMat4, DVec2, DVec3};
+use halfedge::{Binding, Bound, Provenance};
 
-use super::{CurveError, CurveResult};
-use crate::bendels_klein::affine_power::{embed_affine2, AffinePower};
-
-/// A point of a polyline: [`DVec2`] (transforms are 3×3 homogeneous [`DMat3`]) or
-/// [`DVec3`] (4×4 [`DMat4`]). The blend works in space; 2-D points live in `z = 0` and
-/// their transforms act on `x, y` only ([`embed_affine2`]).
-pub trait CurvePoint: Copy + PartialEq + std::fmt::Debug + Send + Sync + 'static {
-    /// The homogeneous affine transform of such points.
-    type Affine: Copy + PartialEq + std::fmt::Debug + Send + Sync;
-    /// The point in space (`z = 0` in 2-D).
-    fn to_space(self) -> DVec3;
-    /// The point back from space (`z` dropped in 2-D).
-    fn from_space(p: DVec3) -> Self;
-    /// True when every coordinate is finite.
-    fn finite(self) -> bool;
-    /// The midpoint of `self` and `other`.
-    fn midpoint(self, other: Self) -> Self;
-    /// The transform as a 4×4 affine map of space.
-    fn embed(a: Self::Affine) -> DMat4;
-    /// The identity transform.
-    fn identity() -> Self::Affine;
-    /// `A p`, with the arithmetic of glam's `transform_point2` / `transform_point3`.
-    fn apply(a: &Self::Affine, p: Self) -> Self;
-    /// `(α ⊙ A) p` from a prepared power of `embed(A)`.
-    fn blend(power: &AffinePower, alpha: f64, p: Self) -> Self;
-}
-
-impl CurvePoint for DVec2 {
-    type Affine = DMat3;
-    #[inline]
-    fn to_space(self) -> DVec3 {
-        self.extend(0.0)
-    }
-    #[inline]
-    fn from_space(p: DVec3) -> Self {
-        p.truncate()
-    }
-    #[inline]
-    fn finite(self) -> bool {
-        self.is_finite()
-    }
-    #[inline]
-    fn midpoint(self, other: Self) -> Self {
-        // Halves first: finite points give a finite midpoint even near f64::MAX.
-        0.5 * self + 0.5 * other
-    }
-    fn embed(a: DMat3) -> DMat4 {
-        embed_affine2(a)
-    }
-    fn identity() -> DMat3 {
-        DMat3::IDENTITY
-    }
-    #[inline]
-    fn apply(a: &DMat3, p: Self) -> Self {
-        a.transform_point2(p)
-    }
-    #[inline]
-    fn blend(power: &AffinePower, alpha: f64, p: Self) -> Self {
-        power.transform_point2(alpha, p)
-    }
-}
-
-impl CurvePoint for DVec3 {
-    type Affine = DMat4;
-    #[inline]
-    fn to_space(self) -> DVec3 {
-        self
-    }
-    #[inline]
-    fn from_space(p: DVec3) -> Self {
-        p
-    }
-    #[inline]
-    fn finite(self) -> bool {
-        self.is_finite()
-    }
-    #[inline]
-    fn midpoint(self, other: Self) -> Self {
-        // Halves first: finite points give a finite midpoint even near f64::MAX.
-        0.5 * self + 0.5 * other
-    }
-    fn embed(a: DMat4) -> DMat4 {
-        a
-    }
-    fn identity() -> DMat4 {
-        DMat4::IDENTITY
-    }
-    #[inline]
-    fn apply(a: &DMat4, p: Self) -> Self {
-        a.transform_point3(p)
-    }
-    #[inline]
-    fn blend(power: &AffinePower, alpha: f64, p: Self) -> Self {
-        power.transform_point(alpha, p)
-    }
-}
+use crate::bendels_klein::blend::BlendPoint;
+use crate::bendels_klein::error::{BendelsKleinError, Result};
 
 /// An open polyline or a closed polygon (the last point joined to the first), the
 /// curve of Bendels & Klein's Figs. 1 (top) and 2. Never empty; every point finite.
-#[derive(Clone, Debug, PartialEq)]
+///
+/// Like a mesh, a polyline keeps a [`Provenance`]: what is derived from it
+/// ([`CurveRegions`](super::CurveRegions)) keeps its [`Binding`] and is refused on any
+/// other polyline, or on this one after a point was inserted. A clone is another
+/// instance. Two polylines are equal when their points and closedness are.
+#[derive(Clone, Debug)]
 pub struct Polyline<P> {
     points: Vec<P>,
     closed: bool,
+    provenance: Provenance,
 }
 
-impl<P: CurvePoint> Polyline<P> {
+impl<P: PartialEq> PartialEq for Polyline<P> {
+    fn eq(&self, other: &Self) -> bool {
+        self.closed == other.closed && self.points == other.points
+    }
+}
+
+impl<P> Bound for Polyline<P> {
+    fn provenance(&self) -> &Provenance {
+        &self.provenance
+    }
+}
+
+impl<P: BlendPoint> Polyline<P> {
     /// A polyline through `points`, closed into a polygon when `closed`.
     ///
     /// # Errors
-    /// [`CurveError::Empty`] without points, [`CurveError::TooFewPoints`] for a closed
-    /// polygon of fewer than 3, [`CurveError::NonFinitePoint`] for NaN or infinite
-    /// coordinates.
-    pub fn new(points: Vec<P>, closed: bool) -> CurveResult<Self> {
+    /// [`BendelsKleinError::EmptyPolyline`] without points,
+    /// [`BendelsKleinError::TooFewPoints`] for a closed polygon of fewer than 3,
+    /// [`BendelsKleinError::NonFinitePoint`] for NaN or infinite coordinates.
+    pub fn new(points: Vec<P>, closed: bool) -> Result<Self> {
         if points.is_empty() {
-            return Err(CurveError::Empty);
+            return Err(BendelsKleinError::EmptyPolyline);
         }
         if closed && points.len() < 3 {
-            return Err(CurveError::TooFewPoints(points.len()));
+            return Err(BendelsKleinError::TooFewPoints {
+                points: points.len(),
+            });
         }
         if let Some(index) = points.iter().position(|p| !p.finite()) {
-            return Err(CurveError::NonFinitePoint { index });
+            return Err(BendelsKleinError::NonFinitePoint { index });
         }
-        Ok(Self { points, closed })
+        Ok(Self::from_parts(points, closed))
     }
 
     /// An open polyline (see [`Polyline::new`]).
     ///
     /// # Errors
     /// As [`Polyline::new`].
-    pub fn open(points: Vec<P>) -> CurveResult<Self> {
+    pub fn open(points: Vec<P>) -> Result<Self> {
         Self::new(points, false)
     }
 
@@ -139,7 +65,7 @@ impl<P: CurvePoint> Polyline<P> {
     ///
     /// # Errors
     /// As [`Polyline::new`].
-    pub fn closed(points: Vec<P>) -> CurveResult<Self> {
+    pub fn closed(points: Vec<P>) -> Result<Self> {
         Self::new(points, true)
     }
 
@@ -190,10 +116,10 @@ impl<P: CurvePoint> Polyline<P> {
     /// on the curve.
     ///
     /// # Errors
-    /// [`CurveError::NonFinitePoint`] (index 0) for a non-finite `q`.
-    pub fn nearest(&self, q: P) -> CurveResult<usize> {
+    /// [`BendelsKleinError::NonFinitePoint`] (index 0) for a non-finite `q`.
+    pub fn nearest(&self, q: P) -> Result<usize> {
         if !q.finite() {
-            return Err(CurveError::NonFinitePoint { index: 0 });
+            return Err(BendelsKleinError::NonFinitePoint { index: 0 });
         }
         let q = q.to_space();
         let mut best = (f64::INFINITY, 0);
@@ -206,8 +132,67 @@ impl<P: CurvePoint> Polyline<P> {
         Ok(best.1)
     }
 
+    /// Moves point `index` to `p` (the polyline's positions changed; what was derived
+    /// from it still fits, see [`Binding::fits`]).
+    ///
+    /// # Errors
+    /// [`BendelsKleinError::NonFinitePoint`] for a non-finite `p`,
+    /// [`BendelsKleinError::InvalidParameter`] for an index out of range; nothing changes
+    /// then.
+    pub fn set_point(&mut self, index: usize, p: P) -> Result<()> {
+        if !p.finite() {
+            return Err(BendelsKleinError::NonFinitePoint { index });
+        }
+        let len = self.points.len();
+        let slot =
+            self.points
+                .get_mut(index)
+                .ok_or_else(|| BendelsKleinError::InvalidParameter {
+                    name: "index",
+                    reason: format!("point {index} of a polyline of {len} points"),
+                })?;
+        *slot = p;
+        self.provenance.positions_changed();
+        Ok(())
+    }
+
+    /// Inserts `p` before point `index` (at the end for `index == len`): a change of the
+    /// polyline's connectivity, after which regions made for it are stale.
+    ///
+    /// # Errors
+    /// [`BendelsKleinError::NonFinitePoint`] for a non-finite `p`,
+    /// [`BendelsKleinError::InvalidParameter`] for an index beyond the end; nothing
+    /// changes then.
+    pub fn insert_point(&mut self, index: usize, p: P) -> Result<()> {
+        if !p.finite() {
+            return Err(BendelsKleinError::NonFinitePoint { index });
+        }
+        if index > self.points.len() {
+            return Err(BendelsKleinError::InvalidParameter {
+                name: "index",
+                reason: format!(
+                    "insertion at {index} in a polyline of {} points",
+                    self.points.len()
+                ),
+            });
+        }
+        self.points.insert(index, p);
+        self.provenance.connectivity_changed();
+        Ok(())
+    }
+
+    /// The binding of what is derived from the polyline now (see [`Binding`]).
+    #[must_use]
+    pub fn binding(&self) -> Binding {
+        self.provenance.binding()
+    }
+
     pub(super) fn from_parts(points: Vec<P>, closed: bool) -> Self {
-        Self { points, closed }
+        Self {
+            points,
+            closed,
+            provenance: Provenance::new(),
+        }
     }
 }
 

@@ -1,9 +1,12 @@
 //! Handle, fixed and deformable parts of a polyline (Bendels & Klein, Sec. 2, Figs. 1
 //! top and 2), by index spans or by picking.
 
-use super::curve::{n_segments, segment, CurvePoint, Polyline};
-use super::{closedness, CurveError, CurveResult};
-use crate::bendels_klein::regions::{RegionKind, Role};
+use halfedge::Binding;
+
+use crate::bendels_klein::blend::BlendPoint;
+use crate::bendels_klein::error::{BendelsKleinError, RegionKind, Result, Site};
+use crate::bendels_klein::polyline::curve::{n_segments, segment, Polyline};
+use crate::bendels_klein::regions::Role;
 
 /// A run of consecutive points, `first..=last`. On a closed polygon a span with
 /// `first > last` wraps around: `first..n` then `0..=last`.
@@ -37,12 +40,12 @@ impl Span {
     /// around index 0).
     ///
     /// # Errors
-    /// [`CurveError::NonFinitePoint`] for a non-finite pick (index 0 or 1).
-    pub fn between<P: CurvePoint>(curve: &Polyline<P>, from: P, to: P) -> CurveResult<Self> {
+    /// [`BendelsKleinError::NonFinitePoint`] for a non-finite pick (index 0 or 1).
+    pub fn between<P: BlendPoint>(curve: &Polyline<P>, from: P, to: P) -> Result<Self> {
         let a = curve.nearest(from)?;
         let b = curve
             .nearest(to)
-            .map_err(|_| CurveError::NonFinitePoint { index: 1 })?;
+            .map_err(|_| BendelsKleinError::NonFinitePoint { index: 1 })?;
         Ok(if curve.is_closed() {
             Self::new(a, b)
         } else {
@@ -57,9 +60,9 @@ impl Span {
         n: usize,
         closed: bool,
         mut visit: impl FnMut(usize),
-    ) -> CurveResult<()> {
+    ) -> Result<()> {
         if self.first >= n || self.last >= n {
-            return Err(CurveError::OutOfRange {
+            return Err(BendelsKleinError::OutOfRange {
                 region,
                 first: self.first,
                 last: self.last,
@@ -71,7 +74,7 @@ impl Span {
         } else if closed {
             (self.first..n).chain(0..=self.last).for_each(&mut visit);
         } else {
-            return Err(CurveError::SpanWrapsOpen {
+            return Err(BendelsKleinError::SpanWrapsOpen {
                 region,
                 first: self.first,
                 last: self.last,
@@ -83,10 +86,14 @@ impl Span {
 
 /// The role of every point of a polyline: handle, fixed or deformable (Bendels & Klein,
 /// Sec. 2). The handle and the fixed part are non-empty, disjoint and never neighbours.
+/// The regions keep the [`Binding`] of the polyline they were made for: a
+/// [`PolylineSession`](super::PolylineSession) refuses them on any other polyline (even
+/// one of the same length) with [`BendelsKleinError::Stale`].
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct CurveRegions {
     roles: Vec<Role>,
     closed: bool,
+    binding: Binding,
 }
 
 impl CurveRegions {
@@ -95,13 +102,13 @@ impl CurveRegions {
     /// `4..=8`, fixed `0..=2` and `10..=13`).
     ///
     /// # Errors
-    /// [`CurveError::OutOfRange`], [`CurveError::SpanWrapsOpen`] for a bad span,
-    /// [`CurveError::Overlap`] for a point in both, and as [`CurveRegions::from_roles`].
-    pub fn from_spans<P: CurvePoint>(
+    /// [`BendelsKleinError::OutOfRange`], [`BendelsKleinError::SpanWrapsOpen`] for a bad span,
+    /// [`BendelsKleinError::Overlap`] for a point in both, and as [`CurveRegions::from_roles`].
+    pub fn from_spans<P: BlendPoint>(
         curve: &Polyline<P>,
         handle: &[Span],
         fixed: &[Span],
-    ) -> CurveResult<Self> {
+    ) -> Result<Self> {
         let (n, closed) = (curve.len(), curve.is_closed());
         let mut roles = vec![Role::Deformable; n];
         for span in handle {
@@ -117,7 +124,9 @@ impl CurveRegions {
             })?;
         }
         if let Some(index) = overlap {
-            return Err(CurveError::Overlap { index });
+            return Err(BendelsKleinError::Overlap {
+                site: Site::Point(index),
+            });
         }
         Self::from_roles(curve, roles)
     }
@@ -125,17 +134,15 @@ impl CurveRegions {
     /// Regions from a role per point.
     ///
     /// # Errors
-    /// [`CurveError::Mismatch`] for a role count other than the number of points,
-    /// [`CurveError::EmptyRegion`] without handle or fixed point,
-    /// [`CurveError::HandleTouchesFixed`] for a segment from a handle to a fixed point.
-    pub fn from_roles<P: CurvePoint>(curve: &Polyline<P>, roles: Vec<Role>) -> CurveResult<Self> {
+    /// [`BendelsKleinError::RoleCount`] for a role count other than the number of points,
+    /// [`BendelsKleinError::EmptyRegion`] without handle or fixed point,
+    /// [`BendelsKleinError::HandleTouchesFixed`] for a segment from a handle to a fixed point.
+    pub fn from_roles<P: BlendPoint>(curve: &Polyline<P>, roles: Vec<Role>) -> Result<Self> {
         let (n, closed) = (curve.len(), curve.is_closed());
         if roles.len() != n {
-            return Err(CurveError::Mismatch {
-                regions: roles.len(),
-                regions_closed: closedness(closed),
+            return Err(BendelsKleinError::RoleCount {
+                roles: roles.len(),
                 points: n,
-                points_closed: closedness(closed),
             });
         }
         for kind in [RegionKind::Handle, RegionKind::Fixed] {
@@ -145,28 +152,32 @@ impl CurveRegions {
                 Role::Fixed
             };
             if !roles.contains(&role) {
-                return Err(CurveError::EmptyRegion(kind));
+                return Err(BendelsKleinError::EmptyRegion(kind));
             }
         }
         for k in 0..n_segments(n, closed) {
             let (a, b) = segment(k, n);
             match (roles[a], roles[b]) {
                 (Role::Handle, Role::Fixed) => {
-                    return Err(CurveError::HandleTouchesFixed {
-                        handle: a,
-                        fixed: b,
+                    return Err(BendelsKleinError::HandleTouchesFixed {
+                        handle: Site::Point(a),
+                        fixed: Site::Point(b),
                     })
                 }
                 (Role::Fixed, Role::Handle) => {
-                    return Err(CurveError::HandleTouchesFixed {
-                        handle: b,
-                        fixed: a,
+                    return Err(BendelsKleinError::HandleTouchesFixed {
+                        handle: Site::Point(b),
+                        fixed: Site::Point(a),
                     })
                 }
                 _ => {}
             }
         }
-        Ok(Self { roles, closed })
+        Ok(Self {
+            roles,
+            closed,
+            binding: curve.binding(),
+        })
     }
 
     /// The role of every point.
@@ -195,15 +206,19 @@ impl CurveRegions {
         self.roles.iter().filter(|&&r| r == role).count()
     }
 
-    pub(super) fn check<P: CurvePoint>(&self, curve: &Polyline<P>) -> CurveResult<()> {
-        if self.roles.len() != curve.len() || self.closed != curve.is_closed() {
-            return Err(CurveError::Mismatch {
-                regions: self.roles.len(),
-                regions_closed: closedness(self.closed),
-                points: curve.len(),
-                points_closed: closedness(curve.is_closed()),
-            });
-        }
+    /// The polyline the regions were made for (see [`halfedge::Binding`]).
+    #[must_use]
+    pub fn binding(&self) -> Binding {
+        self.binding
+    }
+
+    /// `Ok` when the regions were made for `curve` as it is (the same points, none
+    /// inserted since).
+    ///
+    /// # Errors
+    /// [`BendelsKleinError::Stale`] otherwise.
+    pub(super) fn check<P: BlendPoint>(&self, curve: &Polyline<P>) -> Result<()> {
+        self.binding.check(curve, "the curve regions")?;
         Ok(())
     }
 }

@@ -1,18 +1,16 @@
 //! The editing session on a polyline (Bendels & Klein, Secs. 2–6 on a curve): distances
 //! once, then any number of handle transforms and shape functions.
 
-use glam::{DMat4, DVec3};
+use glam::DVec3;
 use rayon::prelude::*;
 
-use super::curve::{n_segments, segment, CurvePoint, Polyline};
-use super::regions::CurveRegions;
-use super::CurveResult;
-use crate::bendels_klein::affine_power::AffinePower;
+use crate::bendels_klein::blend::{BlendCore, BlendPoint, RefineOptions, RefineReport};
 use crate::bendels_klein::distance::euclidean::{BorderGrid, QueryPoints};
-use crate::bendels_klein::mesh::{blend_ratio, RefineOptions, RefineReport, MAX_NEW_VERTICES};
+use crate::bendels_klein::error::{BendelsKleinError, Result, Site};
+use crate::bendels_klein::polyline::curve::{n_segments, segment, Polyline};
+use crate::bendels_klein::polyline::regions::CurveRegions;
 use crate::bendels_klein::regions::Role;
 use crate::bendels_klein::shape::ShapeFunction;
-use crate::EditError;
 
 /// Which distance the weights of a polyline edit are built on (Bendels & Klein, Sec. 4,
 /// Fig. 3).
@@ -30,6 +28,7 @@ pub enum CurveDistance {
 
 /// Options of a [`PolylineSession`].
 #[derive(Clone, Debug, Default, PartialEq)]
+#[non_exhaustive]
 pub struct PolylineOptions {
     /// The distances. Default: arc length.
     pub distance: CurveDistance,
@@ -37,59 +36,47 @@ pub struct PolylineOptions {
     pub shape: ShapeFunction,
 }
 
-/// A Bendels & Klein editing session on a polyline (see the module docs of
-/// [`crate::polyline`]). The session owns the edited points: [`PolylineSession::points`]
-/// are the original points moved by the current transform, always computed from the
-/// originals.
+/// A Bendels & Klein editing session on a polyline (see the [module docs](super)). The
+/// session owns the edited points: [`PolylineSession::points`] are the original points
+/// moved by the current transform, always computed from the originals.
 #[derive(Clone, Debug)]
-pub struct PolylineSession<P: CurvePoint> {
+pub struct PolylineSession<P: BlendPoint> {
     closed: bool,
-    roles: Vec<Role>,
     original: Vec<P>,
     current: Vec<P>,
-    d_handle: Vec<f64>,
-    d_fixed: Vec<f64>,
-    alpha: Vec<f64>,
+    /// Roles, distances, weights, shape function and transform (shared with the mesh and
+    /// picture sessions).
+    core: BlendCore<P>,
     distance: CurveDistance,
-    shape: ShapeFunction,
-    transform: P::Affine,
-    power: AffinePower,
     grids: Option<(BorderGrid, BorderGrid)>,
 }
 
-impl<P: CurvePoint> PolylineSession<P> {
+impl<P: BlendPoint> PolylineSession<P> {
     /// Sets up the session on `curve` with `regions`: computes both distance fields and
     /// the weights. The points start at their original positions.
     ///
     /// # Errors
-    /// [`CurveError::Mismatch`](super::CurveError::Mismatch) when the regions were
-    /// made for another polyline.
+    /// [`BendelsKleinError::Stale`] when the regions were made for another polyline (even
+    /// one of the same length), or for this one before a point was inserted.
     pub fn new(
         curve: &Polyline<P>,
         regions: &CurveRegions,
         options: PolylineOptions,
-    ) -> CurveResult<Self> {
+    ) -> Result<Self> {
         regions.check(curve)?;
         let original = curve.points().to_vec();
         let roles = regions.roles().to_vec();
         let closed = curve.is_closed();
         let (d_handle, d_fixed, grids) = distances(options.distance, &original, &roles, closed)?;
-        let mut session = Self {
+        let alpha = vec![0.0; original.len()];
+        Ok(Self {
             closed,
             current: original.clone(),
-            alpha: vec![0.0; original.len()],
             original,
-            roles,
-            d_handle,
-            d_fixed,
+            core: BlendCore::new(roles, d_handle, d_fixed, alpha, options.shape),
             distance: options.distance,
-            shape: options.shape,
-            transform: P::identity(),
-            power: AffinePower::from_log(DMat4::IDENTITY, DMat4::ZERO),
             grids,
-        };
-        session.update_alpha();
-        Ok(session)
+        })
     }
 
     /// The edited points.
@@ -110,28 +97,28 @@ impl<P: CurvePoint> PolylineSession<P> {
     /// The role of every point.
     #[must_use]
     pub fn roles(&self) -> &[Role] {
-        &self.roles
+        self.core.roles()
     }
     /// Blend weights: 0 on the fixed part, 1 on the handle.
     #[must_use]
     pub fn alpha(&self) -> &[f64] {
-        &self.alpha
+        self.core.alpha()
     }
     /// Distances to the handle (0 on the handle; `∞` where the handle is out of reach,
     /// and on the fixed part).
     #[must_use]
     pub fn handle_distances(&self) -> &[f64] {
-        &self.d_handle
+        self.core.handle_distances()
     }
     /// Distances to the fixed part (0 on it; `∞` out of reach, and on the handle).
     #[must_use]
     pub fn fixed_distances(&self) -> &[f64] {
-        &self.d_fixed
+        self.core.fixed_distances()
     }
     /// The current handle transform (the identity before the first edit).
     #[must_use]
     pub fn transform(&self) -> P::Affine {
-        self.transform
+        self.core.transform()
     }
     /// The distance kind.
     #[must_use]
@@ -141,7 +128,7 @@ impl<P: CurvePoint> PolylineSession<P> {
     /// The shape function.
     #[must_use]
     pub fn shape(&self) -> &ShapeFunction {
-        &self.shape
+        self.core.shape()
     }
 
     /// Applies the handle transform `a` (3×3 homogeneous in 2-D, 4×4 in 3-D): the
@@ -149,25 +136,23 @@ impl<P: CurvePoint> PolylineSession<P> {
     /// written. `log A` is computed once. On error nothing changes.
     ///
     /// # Errors
-    /// [`CurveError::Edit`](super::CurveError::Edit) with
-    /// [`EditError::NoRealLogarithm`] (a reflection, a singular map, a half turn),
-    /// [`EditError::NotAffine`] or [`EditError::NonFiniteMatrix`];
-    /// [`EditError::Overflow`] naming the first point that would leave the finite
+    /// [`BendelsKleinError::NoRealLogarithm`] (a reflection, a singular map, a half
+    /// turn), [`BendelsKleinError::NotAffine`] or [`BendelsKleinError::NonFiniteMatrix`];
+    /// [`BendelsKleinError::Overflow`] naming the first point that would leave the finite
     /// range (then nothing changes).
-    pub fn apply(&mut self, a: P::Affine) -> CurveResult<()> {
-        let power = AffinePower::new(P::embed(a))?;
-        let old_power = std::mem::replace(&mut self.power, power);
-        let old_transform = std::mem::replace(&mut self.transform, a);
+    pub fn apply(&mut self, a: P::Affine) -> Result<()> {
+        let previous = self.core.set_transform(a)?;
         let saved = self.current.clone();
         self.write_all();
         if let Some(index) = self.current.iter().position(|p| !p.finite()) {
+            let position = self.current[index].to_space();
             self.current = saved;
-            self.power = old_power;
-            self.transform = old_transform;
-            return Err(EditError::Overflow(format!(
-                "point {index} would move to a non-finite position under {a:?}"
-            ))
-            .into());
+            self.core.restore(previous);
+            return Err(BendelsKleinError::Overflow {
+                what: "the blended transform",
+                site: Site::Point(index),
+                position,
+            });
         }
         Ok(())
     }
@@ -175,40 +160,29 @@ impl<P: CurvePoint> PolylineSession<P> {
     /// Changes the shape function (the paper's Fig. 8): recomputes the weights and
     /// moves the points for the current transform.
     pub fn set_shape(&mut self, shape: ShapeFunction) {
-        self.shape = shape;
-        self.update_alpha();
+        self.core.set_shape(shape);
         self.write_all();
     }
 
     /// Back to the identity transform: every point at its original position.
     pub fn reset(&mut self) {
-        self.transform = P::identity();
-        self.power = AffinePower::from_log(DMat4::IDENTITY, DMat4::ZERO);
+        self.core.reset_transform();
         self.current.clone_from(&self.original);
     }
 
-    fn update_alpha(&mut self) {
-        let shape = &self.shape;
-        let (roles, dh, df) = (&self.roles, &self.d_handle, &self.d_fixed);
-        self.alpha
-            .par_iter_mut()
-            .enumerate()
-            .with_min_len(4096)
-            .for_each(|(i, a)| *a = weight(shape, roles[i], df[i], dh[i]));
-    }
-
+    /// Moves every point from its original by the blend; the fixed part is not written.
     fn write_all(&mut self) {
-        let (power, transform) = (&self.power, &self.transform);
+        let core = &self.core;
         self.current
             .par_iter_mut()
             .zip(self.original.par_iter())
-            .zip(self.alpha.par_iter())
-            .zip(self.roles.par_iter())
+            .zip(core.alpha().par_iter())
+            .zip(core.roles().par_iter())
             .with_min_len(4096)
-            .for_each(|(((c, &o), &alpha), &role)| match role {
-                Role::Fixed => {}
-                Role::Handle => *c = P::apply(transform, o),
-                Role::Deformable => *c = P::blend(power, alpha, o),
+            .for_each(|(((c, &o), &alpha), &role)| {
+                if role != Role::Fixed {
+                    *c = core.place(role, alpha, o);
+                }
             });
     }
 
@@ -220,7 +194,8 @@ impl<P: CurvePoint> PolylineSession<P> {
     }
 
     fn touches_deformable(&self, a: usize, b: usize) -> bool {
-        self.roles[a] == Role::Deformable || self.roles[b] == Role::Deformable
+        let roles = self.core.roles();
+        roles[a] == Role::Deformable || roles[b] == Role::Deformable
     }
 
     /// Refinement (Sec. 6 on a curve): while a segment with a deformable end is longer
@@ -231,28 +206,12 @@ impl<P: CurvePoint> PolylineSession<P> {
     /// indices of the points after them.
     ///
     /// # Errors
-    /// [`CurveError::Edit`](super::CurveError::Edit) with
-    /// [`EditError::InvalidParameter`] for a threshold that is not finite and positive or
-    /// a point budget above [`MAX_NEW_VERTICES`]; nothing changes then.
-    pub fn refine(&mut self, options: RefineOptions) -> CurveResult<RefineReport> {
+    /// [`BendelsKleinError::InvalidParameter`] for a threshold that is not finite and
+    /// positive or a point budget above
+    /// [`MAX_NEW_VERTICES`](crate::bendels_klein::MAX_NEW_VERTICES); nothing changes then.
+    pub fn refine(&mut self, options: RefineOptions) -> Result<RefineReport> {
+        options.check()?;
         let max = options.max_edge_length;
-        if !(max.is_finite() && max > 0.0) {
-            return Err(EditError::InvalidParameter {
-                name: "max_edge_length",
-                reason: format!("must be finite and positive, got {max}"),
-            }
-            .into());
-        }
-        if options.max_new_vertices > MAX_NEW_VERTICES {
-            return Err(EditError::InvalidParameter {
-                name: "max_new_vertices",
-                reason: format!(
-                    "{} is more than {MAX_NEW_VERTICES}",
-                    options.max_new_vertices
-                ),
-            }
-            .into());
-        }
         let mut report = RefineReport::default();
         while report.passes < 64 && report.new_vertices < options.max_new_vertices {
             let n = self.original.len();
@@ -296,12 +255,13 @@ impl<P: CurvePoint> PolylineSession<P> {
         let mut fresh = Vec::with_capacity(m);
         let mut d_handle = Vec::with_capacity(m);
         let mut d_fixed = Vec::with_capacity(m);
+        let core = &self.core;
         for i in 0..n {
             original.push(self.original[i]);
-            roles.push(self.roles[i]);
+            roles.push(core.roles()[i]);
             fresh.push(false);
-            d_handle.push(self.d_handle[i]);
-            d_fixed.push(self.d_fixed[i]);
+            d_handle.push(core.handle_distances()[i]);
+            d_fixed.push(core.fixed_distances()[i]);
             if split.get(i).copied().unwrap_or(false) {
                 let (a, b) = segment(i, n);
                 original.push(self.original[a].midpoint(self.original[b]));
@@ -342,42 +302,30 @@ impl<P: CurvePoint> PolylineSession<P> {
         let mut old = 0;
         for i in 0..m {
             if fresh[i] {
-                let a = weight(&self.shape, Role::Deformable, d_fixed[i], d_handle[i]);
+                let a = core.weight(Role::Deformable, d_fixed[i], d_handle[i]);
                 alpha.push(a);
-                current.push(P::blend(&self.power, a, original[i]));
+                current.push(core.place(Role::Deformable, a, original[i]));
             } else {
-                alpha.push(self.alpha[old]);
+                alpha.push(core.alpha()[old]);
                 current.push(self.current[old]);
                 old += 1;
             }
         }
         self.original = original;
-        self.roles = roles;
-        self.d_handle = d_handle;
-        self.d_fixed = d_fixed;
-        self.alpha = alpha;
+        self.core.replace_fields(roles, d_handle, d_fixed, alpha);
         self.current = current;
-    }
-}
-
-#[inline]
-fn weight(shape: &ShapeFunction, role: Role, d_fixed: f64, d_handle: f64) -> f64 {
-    match role {
-        Role::Fixed => 0.0,
-        Role::Handle => 1.0,
-        Role::Deformable => shape.eval(blend_ratio(d_fixed, d_handle)),
     }
 }
 
 type Fields = (Vec<f64>, Vec<f64>, Option<(BorderGrid, BorderGrid)>);
 
 /// Both distance fields of a polyline: `(d_handle, d_fixed, grids)`.
-fn distances<P: CurvePoint>(
+fn distances<P: BlendPoint>(
     kind: CurveDistance,
     points: &[P],
     roles: &[Role],
     closed: bool,
-) -> CurveResult<Fields> {
+) -> Result<Fields> {
     let space: Vec<DVec3> = points.iter().map(|p| p.to_space()).collect();
     match kind {
         CurveDistance::ArcLength => {

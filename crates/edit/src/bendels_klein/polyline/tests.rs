@@ -2,7 +2,8 @@ use glam::{DMat3, DMat4, DVec2, DVec3};
 
 use super::*;
 use crate::bendels_klein::affine_power::{embed_affine2, scalar_power, AffinePower};
-use crate::bendels_klein::mesh::RefineOptions;
+use crate::bendels_klein::blend::{blend_ratio, RefineOptions};
+use crate::bendels_klein::error::{BendelsKleinError, RegionKind, Site};
 use crate::bendels_klein::regions::Role;
 use crate::bendels_klein::shape::ShapeFunction;
 
@@ -235,25 +236,25 @@ fn out_of_reach_parts_give_the_documented_weights() {
 fn bad_input_is_refused_with_typed_errors() {
     assert!(matches!(
         Polyline::<DVec2>::open(vec![]),
-        Err(CurveError::Empty)
+        Err(BendelsKleinError::EmptyPolyline)
     ));
     assert!(matches!(
         Polyline::closed(vec![DVec2::ZERO, DVec2::X]),
-        Err(CurveError::TooFewPoints(2))
+        Err(BendelsKleinError::TooFewPoints { points: 2 })
     ));
     assert!(matches!(
         Polyline::open(vec![DVec2::ZERO, DVec2::new(f64::NAN, 0.0)]),
-        Err(CurveError::NonFinitePoint { index: 1 })
+        Err(BendelsKleinError::NonFinitePoint { index: 1 })
     ));
     let curve = Polyline::open(fig2_points(14)).unwrap();
     assert!(matches!(
         curve.nearest(DVec2::new(f64::INFINITY, 0.0)),
-        Err(CurveError::NonFinitePoint { .. })
+        Err(BendelsKleinError::NonFinitePoint { .. })
     ));
     let spans = |h: Span, f: Span| CurveRegions::from_spans(&curve, &[h], &[f]);
     assert!(matches!(
         spans(Span::new(4, 14), Span::new(0, 1)),
-        Err(CurveError::OutOfRange {
+        Err(BendelsKleinError::OutOfRange {
             last: 14,
             len: 14,
             ..
@@ -261,42 +262,46 @@ fn bad_input_is_refused_with_typed_errors() {
     ));
     assert!(matches!(
         spans(Span::new(8, 4), Span::new(0, 1)),
-        Err(CurveError::SpanWrapsOpen { .. })
+        Err(BendelsKleinError::SpanWrapsOpen { .. })
     ));
     assert!(matches!(
         spans(Span::new(4, 8), Span::new(8, 12)),
-        Err(CurveError::Overlap { index: 8 })
+        Err(BendelsKleinError::Overlap {
+            site: Site::Point(8)
+        })
     ));
     assert!(matches!(
         spans(Span::new(4, 8), Span::new(9, 12)),
-        Err(CurveError::HandleTouchesFixed {
-            handle: 8,
-            fixed: 9
+        Err(BendelsKleinError::HandleTouchesFixed {
+            handle: Site::Point(8),
+            fixed: Site::Point(9)
         })
     ));
     assert!(matches!(
         CurveRegions::from_spans(&curve, &[], &[Span::new(0, 2)]),
-        Err(CurveError::EmptyRegion(
-            crate::bendels_klein::regions::RegionKind::Handle
-        ))
+        Err(BendelsKleinError::EmptyRegion(RegionKind::Handle))
     ));
     assert!(matches!(
         CurveRegions::from_spans(&curve, &[Span::single(5)], &[]),
-        Err(CurveError::EmptyRegion(
-            crate::bendels_klein::regions::RegionKind::Fixed
-        ))
+        Err(BendelsKleinError::EmptyRegion(RegionKind::Fixed))
     ));
     assert!(matches!(
         CurveRegions::from_roles(&curve, vec![Role::Fixed; 3]),
-        Err(CurveError::Mismatch { .. })
+        Err(BendelsKleinError::RoleCount {
+            roles: 3,
+            points: 14
+        })
     ));
-    // Regions of another polyline.
-    let other = Polyline::open(fig2_points(20)).unwrap();
-    let regions = CurveRegions::from_spans(&other, &[Span::new(4, 8)], &[Span::new(0, 2)]).unwrap();
-    assert!(matches!(
-        PolylineSession::new(&curve, &regions, PolylineOptions::default()),
-        Err(CurveError::Mismatch { .. })
-    ));
+    // Regions of another polyline, longer or of the same length, are stale.
+    for n in [20, 14] {
+        let other = Polyline::open(fig2_points(n)).unwrap();
+        let regions =
+            CurveRegions::from_spans(&other, &[Span::new(4, 8)], &[Span::new(0, 2)]).unwrap();
+        assert!(matches!(
+            PolylineSession::new(&curve, &regions, PolylineOptions::default()),
+            Err(BendelsKleinError::Stale(_))
+        ));
+    }
 }
 
 #[test]
@@ -310,7 +315,7 @@ fn refused_transforms_leave_the_session_unchanged() {
     let mirror = DMat3::from_scale(DVec2::new(-1.0, 1.0));
     assert!(matches!(
         session.apply(mirror),
-        Err(CurveError::Edit(crate::EditError::NoRealLogarithm(_)))
+        Err(BendelsKleinError::NoRealLogarithm(_))
     ));
     let half_turn = DMat3::from_angle(std::f64::consts::PI);
     assert!(session.apply(half_turn).is_err());
@@ -318,7 +323,7 @@ fn refused_transforms_leave_the_session_unchanged() {
     projective.x_axis.z = 0.5;
     assert!(matches!(
         session.apply(projective),
-        Err(CurveError::Edit(crate::EditError::NotAffine(_)))
+        Err(BendelsKleinError::NotAffine(_))
     ));
     let mut nan = a;
     nan.z_axis.x = f64::NAN;
@@ -344,7 +349,7 @@ fn shape_changes_reweight_without_new_distances() {
     let d = session.handle_distances().to_vec();
     session.set_shape(ShapeFunction::Linear);
     assert_eq!(session.handle_distances(), &d[..]);
-    let x = crate::bendels_klein::mesh::blend_ratio(session.fixed_distances()[15], d[15]);
+    let x = blend_ratio(session.fixed_distances()[15], d[15]);
     assert!((session.alpha()[15] - x).abs() < 1e-15);
     assert_ne!(session.points()[15], smooth);
     // A translation blends linearly: the point moves by α t.

@@ -3,8 +3,8 @@
 use glam::DVec3;
 
 use super::Deformer;
-use crate::vertices::{finite, finite_point, unit_direction};
-use crate::{EditError, Result};
+use crate::deform::checks::{finite, finite_point, unit_direction};
+use crate::deform::error::{DeformError, Result};
 
 /// Barr's bend (1984, §"Global and local bending"), along `axis` (Barr's `y`) towards
 /// `direction` (Barr's `z`, made perpendicular to the axis here), with bending rate
@@ -58,7 +58,7 @@ impl Bend {
                 finite("bend range start", lo)?;
                 finite("bend range end", hi)?;
                 if lo > hi {
-                    return Err(EditError::InvalidParameter {
+                    return Err(DeformError::InvalidParameter {
                         name: "bend range",
                         reason: format!("start {lo} is after end {hi}"),
                     });

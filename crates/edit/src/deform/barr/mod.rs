@@ -31,8 +31,9 @@ use glam::DVec3;
 use halfedge::Mesh;
 use rayon::prelude::*;
 
-use crate::vertices::{check_finite_positions, finite, scatter, Resolved, Vertices};
-use crate::{EditError, Result};
+use crate::deform::checks::{check_finite_positions, finite};
+use crate::deform::error::{DeformError, Result};
+use crate::vertices::{scatter, Resolved, Vertices};
 
 pub use bend::Bend;
 pub use taper::Taper;
@@ -64,7 +65,7 @@ pub trait Deformer: Sync {
 /// Applies `deformer` to `vertices` of `mesh` (Barr's deformation of the object's points,
 /// here the mesh vertices), in parallel. On error nothing is changed; a deformed position
 /// that is not finite (an inverse taper of a tiny factor, a huge bend) is
-/// [`EditError::Overflow`].
+/// [`DeformError::Overflow`].
 pub fn apply_deformer<D: Deformer + ?Sized>(
     mesh: &mut Mesh,
     deformer: &D,
@@ -164,7 +165,7 @@ impl Profile {
     pub fn global(start: f64, end: f64, at_start: f64, at_end: f64) -> Result<Self> {
         let mut p = Self::local(start, end, at_start, at_end)?;
         if start == end {
-            return Err(EditError::InvalidParameter {
+            return Err(DeformError::InvalidParameter {
                 name: "profile range",
                 reason: "a global profile needs start != end".into(),
             });

@@ -3,8 +3,8 @@
 use glam::DVec3;
 
 use super::{Deformer, Profile};
-use crate::vertices::{finite_point, unit_direction};
-use crate::{EditError, Result};
+use crate::deform::checks::{finite_point, unit_direction};
+use crate::deform::error::{DeformError, Result};
 
 /// Barr's taper (1984, §"Tapering"): with `s = (p − centre)·axis` and `q⊥` the part of
 /// `p − centre` perpendicular to the axis, `p' = centre + s·axis + r(s)·q⊥`.
@@ -29,7 +29,7 @@ impl Taper {
             let (a, b) = factor.values();
             let worst = a.min(b);
             if worst <= 0.0 {
-                return Err(EditError::NonPositiveTaper {
+                return Err(DeformError::NonPositiveTaper {
                     factor: worst,
                     at: if a <= b {
                         factor.range().0
@@ -115,7 +115,7 @@ impl Deformer for Taper {
         if r > 0.0 {
             Ok(())
         } else {
-            Err(EditError::NonPositiveTaper { factor: r, at: s })
+            Err(DeformError::NonPositiveTaper { factor: r, at: s })
         }
     }
 

@@ -3,8 +3,8 @@
 use glam::DVec3;
 
 use super::{Deformer, Profile};
-use crate::vertices::{finite_point, unit_direction};
-use crate::Result;
+use crate::deform::checks::{finite_point, unit_direction};
+use crate::deform::error::Result;
 
 /// Barr's twist (1984, §"Twisting"): rotation of `p` about the line through `centre`
 /// along `axis` by `θ(s)`, `s = (p − centre)·axis`, counter-clockwise seen from the tip of

@@ -7,7 +7,7 @@ use std::ops::{Add, Mul};
 use glam::DVec3;
 
 use super::LatticeFrame;
-use crate::{EditError, Result};
+use crate::deform::error::{DeformError, Result, SurfaceProblem};
 
 /// A tensor-product B-spline surface `S(u, v) = Σ_i Σ_j P_ij N_i,ku(u) N_j,kv(v)`,
 /// `(u, v) ∈ [0, 1]²`, with the clamped uniform knot vectors of Feng, Ma & Peng §2:
@@ -34,42 +34,52 @@ const MAX_CONTROL_POINTS: usize = 1 << 20;
 /// surface, 24 bytes a coefficient): about 100 MB.
 const MAX_PATCH_COEFFICIENTS: usize = 1 << 22;
 
+/// The parameter directions, for errors.
+const DIRECTIONS: [char; 2] = ['u', 'v'];
+
+/// The error of a surface not yet in an FFD.
+fn invalid(problem: SurfaceProblem) -> DeformError {
+    DeformError::InvalidSurface {
+        surface: "B-spline",
+        problem,
+    }
+}
+
 /// Checks degrees and control-grid sizes against the limits above, before anything is
 /// allocated.
 fn check_size(degree: [usize; 2], count: [usize; 2]) -> Result<()> {
     for d in 0..2 {
         if degree[d] == 0 || degree[d] > MAX_DEGREE {
-            return Err(EditError::InvalidSurface(format!(
-                "degree {} in direction {} (needs 1..={MAX_DEGREE})",
-                degree[d],
-                ["u", "v"][d]
-            )));
+            return Err(invalid(SurfaceProblem::Degree {
+                direction: DIRECTIONS[d],
+                degree: degree[d],
+                max: MAX_DEGREE,
+            }));
         }
         if count[d] <= degree[d] {
-            return Err(EditError::InvalidSurface(format!(
-                "{} control points in direction {} for degree {} (needs more than the degree)",
-                count[d],
-                ["u", "v"][d],
-                degree[d]
-            )));
+            return Err(invalid(SurfaceProblem::TooFewControlPoints {
+                direction: DIRECTIONS[d],
+                count: count[d],
+                degree: degree[d],
+            }));
         }
     }
     let points = count[0].checked_mul(count[1]);
     if points.is_none_or(|n| n > MAX_CONTROL_POINTS) {
-        return Err(EditError::InvalidSurface(format!(
-            "a {}×{} control grid has more than {MAX_CONTROL_POINTS} control points",
-            count[0], count[1]
-        )));
+        return Err(invalid(SurfaceProblem::TooManyControlPoints {
+            count,
+            max: MAX_CONTROL_POINTS,
+        }));
     }
     let coefficients = (count[0] - degree[0])
         .checked_mul(count[1] - degree[1])
         .and_then(|n| n.checked_mul((degree[0] + 1) * (degree[1] + 1)));
     if coefficients.is_none_or(|n| n > MAX_PATCH_COEFFICIENTS) {
-        return Err(EditError::InvalidSurface(format!(
-            "a {}×{} control grid of degrees {}×{} has more than {MAX_PATCH_COEFFICIENTS} \
-             polynomial coefficients",
-            count[0], count[1], degree[0], degree[1]
-        )));
+        return Err(invalid(SurfaceProblem::TooManyCoefficients {
+            count,
+            degree,
+            max: MAX_PATCH_COEFFICIENTS,
+        }));
     }
     Ok(())
 }
@@ -91,17 +101,16 @@ impl BSplineSurface {
     pub fn new(degree: [usize; 2], count: [usize; 2], control: Vec<DVec3>) -> Result<Self> {
         check_size(degree, count)?;
         if Some(control.len()) != count[0].checked_mul(count[1]) {
-            return Err(EditError::InvalidSurface(format!(
-                "{} control points given for a {}×{} grid",
-                control.len(),
-                count[0],
-                count[1]
-            )));
+            return Err(invalid(SurfaceProblem::ControlPointCount {
+                given: control.len(),
+                count,
+            }));
         }
-        if let Some(p) = control.iter().find(|p| !p.is_finite()) {
-            return Err(EditError::InvalidSurface(format!(
-                "control point {p} is not finite"
-            )));
+        if let Some(k) = control.iter().position(|p| !p.is_finite()) {
+            return Err(invalid(SurfaceProblem::NonFiniteControlPoint {
+                index: [k / count[1], k % count[1]],
+                point: control[k],
+            }));
         }
         Ok(Self {
             degree,
@@ -116,9 +125,9 @@ impl BSplineSurface {
     /// `u` along the frame's x axis and `v` along its z axis.
     ///
     /// # Errors
-    /// [`EditError::InvalidSurface`] for sizes out of range (see [`new`](Self::new)) or
+    /// [`DeformError::InvalidSurface`] for sizes out of range (see [`new`](Self::new)) or
     /// control points that are not finite (a rectangle too large for the frame);
-    /// [`EditError::InvalidParameter`] for a non-finite rectangle or height.
+    /// [`DeformError::InvalidParameter`] for a non-finite rectangle or height.
     pub fn planar(
         frame: &LatticeFrame,
         degree: [usize; 2],
@@ -128,21 +137,18 @@ impl BSplineSurface {
         height: f64,
     ) -> Result<Self> {
         if count[0] < 2 || count[1] < 2 {
-            return Err(EditError::InvalidSurface(format!(
-                "a {}×{} control grid is too small",
-                count[0], count[1]
-            )));
+            return Err(invalid(SurfaceProblem::GridTooSmall { count }));
         }
         check_size(degree, count)?;
         for (name, x) in [("min", min), ("max", max)] {
             if !(x[0].is_finite() && x[1].is_finite()) {
-                return Err(EditError::InvalidParameter {
+                return Err(DeformError::InvalidParameter {
                     name,
                     reason: format!("{x:?} is not finite"),
                 });
             }
         }
-        crate::vertices::finite("height", height)?;
+        crate::deform::checks::finite("height", height)?;
         let mut control = Vec::with_capacity(count[0] * count[1]);
         for i in 0..count[0] {
             let x = min[0] + (max[0] - min[0]) * i as f64 / (count[0] - 1) as f64;
@@ -196,7 +202,7 @@ impl BSplineSurface {
     /// Moves control point `(i, j)`.
     pub fn set_control_point(&mut self, i: usize, j: usize, p: DVec3) -> Result<()> {
         if i >= self.count[0] || j >= self.count[1] {
-            return Err(EditError::InvalidParameter {
+            return Err(DeformError::InvalidParameter {
                 name: "control point index",
                 reason: format!(
                     "({i}, {j}) outside the {}×{} grid",
@@ -205,7 +211,7 @@ impl BSplineSurface {
             });
         }
         if !p.is_finite() {
-            return Err(EditError::InvalidParameter {
+            return Err(DeformError::InvalidParameter {
                 name: "control point",
                 reason: format!("{p} is not finite"),
             });

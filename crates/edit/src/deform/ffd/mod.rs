@@ -40,9 +40,11 @@ use rayon::prelude::*;
 use crate::deform::barr::bend::Bend;
 use crate::deform::barr::twist::Twist;
 use crate::deform::barr::{Deformer, Profile};
-use crate::hierarchy_edit::HierarchyMarks;
-use crate::vertices::{check_finite_positions, finite, finite_point, unit_direction, Vertices};
-use crate::{EditError, Result};
+use crate::deform::checks::{check_finite_positions, finite, finite_point, unit_direction};
+use crate::deform::error::{DeformError, Result, SurfaceProblem};
+use crate::error::Error;
+use crate::hierarchy_edit::{HierarchyEdit, HierarchyMarks};
+use crate::vertices::Vertices;
 
 pub use bspline::BSplineSurface;
 use bspline::Patches;
@@ -207,7 +209,7 @@ impl Ffd {
     ) -> Result<Self> {
         finite("attach tolerance", options.tolerance)?;
         if options.max_iterations > MAX_ATTACH_ITERATIONS {
-            return Err(EditError::InvalidParameter {
+            return Err(DeformError::InvalidParameter {
                 name: "max_iterations",
                 reason: format!(
                     "{} is more than {MAX_ATTACH_ITERATIONS}",
@@ -217,7 +219,7 @@ impl Ffd {
         }
         let selected = vertices.resolve(mesh)?;
         if selected.len() == 0 {
-            return Err(EditError::EmptySubMesh);
+            return Err(DeformError::EmptySubMesh);
         }
         let slots = mesh.vertex_slots();
         // Feet are found about the frame's origin, so that a lattice far from the world's
@@ -269,7 +271,7 @@ impl Ffd {
             }
         }
         if attached == 0 {
-            return Err(EditError::NothingAttached);
+            return Err(DeformError::NothingAttached);
         }
         let pinned_shape = pins(shape.count(), crossed, options.shape_layers);
         let pinned_height = pins(height.count(), crossed, options.height_layers);
@@ -316,7 +318,7 @@ impl Ffd {
                 |a, b| (a.0.min(b.0), a.1.max(b.1)),
             );
         if !lo.is_finite() {
-            return Err(EditError::EmptySubMesh);
+            return Err(DeformError::EmptySubMesh);
         }
         let size = (hi - lo).max(DVec3::splat(f64::MIN_POSITIVE));
         let min = [lo.x - margin * size.x, lo.z - margin * size.z];
@@ -330,8 +332,8 @@ impl Ffd {
     pub fn frame(&self) -> &LatticeFrame {
         &self.frame
     }
-    /// Global or local deformation.
-    pub fn mode(&self) -> FfdReach {
+    /// Global or local deformation (Feng, Ma & Peng §4).
+    pub fn reach(&self) -> FfdReach {
         if self.crossed.iter().any(|&c| c) {
             FfdReach::Local
         } else {
@@ -392,7 +394,7 @@ impl Ffd {
     /// Moves every (unpinned) shape control point by `t`: the object follows rigidly.
     ///
     /// # Errors
-    /// [`EditError::InvalidParameter`] for a non-finite `t`; [`EditError::Overflow`]
+    /// [`DeformError::InvalidParameter`] for a non-finite `t`; [`DeformError::Overflow`]
     /// (nothing changed) when a control point would not stay finite. The same holds for
     /// every edit of the surfaces below.
     pub fn translate(&mut self, t: DVec3) -> Result<()> {
@@ -413,11 +415,11 @@ impl Ffd {
     }
 
     /// Keeps the edited surfaces if all their control points are finite; otherwise puts
-    /// `saved` back and fails with [`EditError::Overflow`].
+    /// `saved` back and fails with [`DeformError::ControlPointOverflow`].
     fn keep_if_finite(
         &mut self,
         saved: (BSplineSurface, BSplineSurface),
-        what: &str,
+        what: &'static str,
     ) -> Result<()> {
         let bad = self
             .shape
@@ -430,9 +432,7 @@ impl Ffd {
             None => Ok(()),
             Some(p) => {
                 (self.shape, self.height) = saved;
-                Err(EditError::Overflow(format!(
-                    "{what} would move a control point to {p}"
-                )))
+                Err(DeformError::ControlPointOverflow { what, position: p })
             }
         }
     }
@@ -528,7 +528,7 @@ impl Ffd {
         for (name, r) in [("taper start", start), ("taper end", end)] {
             finite(name, r)?;
             if r < 0.0 {
-                return Err(EditError::InvalidParameter {
+                return Err(DeformError::InvalidParameter {
                     name,
                     reason: format!("{r} is negative"),
                 });
@@ -605,46 +605,27 @@ impl Ffd {
         )
     }
 
-    /// What [`deform`](Self::deform) means for a [`Hierarchy`](halfedge::Hierarchy)
-    /// whose current level `mesh` is: its region is the attached vertices (the
-    /// deformation's footprint), so that refined back only their fine vertices move; the
-    /// deformation has no affine part.
-    ///
-    /// # Errors
-    /// [`EditError::Stale`] for another mesh (or this one at another hierarchy level or
-    /// with other connectivity).
-    pub fn hierarchy_marks(&self, mesh: &Mesh) -> Result<HierarchyMarks> {
-        self.binding.check(mesh, "the FFD attachment")?;
-        let region = self
-            .params
-            .iter()
-            .enumerate()
-            .filter(|(_, p)| !p[0].is_nan())
-            .filter_map(|(i, _)| mesh.vertex_at(i))
-            .collect();
-        Ok(HierarchyMarks::new(mesh, region, Vec::new())?.bound_to(self.binding))
-    }
-
     /// Moves every attached vertex to `S_new(u, v) + H_new,y(u, v) · h · n_new(u, v)`
     /// (§3, Fig. 2), in parallel. Unattached vertices do not move.
     ///
     /// # Errors
-    /// Nothing is changed on error: [`EditError::Stale`] for another mesh (or this one at
+    /// Nothing is changed on error: [`DeformError::Stale`] for another mesh (or this one at
     /// another hierarchy level or with other connectivity),
-    /// [`EditError::InvalidSurface`] when a control point written through
-    /// [`BSplineSurface::control_points_mut`] is not finite, [`EditError::Overflow`] when a
+    /// [`DeformError::InvalidSurface`] when a control point written through
+    /// [`BSplineSurface::control_points_mut`] is not finite, [`DeformError::Overflow`] when a
     /// deformed position would not be finite.
     pub fn deform(&self, mesh: &mut Mesh) -> Result<()> {
         self.binding.check(mesh, "the FFD attachment")?;
         for (surface, name) in [(&self.shape, "shape"), (&self.height, "height")] {
             if let Some(k) = surface.control_points().iter().position(|p| !p.is_finite()) {
                 let [_, cv] = surface.count();
-                return Err(EditError::InvalidSurface(format!(
-                    "{name} control point ({}, {}) is {}, not finite",
-                    k / cv,
-                    k % cv,
-                    surface.control_points()[k]
-                )));
+                return Err(DeformError::InvalidSurface {
+                    surface: name,
+                    problem: SurfaceProblem::NonFiniteControlPoint {
+                        index: [k / cv, k % cv],
+                        point: surface.control_points()[k],
+                    },
+                });
             }
         }
         let (shape, height) = self.effective_patches();
@@ -672,5 +653,30 @@ impl Ffd {
             .with_min_len(4096)
             .for_each(|(p, &q)| *p = q);
         Ok(())
+    }
+}
+
+impl HierarchyEdit for Ffd {
+    /// What [`deform`](Ffd::deform) means for a [`Hierarchy`](halfedge::Hierarchy)
+    /// whose current level `mesh` is: its region is the attached vertices (the
+    /// deformation's footprint), so that refined back only their fine vertices move; the
+    /// deformation has no affine part.
+    ///
+    /// # Errors
+    /// [`DeformError::Stale`] for another mesh (or this one at another hierarchy level or
+    /// with other connectivity).
+    fn hierarchy_marks(&self, mesh: &Mesh) -> std::result::Result<HierarchyMarks, Error> {
+        self.binding
+            .check(mesh, "the FFD attachment")
+            .map_err(DeformError::from)?;
+        let region = self
+            .params
+            .iter()
+            .enumerate()
+            .filter(|(_, p)| !p[0].is_nan())
+            .filter_map(|(i, _)| mesh.vertex_at(i))
+            .collect();
+        let marks = HierarchyMarks::new(mesh, region, Vec::new()).map_err(DeformError::from)?;
+        Ok(marks.bound_to(self.binding))
     }
 }

@@ -6,13 +6,13 @@ use halfedge::{Mesh, VertexId};
 use rayon::prelude::*;
 
 use crate::deform::barr::twist::rotation_displacement;
+use crate::deform::checks::{check_finite_positions, finite, finite_point, unit_direction};
+use crate::deform::error::{DeformError, Result};
 use crate::deform::submesh::plane::Plane;
 use crate::deform::submesh::SubMesh;
-use crate::hierarchy_edit::HierarchyMarks;
-use crate::vertices::{
-    check_finite_positions, finite, finite_point, scatter, unit_direction, Snapshot,
-};
-use crate::{EditError, Result};
+use crate::error::Error;
+use crate::hierarchy_edit::{HierarchyEdit, HierarchyMarks};
+use crate::vertices::{scatter, Snapshot};
 
 /// An oriented line: a point and a unit direction (rotation, taper and twist axes).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -32,12 +32,10 @@ impl Axis {
 
     /// The paper's default rotation axis: through vertex `v` along its normal.
     pub fn vertex_normal(mesh: &Mesh, v: VertexId) -> Result<Self> {
-        if !mesh.is_valid_vertex(v) {
-            return Err(EditError::InvalidVertex(v));
-        }
+        mesh.ensure_vertex(v)?;
         let n = mesh.vertex_normal(v);
         if n == DVec3::ZERO {
-            return Err(EditError::NoVertexNormal(v));
+            return Err(DeformError::NoVertexNormal(v));
         }
         Self::new(mesh.position(v), n)
     }
@@ -327,7 +325,7 @@ impl Map {
 fn positive_factor(name: &'static str, factor: f64) -> Result<f64> {
     finite(name, factor)?;
     if factor <= 0.0 {
-        return Err(EditError::InvalidParameter {
+        return Err(DeformError::InvalidParameter {
             name,
             reason: format!("{factor} is not positive (a reflection has no place here)"),
         });
@@ -341,6 +339,42 @@ fn check_variation(v: &Variation) -> Result<()> {
         finite("variation end", end)?;
     }
     Ok(())
+}
+
+/// A sub-mesh edit as [`SubMesh::apply_with_marks`] applied it: the positions it changed
+/// (to undo it exactly) and what it means for a [`Hierarchy`](halfedge::Hierarchy)
+/// whose current level the mesh was, given to the hierarchy through [`HierarchyEdit`].
+#[derive(Clone, Debug)]
+pub struct AppliedSubmeshEdit {
+    snapshot: Snapshot,
+    marks: HierarchyMarks,
+}
+
+impl AppliedSubmeshEdit {
+    /// The positions the edit changed, as they were before it.
+    #[must_use]
+    pub fn snapshot(&self) -> &Snapshot {
+        &self.snapshot
+    }
+
+    /// The positions the edit changed, by value.
+    #[must_use]
+    pub fn into_snapshot(self) -> Snapshot {
+        self.snapshot
+    }
+}
+
+impl HierarchyEdit for AppliedSubmeshEdit {
+    /// The marks worked out when the edit was applied (see
+    /// [`SubMesh::apply_with_marks`]), for a hierarchy whose current level `mesh` is.
+    ///
+    /// # Errors
+    /// [`DeformError::Stale`] when the sub-mesh was not made on `mesh` at its current
+    /// level.
+    fn hierarchy_marks(&self, mesh: &Mesh) -> std::result::Result<HierarchyMarks, Error> {
+        self.marks.check(mesh).map_err(DeformError::from)?;
+        Ok(self.marks.clone())
+    }
 }
 
 /// What an edit does, worked out on the mesh before it moves: the map, every vertex it
@@ -361,7 +395,7 @@ struct Plan {
 impl SubMesh {
     /// Applies `edit` with `propagation` and returns the positions it changed, to undo it
     /// exactly with [`Snapshot::restore`]. On error nothing is changed: for parameters
-    /// out of range, and [`EditError::Overflow`] when a moved vertex would not land on a
+    /// out of range, and [`DeformError::Overflow`] when a moved vertex would not land on a
     /// finite position (a pull of 1e308, a scale factor of 1e300).
     pub fn apply(
         &self,
@@ -371,6 +405,47 @@ impl SubMesh {
     ) -> Result<Snapshot> {
         self.check_mesh(mesh)?;
         let plan = self.plan(mesh, edit, propagation)?;
+        self.apply_plan(mesh, &plan)
+    }
+
+    /// [`apply`](Self::apply), keeping what the edit means for a
+    /// [`Hierarchy`](halfedge::Hierarchy) whose current level `mesh` is (worked out on
+    /// `mesh` before the edit moves it): give it to the hierarchy with
+    /// [`HierarchyEdit::mark`] on the result. The region is the sub-mesh and its `n`
+    /// propagation collars (all of them, moved or not: the edit's transition is spread
+    /// over their fine vertices), and the vertices at full strength (`τ = 1`: the whole
+    /// sub-mesh without a variation, the part of a taper or twist beyond its ramp) form
+    /// one affine part, moved by the edit's map at full strength (a translation, a scale
+    /// about the centre with the re-seating translation, a rotation about the axis, Barr's
+    /// taper or twist at its full factor or angle). A taper or twist whose strength ramps
+    /// along its axis ([`Variation::Along`]) is a map of space: the whole sub-mesh is
+    /// marked with it ([`Hierarchy::mark_field`](halfedge::Hierarchy::mark_field)), so
+    /// every fine vertex collapsed into the sub-mesh gets its own strength from its own
+    /// input position, ramp and rigid end included, as the same edit made at full
+    /// resolution. A bounded rotation's vertices stopped on the frontier plane are not at
+    /// the map's image: the hierarchy finds that and carries them by their local frame.
+    /// Refined back, the sub-mesh's part at full strength is, at full resolution, the
+    /// exact image of its original fine vertices, and nothing outside the sub-mesh and its
+    /// collars moves. The edit may be applied to a clone of the hierarchy's mesh (an
+    /// interactive application's working copy) and marked on the hierarchy.
+    ///
+    /// # Errors
+    /// As [`apply`](Self::apply); nothing is changed then.
+    pub fn apply_with_marks(
+        &self,
+        mesh: &mut Mesh,
+        edit: &SubmeshEdit,
+        propagation: Propagation,
+    ) -> Result<AppliedSubmeshEdit> {
+        self.check_mesh(mesh)?;
+        let plan = self.plan(mesh, edit, propagation)?;
+        let marks = self.marks_of_plan(mesh, edit, &plan)?;
+        let snapshot = self.apply_plan(mesh, &plan)?;
+        Ok(AppliedSubmeshEdit { snapshot, marks })
+    }
+
+    /// Moves the vertices of `plan` (worked out on `mesh` as it is).
+    fn apply_plan(&self, mesh: &mut Mesh, plan: &Plan) -> Result<Snapshot> {
         let indices: Vec<u32> = plan.targets.iter().map(|&(i, _)| i).collect();
         let snapshot = Snapshot::of_indices(mesh, indices);
         if plan.idle {
@@ -400,35 +475,14 @@ impl SubMesh {
         Ok(snapshot)
     }
 
-    /// What [`apply`](Self::apply) of `edit` with `propagation` to `mesh` (before the
-    /// edit) means for a [`Hierarchy`](halfedge::Hierarchy) whose current level `mesh`
-    /// is: the region is the sub-mesh and its `n` propagation collars (all of them, moved
-    /// or not: the edit's transition is spread over their fine vertices), and the
-    /// vertices at full strength (`τ = 1`: the whole sub-mesh without a variation, the
-    /// part of a taper or twist beyond its ramp) form one affine part, moved by the
-    /// edit's map at full strength (a translation, a scale about the centre with the
-    /// re-seating translation, a rotation about the axis, Barr's taper or twist at its
-    /// full factor or angle). A taper or twist whose strength ramps along its axis
-    /// ([`Variation::Along`]) is a map of space: the whole sub-mesh is marked with it
-    /// ([`Hierarchy::mark_field`](halfedge::Hierarchy::mark_field)), so every fine vertex
-    /// collapsed into the sub-mesh gets its own strength from its own input position,
-    /// ramp and rigid end included, as the same edit made at full resolution.
-    /// A bounded rotation's vertices stopped on the frontier plane
-    /// are not at the map's image: the hierarchy finds that and carries them by their
-    /// local frame. Call it before [`apply`](Self::apply), then give the marks to the
-    /// hierarchy after it ([`HierarchyMarks::mark`]); [`apply_in_hierarchy`](Self::apply_in_hierarchy)
-    /// does both.
-    ///
-    /// # Errors
-    /// As [`apply`](Self::apply) (nothing is changed by this call).
-    pub fn hierarchy_marks(
+    /// The marks of an edit whose plan on `mesh` (before the edit) is `plan` (see
+    /// [`apply_with_marks`](Self::apply_with_marks)).
+    fn marks_of_plan(
         &self,
         mesh: &Mesh,
         edit: &SubmeshEdit,
-        propagation: Propagation,
+        plan: &Plan,
     ) -> Result<HierarchyMarks> {
-        self.check_mesh(mesh)?;
-        let plan = self.plan(mesh, edit, propagation)?;
         let live = |i: u32| mesh.vertex_at(i as usize);
         let mut region: Vec<u32> = self.vertices.clone();
         region.extend_from_slice(&plan.collars);
@@ -470,28 +524,6 @@ impl SubMesh {
         }
         let map = DAffine3::from_translation(plan.reseat) * plan.map.full_strength();
         Ok(marks.with_affine(full, map))
-    }
-
-    /// [`apply`](Self::apply) to the mesh of `hierarchy` at its current level (the
-    /// sub-mesh was made on it), then the [`hierarchy_marks`](Self::hierarchy_marks) of
-    /// the edit given to the hierarchy ([`HierarchyMarks::mark`]): refined back, the
-    /// sub-mesh's part at full strength is, at full resolution, the exact image of its
-    /// original fine vertices, and nothing outside the sub-mesh and its collars moves.
-    /// With the paper's translations ([`halfedge::DetailMode::Translation`]) nothing is
-    /// marked.
-    ///
-    /// # Errors
-    /// As [`apply`](Self::apply); nothing is changed then.
-    pub fn apply_in_hierarchy(
-        &self,
-        hierarchy: &mut halfedge::Hierarchy,
-        edit: &SubmeshEdit,
-        propagation: Propagation,
-    ) -> Result<Snapshot> {
-        let marks = self.hierarchy_marks(hierarchy.mesh(), edit, propagation)?;
-        let snapshot = self.apply(hierarchy.mesh_mut(), edit, propagation)?;
-        marks.mark(hierarchy)?;
-        Ok(snapshot)
     }
 
     /// The plan of `edit` with `propagation` on `mesh` as it is (see [`Plan`]).
@@ -642,7 +674,7 @@ impl SubMesh {
         let shift = |f: DVec3| -(factor - 1.0) * (f - centre);
         match self.frontier_plane(mesh) {
             Ok(plane) => Ok(shift(plane.point).dot(plane.normal) * plane.normal),
-            Err(EditError::DegenerateFrontier { .. }) => {
+            Err(DeformError::DegenerateFrontier { .. }) => {
                 let positions = mesh.positions();
                 let centroid = self
                     .frontier

@@ -43,11 +43,11 @@ pub(super) mod plane;
 use std::collections::VecDeque;
 
 use glam::DVec3;
-use halfedge::{Mesh, VertexData, VertexId};
+use halfedge::{Attribute, AttributeValue, Mesh, VertexData, VertexId};
 
-use crate::{EditError, Result};
+use crate::deform::error::{DeformError, Result};
 
-pub use edits::{Axis, Falloff, Propagation, SubmeshEdit, Variation};
+pub use edits::{AppliedSubmeshEdit, Axis, Falloff, Propagation, SubmeshEdit, Variation};
 pub use plane::Plane;
 
 /// Marks a vertex not reached by a ring search.
@@ -81,23 +81,19 @@ impl SubMesh {
     /// constructors convert to a mask.
     ///
     /// # Errors
-    /// [`EditError::Stale`] when `inside` was made for another mesh (or this one before
-    /// a change of connectivity); [`EditError::EmptySubMesh`] when no live vertex is
+    /// [`DeformError::Stale`] when `inside` was made for another mesh (or this one before
+    /// a change of connectivity); [`DeformError::EmptySubMesh`] when no live vertex is
     /// inside.
     pub fn from_mask(mesh: &Mesh, inside: &VertexData<bool>) -> Result<Self> {
         inside.check(mesh)?;
         Self::from_slots(mesh, inside)
     }
 
-    /// [`from_mask`](Self::from_mask) on a mask this module made for `mesh`.
+    /// [`from_mask`](Self::from_mask) on a mask that fits `mesh` (one entry per vertex
+    /// slot).
     fn from_slots(mesh: &Mesh, inside: &[bool]) -> Result<Self> {
         let slots = mesh.vertex_slots();
-        if inside.len() != slots {
-            return Err(EditError::VertexArrayLength {
-                expected: slots,
-                found: inside.len(),
-            });
-        }
+        debug_assert_eq!(inside.len(), slots);
         let mut mask = vec![false; slots];
         let mut vertices = Vec::new();
         for v in mesh.vertices() {
@@ -109,7 +105,7 @@ impl SubMesh {
         }
         vertices.sort_unstable();
         if vertices.is_empty() {
-            return Err(EditError::EmptySubMesh);
+            return Err(DeformError::EmptySubMesh);
         }
         let frontier: Vec<u32> = vertices
             .iter()
@@ -148,23 +144,28 @@ impl SubMesh {
     pub fn from_vertices(mesh: &Mesh, vertices: &[VertexId]) -> Result<Self> {
         let mut mask = vec![false; mesh.vertex_slots()];
         for &v in vertices {
-            if !mesh.is_valid_vertex(v) {
-                return Err(EditError::InvalidVertex(v));
-            }
+            mesh.ensure_vertex(v)?;
             mask[mesh.vertex_index(v)] = true;
         }
         Self::from_slots(mesh, &mask)
     }
 
-    /// The sub-mesh of the vertices whose per-vertex label (indexed by
-    /// [`Mesh::vertex_index`]) satisfies `is_inside`: the conversion from the kernel's
-    /// sub-mesh labels.
-    pub fn from_labels<L>(
+    /// The sub-mesh of the vertices whose label satisfies `is_inside`: the conversion
+    /// from the kernel's sub-mesh labels (the vertex attribute of `Mesh::label_sides`).
+    ///
+    /// # Errors
+    /// [`DeformError::Stale`] when `labels` is not an attribute of `mesh` (another mesh's,
+    /// or a removed one); [`DeformError::EmptySubMesh`] when no live vertex is inside.
+    pub fn from_labels<L: AttributeValue>(
         mesh: &Mesh,
-        labels: &[L],
+        labels: Attribute<VertexId, L>,
         is_inside: impl Fn(&L) -> bool,
     ) -> Result<Self> {
-        let mask: Vec<bool> = labels.iter().map(is_inside).collect();
+        let mask: Vec<bool> = mesh
+            .attribute_values(labels)?
+            .iter()
+            .map(is_inside)
+            .collect();
         Self::from_slots(mesh, &mask)
     }
 
@@ -246,7 +247,7 @@ impl SubMesh {
     pub fn frontier_plane(&self, mesh: &Mesh) -> Result<Plane> {
         self.check_mesh(mesh)?;
         if self.frontier.is_empty() {
-            return Err(EditError::NoFrontier);
+            return Err(DeformError::NoFrontier);
         }
         let positions = mesh.positions();
         let points: Vec<DVec3> = self
@@ -254,7 +255,7 @@ impl SubMesh {
             .iter()
             .map(|&i| positions[i as usize])
             .collect();
-        let mut plane = Plane::fit(&points).ok_or(EditError::DegenerateFrontier {
+        let mut plane = Plane::fit(&points).ok_or(DeformError::DegenerateFrontier {
             vertices: points.len(),
         })?;
         // orient towards the inside: the centroid of the non-frontier inside vertices,
@@ -312,7 +313,7 @@ impl SubMesh {
 
     /// Fails unless `mesh` is the mesh the sub-mesh was built on, at the same hierarchy
     /// level and with the same connectivity (see [`halfedge::Binding`]).
-    fn check_mesh(&self, mesh: &Mesh) -> Result<()> {
+    pub(crate) fn check_mesh(&self, mesh: &Mesh) -> Result<()> {
         Ok(self.binding.check(mesh, "the sub-mesh")?)
     }
 }
@@ -364,17 +365,17 @@ mod tests {
         let other = generators::grid(3, 3, 1.0, 1.0);
         assert!(matches!(
             SubMesh::from_mask(&mesh, &VertexData::filled(&other, true)),
-            Err(EditError::Stale(_))
+            Err(DeformError::Stale(_))
         ));
         assert!(matches!(
             SubMesh::from_mask(&mesh, &VertexData::filled(&mesh, false)),
-            Err(EditError::EmptySubMesh)
+            Err(DeformError::EmptySubMesh)
         ));
         let whole = SubMesh::from_mask(&mesh, &VertexData::filled(&mesh, true)).unwrap();
         assert!(whole.frontier_indices().is_empty());
         assert!(matches!(
             whole.frontier_plane(&mesh),
-            Err(EditError::NoFrontier)
+            Err(DeformError::NoFrontier)
         ));
     }
 }
