@@ -21,7 +21,7 @@ use halfedge::{Binding, DetailMode, Field, Hierarchy, Mesh, VertexId};
 use crate::error::Error;
 
 /// An edit made at a coarse level of a [`Hierarchy`] that tells the hierarchy what it did
-/// (see the [module docs](self)): implemented by every editing session or applied edit
+/// (its region, affine parts and fields, [`HierarchyMarks`]): implemented by every editing session or applied edit
 /// that can edit a coarse level.
 pub trait HierarchyEdit {
     /// What the edit did, for a [`Hierarchy`] whose current level `mesh` is (the
@@ -47,7 +47,7 @@ pub trait HierarchyEdit {
 }
 
 /// The region, affine parts and fields of one edit, for the [`Hierarchy`] whose mesh it
-/// was made on (see the [module docs](self)).
+/// was made on (see [`HierarchyEdit`]).
 #[derive(Clone)]
 pub struct HierarchyMarks {
     binding: Binding,

@@ -1,6 +1,7 @@
 //! Vertex selections and position snapshots shared by the deformers of *Interactive
-//! editing of multiresolution meshes* §4 ([`crate::submesh`], [`crate::barr`],
-//! [`crate::smoothing`], [`crate::ffd`]).
+//! editing of multiresolution meshes* §4 (sub-mesh edits, Barr's deformations, Taubin
+//! smoothing, FFD: [`crate::deform`]), and the finiteness check every family makes
+//! before it writes positions.
 //!
 //! A deformer works on the whole mesh or on a set of vertices, given either as a mask
 //! indexed by [`Mesh::vertex_index`] or as a list of handles. [`Snapshot`] keeps the

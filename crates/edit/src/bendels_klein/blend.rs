@@ -232,7 +232,7 @@ pub struct RefineReport {
     pub longest_edge: f64,
 }
 
-/// The state every Bendels & Klein session shares (see the [module docs](self)): the
+/// The state every Bendels & Klein session shares (see the module docs): the
 /// role, the two distances and the weight α of every vertex or point (stored as `F`: a
 /// `Vec<f64>`, or per-vertex data of a mesh), the shape function, and the handle
 /// transform with its prepared power. It computes the weights and the blended points;

@@ -1,36 +1,4 @@
-//! The editing session of Bendels & Klein, *Image and 3D-object editing with precisely
-//! specified editing regions*: set the regions once, compute the two distance fields
-//! once, then apply any number of handle transforms and shape functions interactively.
-//!
-//! For a deformable vertex `i` with distances `d_fixed` and `d_handle` to the two
-//! borders (Sec. 4), `α_i = f(d_fixed / (d_fixed + d_handle))` with the shape function
-//! `f` (Sec. 5), and the vertex moves to `(α_i ⊙ A) p_i = exp(α_i log A) p_i` (Sec. 3,
-//! after Alexa 2002), always from its *original* position `p_i`. The handle moves to
-//! `A p_i`, the fixed area never moves (its positions are not even written, so they stay
-//! bit for bit). An edit computes `log A` once ([`AffinePower`]) and transforms the
-//! vertices in parallel; a change of shape function recomputes the α only.
-//!
-//! Degenerate distances: a vertex that only the handle reaches (`d_fixed = ∞`) follows
-//! the handle (α = 1), one that only the fixed area reaches stays (α = 0), one neither
-//! reaches (or at distance 0 from both) stays too.
-//!
-//! **Adaptive refinement** (Sec. 6, after *Mesh forging*): where the deformation
-//! stretched triangles of the deformable area, [`BlendSession::refine`] splits every
-//! edge longer than a threshold, longest first (Rivara's longest-edge bisection; each
-//! split cuts both triangles of the edge, so the mesh stays conforming and passes
-//! `check()`). The new vertex sits at the midpoint of the *original* edge; its distance
-//! to each border comes from a *virtual origin* at the intersection of the spheres of
-//! radii δ₀, δ₁ around the edge's ends: for the midpoint, which lies on the axis of the
-//! intersection circle, that is `√((δ₀² + δ₁²)/2 − L²/4)` (at least `|δ₀ − δ₁|/2`).
-//! That point model is exact for fronts from a point, but far off next to a straight
-//! border: an edge parallel to the border at distance `d ≤ L/2` gets 0. The geodesic
-//! fields therefore carry the front radius `R` the march reached each vertex with (0
-//! from a point, `∞` from a border curve, see `distance::geodesic`), and the virtual
-//! origin becomes the centre of a source circle of radius `R`: spheres of radii
-//! `δ₀ + R`, `δ₁ + R`, distance `√(((δ₀+R)² + (δ₁+R)²)/2 − L²/4) − R`. `R = 0` is the
-//! paper's formula; `R → ∞` tends to `(δ₀ + δ₁)/2`, exact for straight fronts. With
-//! Euclidean fields the exact distance is cheap instead (one grid query per new vertex)
-//! and is used. The new vertex is then placed by the blend like every other.
+//! The Bendels & Klein editing session on a mesh, with adaptive refinement (Secs. 3–6).
 
 use glam::{DMat4, DVec3};
 use halfedge::{Hierarchy, Mesh, VertexData, VertexId};
@@ -67,7 +35,57 @@ pub struct BlendOptions {
     pub shape: ShapeFunction,
 }
 
-/// An editing session with precisely specified regions on a mesh (see the module docs).
+impl BlendOptions {
+    /// The same options with the distance fields set to `distance`.
+    #[must_use]
+    pub fn with_distance(mut self, distance: DistanceKind) -> Self {
+        self.distance = distance;
+        self
+    }
+
+    /// The same options with the shape function set to `shape`.
+    #[must_use]
+    pub fn with_shape(mut self, shape: ShapeFunction) -> Self {
+        self.shape = shape;
+        self
+    }
+}
+
+/// The editing session of Bendels & Klein, *Image and 3D-object editing with precisely
+/// specified editing regions*: set the regions once, compute the two distance fields
+/// once, then apply any number of handle transforms and shape functions interactively.
+///
+/// For a deformable vertex `i` with distances `d_fixed` and `d_handle` to the two
+/// borders (Sec. 4), `α_i = f(d_fixed / (d_fixed + d_handle))` with the shape function
+/// `f` (Sec. 5), and the vertex moves to `(α_i ⊙ A) p_i = exp(α_i log A) p_i` (Sec. 3,
+/// after Alexa 2002), always from its *original* position `p_i`. The handle moves to
+/// `A p_i`, the fixed area never moves (its positions are not even written, so they stay
+/// bit for bit). An edit computes `log A` once ([`AffinePower`](super::affine_power::AffinePower)) and transforms the
+/// vertices in parallel; a change of shape function recomputes the α only.
+///
+/// Degenerate distances: a vertex that only the handle reaches (`d_fixed = ∞`) follows
+/// the handle (α = 1), one that only the fixed area reaches stays (α = 0), one neither
+/// reaches (or at distance 0 from both) stays too.
+///
+/// **Adaptive refinement** (Sec. 6, after *Mesh forging*): where the deformation
+/// stretched triangles of the deformable area, [`BlendSession::refine`] splits every
+/// edge longer than a threshold, longest first (Rivara's longest-edge bisection; each
+/// split cuts both triangles of the edge, so the mesh stays conforming and passes
+/// `check()`). The new vertex sits at the midpoint of the *original* edge; its distance
+/// to each border comes from a *virtual origin* at the intersection of the spheres of
+/// radii δ₀, δ₁ around the edge's ends: for the midpoint, which lies on the axis of the
+/// intersection circle, that is `√((δ₀² + δ₁²)/2 − L²/4)` (at least `|δ₀ − δ₁|/2`).
+/// That point model is exact for fronts from a point, but far off next to a straight
+/// border: an edge parallel to the border at distance `d ≤ L/2` gets 0. The geodesic
+/// fields therefore carry the front radius `R` the march reached each vertex with (0
+/// from a point, `∞` from a border curve, see `distance::geodesic`), and the virtual
+/// origin becomes the centre of a source circle of radius `R`: spheres of radii
+/// `δ₀ + R`, `δ₁ + R`, distance `√(((δ₀+R)² + (δ₁+R)²)/2 − L²/4) − R`. `R = 0` is the
+/// paper's formula; `R → ∞` tends to `(δ₀ + δ₁)/2`, exact for straight fronts. With
+/// Euclidean fields the exact distance is cheap instead (one grid query per new vertex)
+/// and is used. The new vertex is then placed by the blend like every other.
+///
+/// An editing session with precisely specified regions on a mesh.
 #[derive(Clone, Debug)]
 pub struct BlendSession {
     regions: Regions,
@@ -272,7 +290,7 @@ impl BlendSession {
     ///
     /// # Errors
     /// [`BendelsKleinError::Stale`] for another mesh (or this one at another level); the errors of
-    /// [`AffinePower::new`] (no real logarithm, not affine, not finite);
+    /// [`AffinePower::new`](super::affine_power::AffinePower::new) (no real logarithm, not affine, not finite);
     /// [`BendelsKleinError::Overflow`] when a moved vertex would not land on a finite position
     /// (a translation of 1e308). The mesh and the session's transform are unchanged on
     /// error.
@@ -370,8 +388,8 @@ impl BlendSession {
     /// Adaptive refinement of the deformable area (Sec. 6): splits, longest first, every
     /// edge with a deformable end whose current (deformed) length exceeds
     /// `options.max_edge_length`, until none does or the vertex budget is spent. New
-    /// vertices join the deformable area with distances from the virtual origin (see the
-    /// module docs) and are placed by the current blend. The mesh passes `check()`.
+    /// vertices join the deformable area with distances from the virtual origin (see
+    /// [`BlendSession`]) and are placed by the current blend. The mesh passes `check()`.
     /// On the mesh of a [`Hierarchy`], whose records cannot take new vertices at a
     /// coarse level, use [`refine_in_hierarchy`](Self::refine_in_hierarchy).
     ///

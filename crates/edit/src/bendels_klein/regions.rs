@@ -1,24 +1,4 @@
-//! The three regions of a Bendels & Klein edit (Sec. 2, Fig. 1): the **handle** (moves
-//! rigidly by the user's transform `A`), the **fixed area** (never moves) and the
-//! **deformable area** between them (each vertex moves by `α ⊙ A`). The handle must lie
-//! in the complement of the fixed area (footnote 1): they may share no vertex and no
-//! edge.
-//!
-//! Regions are given
-//! - directly, as vertex sets ([`Regions::from_sets`]: handle and fixed, the rest
-//!   deformable) or as a role per vertex ([`Regions::from_roles`]);
-//! - or by their borders drawn on the mesh, as the paper does with its 3D cursor: closed
-//!   edge loops ([`Regions::from_loops`]), or picked vertices joined by shortest edge
-//!   paths into closed loops ([`Regions::from_picks`], via the kernel's
-//!   `Mesh::closed_loop_through`). The faces are split along both loops
-//!   (`Mesh::face_regions`); the area the two loops bound together is deformable, the
-//!   far side of the handle loop is the handle, the far side of the fixed loop is fixed
-//!   (loop vertices belong to their handle or fixed area), and faces of components
-//!   neither loop touches are fixed.
-//!
-//! Either way the result knows its two **borders**: the handle (fixed) vertices next to
-//! the deformable area, and the edges between them that bound a deformable triangle —
-//! the polylines the distance fields are measured from.
+//! Handle, fixed and deformable regions of a mesh (Bendels & Klein, Sec. 2).
 
 use halfedge::{Binding, HalfedgeId, Mesh, VertexData, VertexId};
 
@@ -46,6 +26,28 @@ pub struct Border {
     pub edges: Vec<(VertexId, VertexId)>,
 }
 
+/// The three regions of a Bendels & Klein edit (Sec. 2, Fig. 1): the **handle** (moves
+/// rigidly by the user's transform `A`), the **fixed area** (never moves) and the
+/// **deformable area** between them (each vertex moves by `α ⊙ A`). The handle must lie
+/// in the complement of the fixed area (footnote 1): they may share no vertex and no
+/// edge.
+///
+/// Regions are given
+/// - directly, as vertex sets ([`Regions::from_sets`]: handle and fixed, the rest
+///   deformable) or as a role per vertex ([`Regions::from_roles`]);
+/// - or by their borders drawn on the mesh, as the paper does with its 3D cursor: closed
+///   edge loops ([`Regions::from_loops`]), or picked vertices joined by shortest edge
+///   paths into closed loops ([`Regions::from_picks`], via the kernel's
+///   `Mesh::closed_loop_through`). The faces are split along both loops
+///   (`Mesh::face_regions`); the area the two loops bound together is deformable, the
+///   far side of the handle loop is the handle, the far side of the fixed loop is fixed
+///   (loop vertices belong to their handle or fixed area), and faces of components
+///   neither loop touches are fixed.
+///
+/// Either way the result knows its two **borders**: the handle (fixed) vertices next to
+/// the deformable area, and the edges between them that bound a deformable triangle —
+/// the polylines the distance fields are measured from.
+///
 /// Handle, fixed and deformable vertex sets of one mesh, with their borders (Bendels &
 /// Klein, Sec. 2). They keep the [`Binding`] of the mesh they were made for: a
 /// [`BlendSession`](crate::bendels_klein::BlendSession) refuses them on any other mesh
@@ -169,7 +171,7 @@ impl Regions {
     }
 
     /// Regions bounded by two closed edge loops drawn on the mesh: the handle loop and
-    /// the fixed loop (see the module docs for which side is which).
+    /// the fixed loop (see [`Regions`] for which side is which).
     ///
     /// # Errors
     /// [`BendelsKleinError::BorderNotClosed`] when a loop is not a closed chain of live

@@ -1,22 +1,24 @@
-//! Shape functions `f: [0, 1] → [0, 1]` with `f(0) = 0`, `f(1) = 1` (Bendels & Klein,
-//! Sec. 5): the blend weight of a deformable vertex is `α = f(d_fixed / (d_fixed +
-//! d_handle))`, so `f` sets the profile of the deformed area. The edit joins the fixed
-//! area and the handle continuously when `f` is continuous, and without a crease
-//! ("differentiably") when moreover `f'(0) = f'(1) = 0`.
-//!
-//! - Presets: [`ShapeFunction::Linear`] (continuous only), [`ShapeFunction::Smoothstep`]
-//!   `3x² − 2x³` (C¹ joins), [`ShapeFunction::Smootherstep`] `6x⁵ − 15x⁴ + 10x³` (C²
-//!   joins).
-//! - [`ShapeCurve`]: a user-editable piecewise cubic Hermite curve through control
-//!   points (the endpoints (0, 0) and (1, 1) are implied). With
-//!   [`CurveOptions::monotone`] the tangents follow Fritsch & Carlson (1980, *Monotone
-//!   piecewise cubic interpolation*): the curve is monotone whenever the points are,
-//!   and never leaves [0, 1]. Otherwise the tangents are central differences
-//!   (Catmull–Rom), smoother but free to overshoot, and the values are clamped to
-//!   [0, 1]. [`CurveOptions::flat_ends`] sets `f'(0) = f'(1) = 0`.
+//! Shape functions (Bendels & Klein, Sec. 5).
 
 use crate::bendels_klein::error::{BendelsKleinError, ControlPointProblem, Result};
 
+/// Shape functions `f: [0, 1] → [0, 1]` with `f(0) = 0`, `f(1) = 1` (Bendels & Klein,
+/// Sec. 5): the blend weight of a deformable vertex is `α = f(d_fixed / (d_fixed +
+/// d_handle))`, so `f` sets the profile of the deformed area. The edit joins the fixed
+/// area and the handle continuously when `f` is continuous, and without a crease
+/// ("differentiably") when moreover `f'(0) = f'(1) = 0`.
+///
+/// - Presets: [`ShapeFunction::Linear`] (continuous only), [`ShapeFunction::Smoothstep`]
+///   `3x² − 2x³` (C¹ joins), [`ShapeFunction::Smootherstep`] `6x⁵ − 15x⁴ + 10x³` (C²
+///   joins).
+/// - [`ShapeCurve`]: a user-editable piecewise cubic Hermite curve through control
+///   points (the endpoints (0, 0) and (1, 1) are implied). With
+///   [`CurveOptions::monotone`] the tangents follow Fritsch & Carlson (1980, *Monotone
+///   piecewise cubic interpolation*): the curve is monotone whenever the points are,
+///   and never leaves [0, 1]. Otherwise the tangents are central differences
+///   (Catmull–Rom), smoother but free to overshoot, and the values are clamped to
+///   [0, 1]. [`CurveOptions::flat_ends`] sets `f'(0) = f'(1) = 0`.
+///
 /// A shape function `f: [0, 1] → [0, 1]`, `f(0) = 0`, `f(1) = 1` (Bendels & Klein,
 /// Sec. 5).
 #[derive(Clone, Debug, PartialEq)]
@@ -78,6 +80,7 @@ fn clamp01(x: f64) -> f64 {
 
 /// How [`ShapeCurve`] fits its control points.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
 pub struct CurveOptions {
     /// Fritsch–Carlson tangents: monotone (and inside [0, 1]) through monotone points;
     /// control points that decrease are refused. Default `true`.
@@ -85,6 +88,22 @@ pub struct CurveOptions {
     /// `f'(0) = f'(1) = 0`: crease-free joins with the fixed area and the handle.
     /// Default `true`.
     pub flat_ends: bool,
+}
+
+impl CurveOptions {
+    /// The same options with whether the curve is monotone (Fritsch–Carlson tangents) set to `monotone`.
+    #[must_use]
+    pub fn with_monotone(mut self, monotone: bool) -> Self {
+        self.monotone = monotone;
+        self
+    }
+
+    /// The same options with whether the curve is flat at both ends set to `flat_ends`.
+    #[must_use]
+    pub fn with_flat_ends(mut self, flat_ends: bool) -> Self {
+        self.flat_ends = flat_ends;
+        self
+    }
 }
 
 impl Default for CurveOptions {

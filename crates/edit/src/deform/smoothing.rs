@@ -1,22 +1,4 @@
-//! Taubin's λ|μ smoothing (G. Taubin, *A signal processing approach to fair surface
-//! design*, SIGGRAPH 1995), used by *Interactive editing of multiresolution meshes* §4.2
-//! to smooth a sub-mesh and its frontier collar, or the whole mesh.
-//!
-//! One iteration is two Laplacian steps, `p ← p + λ Δp` then `p ← p + μ Δp` with
-//! `μ < −λ < 0`, where `Δp_i = Σ_j w_ij (p_j − p_i)` with normalised weights (`Σ_j w_ij =
-//! 1`). The first step shrinks like plain Laplacian smoothing, the second inflates: the
-//! pair is a low-pass filter with transfer `(1 − λk)(1 − μk)` that passes the low
-//! frequencies (`k < 1/λ + 1/μ`, about 0.1 for the defaults λ = 0.33, μ = −0.34) and
-//! so, unlike plain Laplacian smoothing, does not shrink the surface.
-//!
-//! The weights are uniform (the umbrella operator) or cotangent ([`cotan_weight`]),
-//! computed once from the positions at construction (Taubin's linear filter); a vertex
-//! whose cotangent weights do not sum to a positive number falls back to uniform
-//! weights. Only the region's vertices move; their neighbours outside stay fixed and
-//! anchor the smoothing, and so do mesh-boundary vertices unless asked otherwise.
-//!
-//! A [`Smoother`] precomputes the neighbour lists as compressed rows (CSR) with their
-//! weights and runs the steps in parallel (rayon) between two position buffers.
+//! Taubin λ|μ smoothing (Taubin 1995).
 
 use glam::DVec3;
 use halfedge::{Mesh, VertexData};
@@ -24,7 +6,7 @@ use rayon::prelude::*;
 
 use crate::deform::checks::{check_finite_positions, finite};
 use crate::deform::error::{DeformError, Result};
-use crate::deform::submesh::SubMesh;
+use crate::deform::submesh::frontier::SubMesh;
 use crate::laplace::cotan_weight;
 use crate::vertices::Vertices;
 
@@ -40,6 +22,7 @@ pub enum SmoothingWeights {
 
 /// Parameters of Taubin smoothing.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct TaubinOptions {
     /// The shrinking factor λ > 0 (default 0.33).
     pub lambda: f64,
@@ -50,6 +33,36 @@ pub struct TaubinOptions {
     /// Keep the mesh-boundary vertices fixed (default true: smoothing them with
     /// one-sided neighbourhoods pulls holes open).
     pub fix_boundary: bool,
+}
+
+impl TaubinOptions {
+    /// The same options with the shrinking factor λ set to `lambda`.
+    #[must_use]
+    pub fn with_lambda(mut self, lambda: f64) -> Self {
+        self.lambda = lambda;
+        self
+    }
+
+    /// The same options with the inflating factor μ set to `mu`.
+    #[must_use]
+    pub fn with_mu(mut self, mu: f64) -> Self {
+        self.mu = mu;
+        self
+    }
+
+    /// The same options with the edge weights set to `weights`.
+    #[must_use]
+    pub fn with_weights(mut self, weights: SmoothingWeights) -> Self {
+        self.weights = weights;
+        self
+    }
+
+    /// The same options with whether the mesh-boundary vertices stay fixed set to `fix_boundary`.
+    #[must_use]
+    pub fn with_fix_boundary(mut self, fix_boundary: bool) -> Self {
+        self.fix_boundary = fix_boundary;
+        self
+    }
 }
 
 impl Default for TaubinOptions {
@@ -63,6 +76,26 @@ impl Default for TaubinOptions {
     }
 }
 
+/// Taubin's λ|μ smoothing (G. Taubin, *A signal processing approach to fair surface
+/// design*, SIGGRAPH 1995), used by *Interactive editing of multiresolution meshes* §4.2
+/// to smooth a sub-mesh and its frontier collar, or the whole mesh.
+///
+/// One iteration is two Laplacian steps, `p ← p + λ Δp` then `p ← p + μ Δp` with
+/// `μ < −λ < 0`, where `Δp_i = Σ_j w_ij (p_j − p_i)` with normalised weights (`Σ_j w_ij =
+/// 1`). The first step shrinks like plain Laplacian smoothing, the second inflates: the
+/// pair is a low-pass filter with transfer `(1 − λk)(1 − μk)` that passes the low
+/// frequencies (`k < 1/λ + 1/μ`, about 0.1 for the defaults λ = 0.33, μ = −0.34) and
+/// so, unlike plain Laplacian smoothing, does not shrink the surface.
+///
+/// The weights are uniform (the umbrella operator) or cotangent ([`cotan_weight`]),
+/// computed once from the positions at construction (Taubin's linear filter); a vertex
+/// whose cotangent weights do not sum to a positive number falls back to uniform
+/// weights. Only the region's vertices move; their neighbours outside stay fixed and
+/// anchor the smoothing, and so do mesh-boundary vertices unless asked otherwise.
+///
+/// A [`Smoother`] precomputes the neighbour lists as compressed rows (CSR) with their
+/// weights and runs the steps in parallel (rayon) between two position buffers.
+///
 /// Precomputed Laplacian of a region (CSR rows with normalised weights) and two
 /// position buffers, for repeated smoothing steps.
 ///

@@ -1,27 +1,4 @@
-//! Harmonic embedding of an editing area onto a rectangle (Lee 1999, §4, after Eck et al.
-//! 1995), with mean-value weights (Floater 2003) as the fold-free option.
-//!
-//! The boundary loop goes onto the rectangle's border first (§4.2): four picked corners
-//! with the vertices between them placed by chord length along each side, or one corner
-//! and the whole loop laid by chord length. The interior vertices then minimise
-//! `E(h) = ½ Σ κ_ij |h(v_i) − h(v_j)|²` with Eck's spring constants
-//! `κ_ij = (l_ik1² + l_jk1² − l_ij²)/A_ijk1 + (l_ik2² + l_jk2² − l_ij²)/A_ijk2 = 4 (cot α + cot β)`:
-//! one sparse symmetric system for u and v together, factored once per area by `faer`'s
-//! supernodal sparse Cholesky, with an elimination order from geometric nested
-//! dissection (much cheaper to compute than minimum degree on large areas). The matrix
-//! is assembled in one pass over the area's faces. The cotangent weights are scaled by ¼
-//! (the scale does not change the map). A degenerate corner contributes 0 instead of an infinite cotangent, and every
-//! edge gets an extra weight of `1e-10 ×` the mean weight, so that a vertex whose
-//! triangles are all degenerate lands at the average of its neighbours instead of making
-//! the system singular: no NaN. Negative cotangents (obtuse triangles) can make the
-//! system indefinite; the solve then falls back to sparse LU, and the map may fold: the
-//! flipped triangles are reported.
-//!
-//! Mean-value weights `w_ij = (tan(α_ij/2) + tan(β_ij/2)) / |p_j − p_i|` (angles at `v_i`
-//! next to the edge) are positive, so with the convex rectangle boundary the map never
-//! folds (Tutte / Floater). They are not symmetric: that system is solved by `faer`'s
-//! sparse LU with partial pivoting. A row whose weights are not finite (coincident
-//! vertices) falls back to uniform weights, which also cannot fold.
+//! The harmonic embedding of an editing area onto a rectangle (Lee 1999, §4).
 
 use glam::{DVec2, DVec3};
 use halfedge::{FaceId, Mesh, VertexId};
@@ -59,6 +36,7 @@ pub enum BoundaryMapping {
 
 /// Options of [`Embedding::new`].
 #[derive(Clone, Debug, Default, PartialEq)]
+#[non_exhaustive]
 pub struct EmbeddingOptions {
     /// Spring constants.
     pub weights: EmbeddingWeights,
@@ -68,6 +46,29 @@ pub struct EmbeddingOptions {
     /// opposite sides of the loop; with one corner, a square. The perimeter always equals
     /// the loop's length.
     pub aspect_ratio: Option<f64>,
+}
+
+impl EmbeddingOptions {
+    /// The same options with the spring constants set to `weights`.
+    #[must_use]
+    pub fn with_weights(mut self, weights: EmbeddingWeights) -> Self {
+        self.weights = weights;
+        self
+    }
+
+    /// The same options with the boundary mapping set to `boundary`.
+    #[must_use]
+    pub fn with_boundary(mut self, boundary: BoundaryMapping) -> Self {
+        self.boundary = boundary;
+        self
+    }
+
+    /// The same options with the rectangle's width / height set to `aspect_ratio`.
+    #[must_use]
+    pub fn with_aspect_ratio(mut self, aspect_ratio: f64) -> Self {
+        self.aspect_ratio = Some(aspect_ratio);
+        self
+    }
 }
 
 /// The linear solver that produced the interior of the map.
@@ -82,6 +83,31 @@ pub enum EmbeddingSolver {
     Lu,
 }
 
+/// Harmonic embedding of an editing area onto a rectangle (Lee 1999, §4, after Eck et al.
+/// 1995), with mean-value weights (Floater 2003) as the fold-free option.
+///
+/// The boundary loop goes onto the rectangle's border first (§4.2): four picked corners
+/// with the vertices between them placed by chord length along each side, or one corner
+/// and the whole loop laid by chord length. The interior vertices then minimise
+/// `E(h) = ½ Σ κ_ij |h(v_i) − h(v_j)|²` with Eck's spring constants
+/// `κ_ij = (l_ik1² + l_jk1² − l_ij²)/A_ijk1 + (l_ik2² + l_jk2² − l_ij²)/A_ijk2 = 4 (cot α + cot β)`:
+/// one sparse symmetric system for u and v together, factored once per area by `faer`'s
+/// supernodal sparse Cholesky, with an elimination order from geometric nested
+/// dissection (much cheaper to compute than minimum degree on large areas). The matrix
+/// is assembled in one pass over the area's faces. The cotangent weights are scaled by ¼
+/// (the scale does not change the map). A degenerate corner contributes 0 instead of an infinite cotangent, and every
+/// edge gets an extra weight of `1e-10 ×` the mean weight, so that a vertex whose
+/// triangles are all degenerate lands at the average of its neighbours instead of making
+/// the system singular: no NaN. Negative cotangents (obtuse triangles) can make the
+/// system indefinite; the solve then falls back to sparse LU, and the map may fold: the
+/// flipped triangles are reported.
+///
+/// Mean-value weights `w_ij = (tan(α_ij/2) + tan(β_ij/2)) / |p_j − p_i|` (angles at `v_i`
+/// next to the edge) are positive, so with the convex rectangle boundary the map never
+/// folds (Tutte / Floater). They are not symmetric: that system is solved by `faer`'s
+/// sparse LU with partial pivoting. A row whose weights are not finite (coincident
+/// vertices) falls back to uniform weights, which also cannot fold.
+///
 /// The embedding of an editing area onto the rectangle `[0, width] × [0, height]`: a
 /// `(u, v)` per local vertex of the area (Lee 1999, §4).
 #[derive(Clone, Debug)]

@@ -1,11 +1,4 @@
-//! Local frames of the editing area's vertices (Lee 1999, §3.4–3.5).
-//!
-//! A frame `(x, y, n)` turns a displacement `Δp` into the offset
-//! `Δd = (x·Δp, y·Δp, n·Δp)` (eq. 1) and an interpolated offset back into the update
-//! `p_new = p_old + Δd_x x + Δd_y y + Δd_n n`. Either every vertex uses the global frame,
-//! or frames follow the normals: a frame `(x₀, y₀, n₀)` at a seed vertex is carried to
-//! every other vertex by the single minimal rotation that takes `n₀` onto the vertex's
-//! normal (the normalised sum of the unit normals of its faces).
+//! Local frames of an editing area (Lee 1999, §3.4–3.5).
 
 use glam::{DMat3, DVec3};
 use halfedge::{Mesh, VertexId};
@@ -32,6 +25,15 @@ pub enum FrameKind {
     },
 }
 
+/// Local frames of the editing area's vertices (Lee 1999, §3.4–3.5).
+///
+/// A frame `(x, y, n)` turns a displacement `Δp` into the offset
+/// `Δd = (x·Δp, y·Δp, n·Δp)` (eq. 1) and an interpolated offset back into the update
+/// `p_new = p_old + Δd_x x + Δd_y y + Δd_n n`. Either every vertex uses the global frame,
+/// or frames follow the normals: a frame `(x₀, y₀, n₀)` at a seed vertex is carried to
+/// every other vertex by the single minimal rotation that takes `n₀` onto the vertex's
+/// normal (the normalised sum of the unit normals of its faces).
+///
 /// The frames of an area's local vertices: `None` for the global frame, else one
 /// `DMat3` per local vertex with columns `x`, `y`, `n`.
 #[derive(Clone, Debug, Default)]

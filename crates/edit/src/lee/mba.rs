@@ -50,7 +50,7 @@
 //! The fit touches only the data points' control points (sparse per level) plus one dense
 //! refinement pass per level; evaluation is 16 lattice reads per point.
 //!
-//! The editing session ([`crate::area::AreaSession`]) uses the same B-splines and
+//! The editing session ([`AreaSession`](crate::lee::AreaSession)) uses the same B-splines and
 //! refinement in a form of its own: boundary fixing at every level, a scale mapping that
 //! does not depend on the level count, and sparse detail levels at the primitive (see
 //! its docs). This type keeps the paper's literal §5.2–5.3.
@@ -526,7 +526,7 @@ pub enum MbaBase {
 /// and the boundary fixing of Lee 1999 §5. Usable for any scattered 2D data.
 ///
 /// ```
-/// use edit::mba::Mba;
+/// use edit::lee::mba::Mba;
 /// use glam::{DVec2, DVec3};
 /// let mba = Mba::new(DVec2::ZERO, DVec2::ONE, 6).unwrap();
 /// let points = [DVec2::new(0.3, 0.4), DVec2::new(0.7, 0.6)];

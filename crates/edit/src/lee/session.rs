@@ -1,53 +1,4 @@
-//! The editing session (Lee 1999, §3.1 and §3.3): the area is specified and embedded
-//! once; then any number of edits with editing primitives of any vertex set, at any scale
-//! and with either kind of local frames, each re-running only the multilevel B-spline
-//! fit of the primitive's offsets and its evaluation at the area's vertices.
-//!
-//! Positions are always `rest + f_s(offsets)`, where `rest` are the area's positions when
-//! the edit began ([`AreaSession::commit`], called by
-//! [`AreaSession::set_primitive`]): dragging again replaces the previous drag of the
-//! same edit instead of accumulating on it, and changing the scale or the frames
-//! re-shapes the current edit ([`AreaSession::apply`]). If the area's positions are
-//! changed by other means, call [`AreaSession::commit`] before the next edit, or the
-//! next drag overwrites them with `rest + f_s`.
-//!
-//! # The fit
-//!
-//! The offsets are spread by the multilevel B-spline fit of Lee 1999 §5 with three
-//! repairs that make the paper's intent hold on areas of any size (details in the
-//! `fit` submodule's docs):
-//!
-//! - **Boundary fixing at every level** (§5.3): each level's lattice keeps its three
-//!   border rows and columns at zero, so the offsets fall to zero on the border with their
-//!   first and second derivatives, over a band as wide as the edit (the paper fixes the
-//!   finest lattice only, which creases the surface one or two rings inside the border at
-//!   large scales).
-//! - **The scale is a fraction of the area** (§3.6, §5.2): the coarsest lattice has
-//!   `m = 4/s` cells (`s = 1, 1/2, 1/4, …` ↔ `m = 4, 8, 16, …`, linear between), whatever
-//!   the number of levels, so a given `s` reaches the same part of an area on a coarse
-//!   and on a fine mesh: about `0.45 s` of the rectangle's side from the primitive up to
-//!   `s = 1/2` (the measured table is in `docs/guide/area-editing.md`).
-//! - **Detail levels at the primitive**: up to six sparse levels finer than the dense
-//!   lattice fit what is left at the primitive's vertices, so a primitive of several
-//!   vertices is reached to `1e-9` of the drag (away from the border band, where fixing
-//!   wins as in §5.3).
-//!
-//! The number of dense levels `l` follows the embedded resolution
-//! ([`SessionOptions::levels`]); it only decides where the smallest scales turn into
-//! moving the primitive alone.
-//!
-//! # Speed and memory
-//!
-//! Per area (once): the embedding, and for every interior vertex the index and the
-//! B-spline weights of its 4 × 4 control points in the finest lattice. Per primitive:
-//! which control points each primitive vertex touches at every level, and the vertices
-//! the detail levels reach. Per drag: the fit touches only the primitive's control points
-//! plus one dense refinement per level; the evaluation is 16 lattice reads per interior
-//! vertex (weights stored as `f32`), in slot order so that the writes into the mesh's
-//! position array run forward; in parallel over contiguous blocks of that array for very
-//! large areas ([`SessionOptions::parallel_threshold`]); boundary vertices are never
-//! written. The dense lattice has `(2^{l−1} + 3)²` control points; `l ≤`
-//! [`MAX_SESSION_LEVELS`] keeps a drag under about 250 MB.
+//! The Lee 1999 editing session ([`AreaSession`]): scale parameter, fit and drag.
 
 use glam::{DAffine3, DVec2, DVec3};
 use halfedge::{Mesh, VertexId};
@@ -65,6 +16,7 @@ use crate::vertices::{first_non_finite, scatter};
 
 /// Options of [`AreaSession::new`].
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct SessionOptions {
     /// How the area is embedded.
     pub embedding: EmbeddingOptions,
@@ -73,7 +25,7 @@ pub struct SessionOptions {
     /// Scale parameter `s ∈ [0, 1]` (Lee 1999 §3.6): 0 moves only the primitive, 1 the
     /// whole area; in between the edit reaches about `0.45 s` of the rectangle's side
     /// from the primitive up to `s = 1/2` (motion down to 10 % of the drag), the same on
-    /// coarse and fine meshes (see the [module docs](self)).
+    /// coarse and fine meshes.
     pub scale: f64,
     /// Number `l` of dense B-spline levels, `3 ..=` [`MAX_SESSION_LEVELS`] (level 3,
     /// four cells, is the coarsest with a free control point once the border is fixed).
@@ -89,6 +41,43 @@ pub struct SessionOptions {
     /// [`DEFAULT_PARALLEL_THRESHOLD`] (262,144), keeps areas of that size sequential;
     /// lower it on machines with idle cores.
     pub parallel_threshold: usize,
+}
+
+impl SessionOptions {
+    /// The same options with the embedding options set to `embedding`.
+    #[must_use]
+    pub fn with_embedding(mut self, embedding: EmbeddingOptions) -> Self {
+        self.embedding = embedding;
+        self
+    }
+
+    /// The same options with the local frames set to `frames`.
+    #[must_use]
+    pub fn with_frames(mut self, frames: FrameKind) -> Self {
+        self.frames = frames;
+        self
+    }
+
+    /// The same options with the scale parameter `s` set to `scale`.
+    #[must_use]
+    pub fn with_scale(mut self, scale: f64) -> Self {
+        self.scale = scale;
+        self
+    }
+
+    /// The same options with the number of dense B-spline levels set to `levels`.
+    #[must_use]
+    pub fn with_levels(mut self, levels: usize) -> Self {
+        self.levels = Some(levels);
+        self
+    }
+
+    /// The same options with the interior vertex count from which a drag is evaluated in parallel set to `parallel_threshold`.
+    #[must_use]
+    pub fn with_parallel_threshold(mut self, parallel_threshold: usize) -> Self {
+        self.parallel_threshold = parallel_threshold;
+        self
+    }
 }
 
 impl Default for SessionOptions {
@@ -111,10 +100,59 @@ pub const DEFAULT_PARALLEL_THRESHOLD: usize = 1 << 18;
 pub const MAX_SESSION_LEVELS: usize = MAX_LEVELS;
 const NONE: u32 = u32::MAX;
 
-/// An area-editing session after Lee 1999: see the [module docs](self).
+/// The editing session (Lee 1999, §3.1 and §3.3): the area is specified and embedded
+/// once; then any number of edits with editing primitives of any vertex set, at any scale
+/// and with either kind of local frames, each re-running only the multilevel B-spline
+/// fit of the primitive's offsets and its evaluation at the area's vertices.
+///
+/// Positions are always `rest + f_s(offsets)`, where `rest` are the area's positions when
+/// the edit began ([`AreaSession::commit`], called by
+/// [`AreaSession::set_primitive`]): dragging again replaces the previous drag of the
+/// same edit instead of accumulating on it, and changing the scale or the frames
+/// re-shapes the current edit ([`AreaSession::apply`]). If the area's positions are
+/// changed by other means, call [`AreaSession::commit`] before the next edit, or the
+/// next drag overwrites them with `rest + f_s`.
+///
+/// # The fit
+///
+/// The offsets are spread by the multilevel B-spline fit of Lee 1999 §5 with three
+/// repairs that make the paper's intent hold on areas of any size (details in the
+/// `fit` submodule's docs):
+///
+/// - **Boundary fixing at every level** (§5.3): each level's lattice keeps its three
+///   border rows and columns at zero, so the offsets fall to zero on the border with their
+///   first and second derivatives, over a band as wide as the edit (the paper fixes the
+///   finest lattice only, which creases the surface one or two rings inside the border at
+///   large scales).
+/// - **The scale is a fraction of the area** (§3.6, §5.2): the coarsest lattice has
+///   `m = 4/s` cells (`s = 1, 1/2, 1/4, …` ↔ `m = 4, 8, 16, …`, linear between), whatever
+///   the number of levels, so a given `s` reaches the same part of an area on a coarse
+///   and on a fine mesh: about `0.45 s` of the rectangle's side from the primitive up to
+///   `s = 1/2` (the measured table is in `docs/guide/area-editing.md`).
+/// - **Detail levels at the primitive**: up to six sparse levels finer than the dense
+///   lattice fit what is left at the primitive's vertices, so a primitive of several
+///   vertices is reached to `1e-9` of the drag (away from the border band, where fixing
+///   wins as in §5.3).
+///
+/// The number of dense levels `l` follows the embedded resolution
+/// ([`SessionOptions::levels`]); it only decides where the smallest scales turn into
+/// moving the primitive alone.
+///
+/// # Speed and memory
+///
+/// Per area (once): the embedding, and for every interior vertex the index and the
+/// B-spline weights of its 4 × 4 control points in the finest lattice. Per primitive:
+/// which control points each primitive vertex touches at every level, and the vertices
+/// the detail levels reach. Per drag: the fit touches only the primitive's control points
+/// plus one dense refinement per level; the evaluation is 16 lattice reads per interior
+/// vertex (weights stored as `f32`), in slot order so that the writes into the mesh's
+/// position array run forward; in parallel over contiguous blocks of that array for very
+/// large areas ([`SessionOptions::parallel_threshold`]); boundary vertices are never
+/// written. The dense lattice has `(2^{l−1} + 3)²` control points; `l ≤`
+/// [`MAX_SESSION_LEVELS`] keeps a drag under about 250 MB.
 ///
 /// ```
-/// use edit::area::{EditingArea, AreaSession, SessionOptions};
+/// use edit::lee::{AreaSession, EditingArea, SessionOptions};
 /// use glam::DVec3;
 /// let mut mesh = halfedge::generators::icosphere(3);
 /// let top = mesh.vertices().max_by(|&a, &b| mesh.position(a).z.total_cmp(&mesh.position(b).z)).unwrap();

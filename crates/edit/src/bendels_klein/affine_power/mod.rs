@@ -238,7 +238,7 @@ impl AffinePower {
 
     /// `(α ⊙ A) p` for a point of the plane `z = 0`, when `A` is a 2-D affine map
     /// embedded in 4×4 (its third row and column those of the identity, as
-    /// `edit::polyline` and `edit::image_edit` build them): `exp(α log A)` keeps that
+    /// `edit::bendels_klein::polyline` and `edit::bendels_klein::image` build them): `exp(α log A)` keeps that
     /// block structure, so only six entries of the table are evaluated, half the work of
     /// [`AffinePower::transform_point`]. `p` for α = 0; for α = 1 the 2-D map itself,
     /// `M p + t` with the arithmetic of `DMat3::transform_point2`; the Padé exponential

@@ -1,33 +1,4 @@
-//! Euclidean distance to border polylines (Bendels & Klein, Sec. 4.1, eq. 1–2):
-//! `d_E(v, border) = min_i d(v, (v_i v_{i+1}))` over the border's segments.
-//!
-//! [`BorderGrid`] is the paper's spatial search structure: a uniform grid (cell size
-//! twice the mean edge length, so that an edge lies in one or two cells) whose cells list
-//! the border segments that pass through them; segments are inserted by tracing the
-//! cells along them, so rebuilding for new borders costs O(border edges).
-//! [`BorderGrid::distance`] answers one query by searching rings of cells around the
-//! query cell until no unseen cell can hold a nearer segment.
-//!
-//! For a whole field the ring search alone is slow far from the border (the rings to
-//! search grow as (d / cell)³). [`BorderGrid::distances`] therefore buckets the query
-//! points into the same uniform grid ([`QueryPoints`], cells in Morton order, built
-//! once per point set and shared by the handle and fixed fields) and walks the implicit
-//! octree of those cells top-down, handing each block of cells the list of segments
-//! that can still be nearest to some point in it. A segment `s` is dropped for a block
-//! (centre `c`, radius `r`) when a lower bound of `d(q, s) − d(q, s*)` over the block is
-//! positive, `s*` being the segment nearest to `c`: with `g_s = d(c, s)`, `u_s` the unit
-//! vector from `s` to `c`, `D* = d(c, s*)`,
-//!
-//! ```text
-//! d(q, s) − d(q, s*) ≥ (g_s − D*) − min(2r, |u_s − u*| r + r² / (2 D*))
-//! ```
-//!
-//! (convexity of `d(·, s)` and a second-order bound of `|q − x*|`). Far from the border
-//! the segments seen from a block under nearly the same direction are cut quickly, so a
-//! leaf keeps a handful of candidates and each point costs a few segment tests. Every
-//! point is finally evaluated against a superset of its nearest segments with the same
-//! arithmetic as [`point_segment_distance`], so the field equals the brute-force minimum
-//! bit for bit.
+//! Euclidean distances to border polylines in a uniform grid (Bendels & Klein, Sec. 4.1).
 
 use std::collections::HashMap;
 
@@ -81,9 +52,40 @@ type Cell = [i32; 3];
 /// than the cell size is traced in many): about a few hundred MB of cell lists at most.
 pub const MAX_TRACED_PIECES: usize = 1 << 22;
 
+/// Euclidean distance to border polylines (Bendels & Klein, Sec. 4.1, eq. 1–2):
+/// `d_E(v, border) = min_i d(v, (v_i v_{i+1}))` over the border's segments.
+///
+/// [`BorderGrid`] is the paper's spatial search structure: a uniform grid (cell size
+/// twice the mean edge length, so that an edge lies in one or two cells) whose cells list
+/// the border segments that pass through them; segments are inserted by tracing the
+/// cells along them, so rebuilding for new borders costs O(border edges).
+/// [`BorderGrid::distance`] answers one query by searching rings of cells around the
+/// query cell until no unseen cell can hold a nearer segment.
+///
+/// For a whole field the ring search alone is slow far from the border (the rings to
+/// search grow as (d / cell)³). [`BorderGrid::distances`] therefore buckets the query
+/// points into the same uniform grid ([`QueryPoints`], cells in Morton order, built
+/// once per point set and shared by the handle and fixed fields) and walks the implicit
+/// octree of those cells top-down, handing each block of cells the list of segments
+/// that can still be nearest to some point in it. A segment `s` is dropped for a block
+/// (centre `c`, radius `r`) when a lower bound of `d(q, s) − d(q, s*)` over the block is
+/// positive, `s*` being the segment nearest to `c`: with `g_s = d(c, s)`, `u_s` the unit
+/// vector from `s` to `c`, `D* = d(c, s*)`,
+///
+/// ```text
+/// d(q, s) − d(q, s*) ≥ (g_s − D*) − min(2r, |u_s − u*| r + r² / (2 D*))
+/// ```
+///
+/// (convexity of `d(·, s)` and a second-order bound of `|q − x*|`). Far from the border
+/// the segments seen from a block under nearly the same direction are cut quickly, so a
+/// leaf keeps a handful of candidates and each point costs a few segment tests. Every
+/// point is finally evaluated against a superset of its nearest segments with the same
+/// arithmetic as [`point_segment_distance`], so the field equals the brute-force minimum
+/// bit for bit.
+///
 /// Border segments in a uniform grid (Bendels & Klein, Sec. 4.1): insertion by tracing
 /// the cells along each segment, single queries by ring search, whole fields by
-/// [`BorderGrid::distances`] (see the module docs).
+/// [`BorderGrid::distances`].
 #[derive(Clone, Debug)]
 pub struct BorderGrid {
     cell: f64,

@@ -1,48 +1,4 @@
-//! Geodesic distance on a triangle mesh by fast marching (Kimmel & Sethian 1998,
-//! *Computing geodesic paths on manifolds*; Bendels & Klein, Sec. 4.2), multi-source.
-//!
-//! Vertices are accepted in order of distance from a binary heap (lazy deletion: a
-//! vertex may sit in the heap several times, stale entries are skipped). When a vertex
-//! `x` is accepted, every vertex `y` that depends on it is updated: along the edge,
-//! `T(y) ≤ T(x) + |xy|`, and across each triangle `(y, x, z)` with `z` accepted by the
-//! two-point update below; the smallest value wins.
-//!
-//! Two-point updates ([`FastMarchingUpdate`]):
-//!
-//! - **Planar wavefront** (Kimmel & Sethian): the solution is linear over the triangle
-//!   with unit gradient: with `X = [e_a e_b]` the edges from `y`, `Q = (XᵀX)⁻¹` and
-//!   `δ = (T_a − t, T_b − t)`, solve `δᵀ Q δ = 1` for the larger `t`, accepted when the
-//!   characteristic enters through the opposite edge (`−Qδ ≥ 0`). Exact for straight
-//!   fronts (distance to a straight border), but 1.5 % off on average from a single
-//!   vertex of an icosphere of level 4, and 20 % next to the source.
-//! - **Virtual source** (Novotni & Klein 2002, the "improved version" of Kimmel–Sethian
-//!   the paper uses), generalised with a *source radius*: the front near `y` is taken
-//!   as the set of points at distance `T` from a circle of radius `R` (`R = 0`: a point
-//!   source, `R = ∞`: a straight line). In the unfolded triangle, the centre lies at
-//!   `T_a + R` from `a` and `T_b + R` from `b`, beyond the edge; `t = |centre − y| − R`
-//!   when the ray from the centre to `y` crosses the edge. Each vertex carries the `R`
-//!   of the update that set it (a source's own `R` for its neighbours): point sources
-//!   give `R = 0` (Novotni & Klein's update, exact for a point source on a developable
-//!   surface), border curves give `R = ∞`, where the update is the planar one (exact for
-//!   a straight border). This is the default: 0.3 % mean error at icosphere level 4,
-//!   0.07 % at level 6, and exact on planar grids for points and straight lines alike.
-//!
-//! **Obtuse triangles** break causality (the update of the obtuse corner can use a
-//! value from the wrong side). As Kimmel & Sethian propose, the obtuse corner's
-//! triangle is unfolded across its opposite edge, strip after strip, until a vertex `d`
-//! lands in the corner's "acute section" (both angles `∠(a y d)` and `∠(d y b)` at most
-//! 90°); the two virtual acute triangles `(y, a, d)` and `(y, d, b)` then replace the
-//! obtuse one (which is kept as a third stencil: its update is exact whenever causal).
-//! Corners where no such vertex is found within 12 strips keep their triangle only.
-//! That happens at slivers with an angle near 180°, whose section is a sliver too: the
-//! vertex is then set from a less upwind triangle, a first-order error that spreads
-//! downstream (on a planar grid with vertices jittered by ±0.35 edge lengths, one such
-//! corner gives a 0.24-edge-length error; at ±0.2 the result is exact).
-//!
-//! Everything the updates need is precomputed once per mesh ([`FastMarching::new`], in
-//! parallel): per vertex, its stencils (the two other corners and the unfolded edge
-//! lengths and dot product) and the list of vertices that depend on it. A solve
-//! allocates its value, radius, state and heap arrays once; an update allocates nothing.
+//! Geodesic distances by fast marching (Kimmel & Sethian 1998; Bendels & Klein, Sec. 4.2).
 
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
@@ -53,7 +9,7 @@ use rayon::prelude::*;
 
 use crate::bendels_klein::error::{BendelsKleinError, Result};
 
-/// The two-point update rule of [`FastMarching`] (see the module docs).
+/// The two-point update rule of [`FastMarching`].
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum FastMarchingUpdate {
     /// Planar wavefront across the triangle everywhere (Kimmel & Sethian 1998), whatever
@@ -113,6 +69,52 @@ struct Stencil {
 const NO_VERTEX: u32 = u32::MAX;
 const MAX_UNFOLD: usize = 12;
 
+/// Geodesic distance on a triangle mesh by fast marching (Kimmel & Sethian 1998,
+/// *Computing geodesic paths on manifolds*; Bendels & Klein, Sec. 4.2), multi-source.
+///
+/// Vertices are accepted in order of distance from a binary heap (lazy deletion: a
+/// vertex may sit in the heap several times, stale entries are skipped). When a vertex
+/// `x` is accepted, every vertex `y` that depends on it is updated: along the edge,
+/// `T(y) ≤ T(x) + |xy|`, and across each triangle `(y, x, z)` with `z` accepted by the
+/// two-point update below; the smallest value wins.
+///
+/// Two-point updates ([`FastMarchingUpdate`]):
+///
+/// - **Planar wavefront** (Kimmel & Sethian): the solution is linear over the triangle
+///   with unit gradient: with `X = [e_a e_b]` the edges from `y`, `Q = (XᵀX)⁻¹` and
+///   `δ = (T_a − t, T_b − t)`, solve `δᵀ Q δ = 1` for the larger `t`, accepted when the
+///   characteristic enters through the opposite edge (`−Qδ ≥ 0`). Exact for straight
+///   fronts (distance to a straight border), but 1.5 % off on average from a single
+///   vertex of an icosphere of level 4, and 20 % next to the source.
+/// - **Virtual source** (Novotni & Klein 2002, the "improved version" of Kimmel–Sethian
+///   the paper uses), generalised with a *source radius*: the front near `y` is taken
+///   as the set of points at distance `T` from a circle of radius `R` (`R = 0`: a point
+///   source, `R = ∞`: a straight line). In the unfolded triangle, the centre lies at
+///   `T_a + R` from `a` and `T_b + R` from `b`, beyond the edge; `t = |centre − y| − R`
+///   when the ray from the centre to `y` crosses the edge. Each vertex carries the `R`
+///   of the update that set it (a source's own `R` for its neighbours): point sources
+///   give `R = 0` (Novotni & Klein's update, exact for a point source on a developable
+///   surface), border curves give `R = ∞`, where the update is the planar one (exact for
+///   a straight border). This is the default: 0.3 % mean error at icosphere level 4,
+///   0.07 % at level 6, and exact on planar grids for points and straight lines alike.
+///
+/// **Obtuse triangles** break causality (the update of the obtuse corner can use a
+/// value from the wrong side). As Kimmel & Sethian propose, the obtuse corner's
+/// triangle is unfolded across its opposite edge, strip after strip, until a vertex `d`
+/// lands in the corner's "acute section" (both angles `∠(a y d)` and `∠(d y b)` at most
+/// 90°); the two virtual acute triangles `(y, a, d)` and `(y, d, b)` then replace the
+/// obtuse one (which is kept as a third stencil: its update is exact whenever causal).
+/// Corners where no such vertex is found within 12 strips keep their triangle only.
+/// That happens at slivers with an angle near 180°, whose section is a sliver too: the
+/// vertex is then set from a less upwind triangle, a first-order error that spreads
+/// downstream (on a planar grid with vertices jittered by ±0.35 edge lengths, one such
+/// corner gives a 0.24-edge-length error; at ±0.2 the result is exact).
+///
+/// Everything the updates need is precomputed once per mesh ([`FastMarching::new`], in
+/// parallel): per vertex, its stencils (the two other corners and the unfolded edge
+/// lengths and dot product) and the list of vertices that depend on it. A solve
+/// allocates its value, radius, state and heap arrays once; an update allocates nothing.
+///
 /// Precomputed fast marching on one mesh (geometry frozen at construction): build once,
 /// then [`FastMarching::distances`] from any sources.
 #[derive(Clone, Debug)]
@@ -351,7 +353,7 @@ impl FastMarching {
     }
 
     /// [`FastMarching::distances`] together with the front radius each vertex was
-    /// reached with (0 from point sources, `∞` from curves; see the module docs): what
+    /// reached with (0 from point sources, `∞` from curves; see [`FastMarching`]): what
     /// refinement needs to place a virtual origin.
     ///
     /// # Errors
@@ -520,7 +522,7 @@ fn live_sources(
         .collect()
 }
 
-/// Planar-wavefront update (see the module docs); `None` when not causal.
+/// Planar-wavefront update; `None` when not causal.
 #[inline]
 fn kimmel_sethian(s: &Stencil, ta: f64, tb: f64) -> Option<f64> {
     let (la2, lb2) = (s.la * s.la, s.lb * s.lb);
@@ -544,7 +546,7 @@ fn kimmel_sethian(s: &Stencil, ta: f64, tb: f64) -> Option<f64> {
     (mu_a >= 0.0 && mu_b >= 0.0 && t >= ta.max(tb)).then_some(t)
 }
 
-/// Virtual source update with source radius `r` (see the module docs); `None` when the
+/// Virtual source update with source radius `r`; `None` when the
 /// ray from the centre misses the edge or the circles do not meet.
 #[inline]
 fn virtual_source(s: &Stencil, ta: f64, tb: f64, r: f64) -> Option<f64> {

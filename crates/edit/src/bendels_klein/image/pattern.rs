@@ -11,7 +11,8 @@ use crate::bendels_klein::image::raster::Raster;
 /// Deterministic.
 ///
 /// # Errors
-/// [`super::BendelsKleinError::TooLarge`] above [`MAX_PIXELS`] pixels.
+/// [`BendelsKleinError::TooLarge`](crate::bendels_klein::BendelsKleinError::TooLarge)
+/// above [`MAX_PIXELS`](super::MAX_PIXELS) pixels.
 pub fn test_pattern(width: u32, height: u32) -> Result<Raster> {
     let mut out = Raster::filled(width, height, &[0, 0, 0])?;
     let (w, h) = (f64::from(width), f64::from(height));

@@ -24,6 +24,22 @@ pub struct ImageOptions {
     pub shape: ShapeFunction,
 }
 
+impl ImageOptions {
+    /// The same options with the pixels between grid vertices set to `grid_step`.
+    #[must_use]
+    pub fn with_grid_step(mut self, grid_step: u32) -> Self {
+        self.grid_step = grid_step;
+        self
+    }
+
+    /// The same options with the shape function set to `shape`.
+    #[must_use]
+    pub fn with_shape(mut self, shape: ShapeFunction) -> Self {
+        self.shape = shape;
+        self
+    }
+}
+
 impl Default for ImageOptions {
     fn default() -> Self {
         Self {

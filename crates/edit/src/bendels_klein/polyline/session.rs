@@ -36,7 +36,23 @@ pub struct PolylineOptions {
     pub shape: ShapeFunction,
 }
 
-/// A Bendels & Klein editing session on a polyline (see the [module docs](super)). The
+impl PolylineOptions {
+    /// The same options with the distances set to `distance`.
+    #[must_use]
+    pub fn with_distance(mut self, distance: CurveDistance) -> Self {
+        self.distance = distance;
+        self
+    }
+
+    /// The same options with the shape function set to `shape`.
+    #[must_use]
+    pub fn with_shape(mut self, shape: ShapeFunction) -> Self {
+        self.shape = shape;
+        self
+    }
+}
+
+/// A Bendels & Klein editing session on a polyline (see [the polyline module](super)). The
 /// session owns the edited points: [`PolylineSession::points`] are the original points
 /// moved by the current transform, always computed from the originals.
 #[derive(Clone, Debug)]

@@ -2,7 +2,7 @@
 
 use glam::DVec3;
 
-use super::Deformer;
+use crate::deform::barr::deformer::Deformer;
 use crate::deform::checks::{finite, finite_point, unit_direction};
 use crate::deform::error::{DeformError, Result};
 

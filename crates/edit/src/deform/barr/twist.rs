@@ -2,7 +2,7 @@
 
 use glam::DVec3;
 
-use super::{Deformer, Profile};
+use crate::deform::barr::deformer::{Deformer, Profile};
 use crate::deform::checks::{finite_point, unit_direction};
 use crate::deform::error::Result;
 

@@ -6,8 +6,8 @@ use std::ops::{Add, Mul};
 
 use glam::DVec3;
 
-use super::LatticeFrame;
 use crate::deform::error::{DeformError, Result, SurfaceProblem};
+use crate::deform::ffd::frame::LatticeFrame;
 
 /// A tensor-product B-spline surface `S(u, v) = Σ_i Σ_j P_ij N_i,ku(u) N_j,kv(v)`,
 /// `(u, v) ∈ [0, 1]²`, with the clamped uniform knot vectors of Feng, Ma & Peng §2:

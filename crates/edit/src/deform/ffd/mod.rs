@@ -1,46 +1,17 @@
-//! Shape- and height-surface free-form deformation (J. Feng, L. Ma, Q. Peng, *A new
-//! free-form deformation through the control of parametric surfaces*).
-//!
-//! Two clamped B-spline surfaces ([`BSplineSurface`]) drive the deformation: the
-//! **shape surface** `S(u, v)`, initially on the XZ plane of a placement [`LatticeFrame`], and
-//! the **height surface** `H(u, v)`, initially on the plane `y = 1`. They may differ in
-//! degree and control grid; they share the parameter square `[0, 1]²`.
-//!
-//! - **Attach** (§3, once): every vertex `P` is projected onto `S` along the surface
-//!   normal: `(u_p, v_p)` is the closest point (Newton's method from the best sample of
-//!   a coarse grid), `h_p = (P − S(u_p, v_p))·N_s` its directed distance. The triple
-//!   `(u, v, h)` is all that is stored per vertex. A vertex whose foot is not along the
-//!   normal (its closest point is on the border of `S`: it lies outside the surface's
-//!   footprint) is not attached and never moves.
-//! - **Deform** (§3, many times): `P_new = S_new(u, v) + H_new,y(u, v) · h · n_new(u, v)`,
-//!   `n_new` the unit normal of `S_new` and `H_new,y` the frame-`y` coordinate of
-//!   `H_new`. Undisplaced surfaces give back the object.
-//! - **Global or local** (§4): when the whole object lies over `S` the deformation is
-//!   global; otherwise it is local and the control points along the borders of `S` that
-//!   the object crosses stay fixed (two layers of `S`, so that the surface *and* its
-//!   normal are unchanged along the border, and two of `H`, so that heights and their
-//!   slope are too),
-//!   which keeps the deformed object continuous with its unattached part.
-//! - **Standard operations** (§4): [`Ffd::bend`] (Barr's bend of the shape surface),
-//!   [`Ffd::taper`] (the shape surface narrowed and the height surface sloped together,
-//!   as the paper's Fig. 9–10) and [`Ffd::twist`] (the shape surface twisted about its
-//!   `u` axis), plus [`Ffd::translate`] and [`Ffd::scale_heights`].
-//!
-//! Deforming is the hot path: each surface is converted once per call into polynomial
-//! patches in power form (one per knot cell), so that a vertex costs a few Horner
-//! loops, without per-vertex basis storage (24 bytes per vertex in all), in parallel.
+//! Shape- and height-surface FFD (Feng, Ma & Peng).
 
 mod attach;
 mod bspline;
+pub(super) mod frame;
 
 use glam::DVec3;
 use halfedge::Mesh;
 use rayon::prelude::*;
 
 use crate::deform::barr::bend::Bend;
+use crate::deform::barr::deformer::{Deformer, Profile};
 use crate::deform::barr::twist::Twist;
-use crate::deform::barr::{Deformer, Profile};
-use crate::deform::checks::{check_finite_positions, finite, finite_point, unit_direction};
+use crate::deform::checks::{check_finite_positions, finite, finite_point};
 use crate::deform::error::{DeformError, Result, SurfaceProblem};
 use crate::error::Error;
 use crate::hierarchy_edit::{HierarchyEdit, HierarchyMarks};
@@ -48,69 +19,7 @@ use crate::vertices::Vertices;
 
 pub use bspline::BSplineSurface;
 use bspline::Patches;
-
-/// A right-handed orthonormal placement frame: the shape surface starts on its XZ plane
-/// with `u` along `x` and `v` along `z`, so that the surface normal `∂S/∂v × ∂S/∂u` is
-/// `+y`, and heights are measured along `y` (Feng, Ma & Peng place both surfaces in the
-/// world frame; this generalises it).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct LatticeFrame {
-    origin: DVec3,
-    x: DVec3,
-    y: DVec3,
-    z: DVec3,
-}
-
-impl Default for LatticeFrame {
-    fn default() -> Self {
-        Self::WORLD
-    }
-}
-
-impl LatticeFrame {
-    /// The world frame: the paper's XZ plane, heights along `y`.
-    pub const WORLD: LatticeFrame = LatticeFrame {
-        origin: DVec3::ZERO,
-        x: DVec3::X,
-        y: DVec3::Y,
-        z: DVec3::Z,
-    };
-
-    /// The frame at `origin` with `y` along `up` and `x` along `x_direction` made
-    /// perpendicular to it; `z = x × y`.
-    pub fn new(origin: DVec3, x_direction: DVec3, up: DVec3) -> Result<Self> {
-        let origin = finite_point("frame origin", origin)?;
-        let y = unit_direction("frame up", up)?;
-        let x = unit_direction(
-            "frame x (perpendicular to up)",
-            x_direction - x_direction.dot(y) * y,
-        )?;
-        Ok(Self {
-            origin,
-            x,
-            y,
-            z: x.cross(y),
-        })
-    }
-
-    /// The origin.
-    pub fn origin(&self) -> DVec3 {
-        self.origin
-    }
-    /// The unit axes `(x, y, z)`.
-    pub fn axes(&self) -> (DVec3, DVec3, DVec3) {
-        (self.x, self.y, self.z)
-    }
-    /// The coordinates of a world point in this frame.
-    pub fn to_local(&self, p: DVec3) -> DVec3 {
-        let d = p - self.origin;
-        DVec3::new(d.dot(self.x), d.dot(self.y), d.dot(self.z))
-    }
-    /// World position of frame coordinates.
-    pub fn to_world(&self, l: DVec3) -> DVec3 {
-        self.origin + l.x * self.x + l.y * self.y + l.z * self.z
-    }
-}
+pub use frame::LatticeFrame;
 
 /// Global deformation (the object lies over the shape surface) or local (it crosses the
 /// surface's border, whose control points then stay fixed), Feng, Ma & Peng §4.
@@ -132,6 +41,7 @@ pub const MAX_ATTACH_ITERATIONS: usize = 10_000;
 
 /// Options of [`Ffd::attach`].
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct AttachOptions {
     /// Layers of shape-surface control points held fixed along a crossed border in local
     /// mode (2: the surface and its normal stay continuous there).
@@ -147,6 +57,36 @@ pub struct AttachOptions {
     pub tolerance: f64,
 }
 
+impl AttachOptions {
+    /// The same options with the layers of shape-surface control points held fixed along a crossed border set to `shape_layers`.
+    #[must_use]
+    pub fn with_shape_layers(mut self, shape_layers: usize) -> Self {
+        self.shape_layers = shape_layers;
+        self
+    }
+
+    /// The same options with the layers of height-surface control points held fixed along a crossed border set to `height_layers`.
+    #[must_use]
+    pub fn with_height_layers(mut self, height_layers: usize) -> Self {
+        self.height_layers = height_layers;
+        self
+    }
+
+    /// The same options with the Newton iterations per vertex at most set to `max_iterations`.
+    #[must_use]
+    pub fn with_max_iterations(mut self, max_iterations: usize) -> Self {
+        self.max_iterations = max_iterations;
+        self
+    }
+
+    /// The same options with the attachment tolerance set to `tolerance`.
+    #[must_use]
+    pub fn with_tolerance(mut self, tolerance: f64) -> Self {
+        self.tolerance = tolerance;
+        self
+    }
+}
+
 impl Default for AttachOptions {
     fn default() -> Self {
         Self {
@@ -158,7 +98,39 @@ impl Default for AttachOptions {
     }
 }
 
-/// A shape/height-surface FFD attached to a mesh (see the [module docs](self)).
+/// Shape- and height-surface free-form deformation (J. Feng, L. Ma, Q. Peng, *A new
+/// free-form deformation through the control of parametric surfaces*).
+///
+/// Two clamped B-spline surfaces ([`BSplineSurface`]) drive the deformation: the
+/// **shape surface** `S(u, v)`, initially on the XZ plane of a placement [`LatticeFrame`], and
+/// the **height surface** `H(u, v)`, initially on the plane `y = 1`. They may differ in
+/// degree and control grid; they share the parameter square `[0, 1]²`.
+///
+/// - **Attach** (§3, once): every vertex `P` is projected onto `S` along the surface
+///   normal: `(u_p, v_p)` is the closest point (Newton's method from the best sample of
+///   a coarse grid), `h_p = (P − S(u_p, v_p))·N_s` its directed distance. The triple
+///   `(u, v, h)` is all that is stored per vertex. A vertex whose foot is not along the
+///   normal (its closest point is on the border of `S`: it lies outside the surface's
+///   footprint) is not attached and never moves.
+/// - **Deform** (§3, many times): `P_new = S_new(u, v) + H_new,y(u, v) · h · n_new(u, v)`,
+///   `n_new` the unit normal of `S_new` and `H_new,y` the frame-`y` coordinate of
+///   `H_new`. Undisplaced surfaces give back the object.
+/// - **Global or local** (§4): when the whole object lies over `S` the deformation is
+///   global; otherwise it is local and the control points along the borders of `S` that
+///   the object crosses stay fixed (two layers of `S`, so that the surface *and* its
+///   normal are unchanged along the border, and two of `H`, so that heights and their
+///   slope are too),
+///   which keeps the deformed object continuous with its unattached part.
+/// - **Standard operations** (§4): [`Ffd::bend`] (Barr's bend of the shape surface),
+///   [`Ffd::taper`] (the shape surface narrowed and the height surface sloped together,
+///   as the paper's Fig. 9–10) and [`Ffd::twist`] (the shape surface twisted about its
+///   `u` axis), plus [`Ffd::translate`] and [`Ffd::scale_heights`].
+///
+/// Deforming is the hot path: each surface is converted once per call into polynomial
+/// patches in power form (one per knot cell), so that a vertex costs a few Horner
+/// loops, without per-vertex basis storage (24 bytes per vertex in all), in parallel.
+///
+/// A shape/height-surface FFD attached to a mesh.
 #[derive(Clone, Debug)]
 pub struct Ffd {
     frame: LatticeFrame,

@@ -1,61 +1,19 @@
 //! The sub-mesh edits of *Interactive editing of multiresolution meshes* §4.3 with the
-//! propagation levels of §4.2 (see the [module docs](super)).
+//! propagation levels of §4.2 (see [`SubMesh`]).
 
 use glam::{DAffine3, DMat3, DQuat, DVec3};
 use halfedge::{Mesh, VertexId};
 use rayon::prelude::*;
 
 use crate::deform::barr::twist::rotation_displacement;
-use crate::deform::checks::{check_finite_positions, finite, finite_point, unit_direction};
+use crate::deform::checks::{check_finite_positions, finite, finite_point};
 use crate::deform::error::{DeformError, Result};
+use crate::deform::submesh::axis::Axis;
+use crate::deform::submesh::frontier::SubMesh;
 use crate::deform::submesh::plane::Plane;
-use crate::deform::submesh::SubMesh;
 use crate::error::Error;
 use crate::hierarchy_edit::{HierarchyEdit, HierarchyMarks};
 use crate::vertices::{scatter, Snapshot};
-
-/// An oriented line: a point and a unit direction (rotation, taper and twist axes).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Axis {
-    point: DVec3,
-    direction: DVec3,
-}
-
-impl Axis {
-    /// The line through `point` along `direction` (normalised here).
-    pub fn new(point: DVec3, direction: DVec3) -> Result<Self> {
-        Ok(Self {
-            point: finite_point("axis point", point)?,
-            direction: unit_direction("axis direction", direction)?,
-        })
-    }
-
-    /// The paper's default rotation axis: through vertex `v` along its normal.
-    pub fn vertex_normal(mesh: &Mesh, v: VertexId) -> Result<Self> {
-        mesh.ensure_vertex(v)?;
-        let n = mesh.vertex_normal(v);
-        if n == DVec3::ZERO {
-            return Err(DeformError::NoVertexNormal(v));
-        }
-        Self::new(mesh.position(v), n)
-    }
-
-    /// A point of the axis.
-    pub fn point(&self) -> DVec3 {
-        self.point
-    }
-
-    /// The unit direction.
-    pub fn direction(&self) -> DVec3 {
-        self.direction
-    }
-
-    /// The axial coordinate `(p − point)·direction`.
-    #[inline]
-    pub fn coordinate(&self, p: DVec3) -> f64 {
-        (p - self.point).dot(self.direction)
-    }
-}
 
 /// How the strength of an edit decreases across the propagation collars.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -142,8 +100,8 @@ pub enum Variation {
     Uniform,
 }
 
-/// An edit of a sub-mesh (§4.3); see the [module docs](super) for the strength `τ` each
-/// vertex receives.
+/// An edit of a sub-mesh (*Interactive editing of multiresolution meshes* §4.3); see
+/// [`SubMesh`] for the strength `τ` each vertex receives.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum SubmeshEdit {
     /// Pull the vertices along a vector: `p + τ·offset`.
