@@ -1,5 +1,5 @@
 //! *Bendels–Klein* — Bendels & Klein, *Image and 3D-object editing with precisely
-//! specified editing regions* (`edit::bendels_klein`, `edit::bendels_klein`): the user gives a
+//! specified editing regions* (`edit::bendels_klein`): the user gives a
 //! **handle** and a **fixed** region (Sec. 2), either by their borders — closed loops
 //! through clicked vertices, joined by shortest edge paths — or by painting vertices
 //! with a brush of radius `r`; every other vertex is deformable. The distance of each
