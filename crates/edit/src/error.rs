@@ -11,6 +11,11 @@ use crate::lee::error::LeeError;
 /// An error of any editing method: a family's error, or an error of the modules shared by
 /// the families ([`HierarchyMarks`](crate::HierarchyMarks),
 /// [`Snapshot`](crate::Snapshot)), which are kernel errors.
+///
+/// Paper: Lee 1999, *Interactive multiresolution editing of arbitrary meshes*; Bendels &
+/// Klein 2003, *Image and 3D-object editing with precisely specified editing regions*;
+/// *Interactive editing of multiresolution meshes*, Barr 1984, Taubin 1995, Feng, Ma & Peng
+/// 1996, *A new free-form deformation through the control of parametric surfaces*.
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
     /// Lee 1999 area editing ([`crate::lee`]).
@@ -58,4 +63,6 @@ impl Error {
 }
 
 /// Shorthand for results of the editing methods, by default with [`Error`].
+///
+/// Paper: the three families of this crate (Lee 1999, Bendels & Klein 2003, the deformers).
 pub type Result<T, E = Error> = std::result::Result<T, E>;

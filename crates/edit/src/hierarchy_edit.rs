@@ -23,6 +23,12 @@ use crate::error::Error;
 /// An edit made at a coarse level of a [`Hierarchy`] that tells the hierarchy what it did
 /// (its region, affine parts and fields, [`HierarchyMarks`]): implemented by every editing session or applied edit
 /// that can edit a coarse level.
+///
+/// Paper: local-frame detail after Kobbelt, Campagna, Vorsatz & Seidel 1998, *Interactive
+/// multi-resolution modeling on arbitrary meshes*, for the edits of Lee 1999, *Interactive
+/// multiresolution editing of arbitrary meshes*, Bendels & Klein 2003, *Image and 3D-object
+/// editing with precisely specified editing regions* and *Interactive editing of
+/// multiresolution meshes*.
 pub trait HierarchyEdit {
     /// What the edit did, for a [`Hierarchy`] whose current level `mesh` is (the
     /// hierarchy's mesh, or a clone of it): the region, affine parts and fields of the edit.
@@ -48,6 +54,8 @@ pub trait HierarchyEdit {
 
 /// The region, affine parts and fields of one edit, for the [`Hierarchy`] whose mesh it
 /// was made on (see [`HierarchyEdit`]).
+///
+/// Paper: local-frame detail after Kobbelt, Campagna, Vorsatz & Seidel 1998.
 #[derive(Clone)]
 pub struct HierarchyMarks {
     binding: Binding,

@@ -14,6 +14,9 @@ use rayon::prelude::*;
 use halfedge::{Error, Stale};
 
 /// The vertices a deformer acts on.
+///
+/// Paper: *Interactive editing of multiresolution meshes* §4 (the deformers act on a vertex
+/// set).
 #[derive(Clone, Copy, Debug, Default)]
 pub enum Vertices<'a> {
     /// Every live vertex of the mesh.

@@ -153,6 +153,9 @@ pub(crate) fn weight(shape: &ShapeFunction, role: Role, d_fixed: f64, d_handle: 
 
 /// The largest [`RefineOptions::max_new_vertices`] accepted: about 400 MB of new mesh
 /// elements and per-vertex session data.
+///
+/// Paper: Bendels & Klein 2003, *Image and 3D-object editing with precisely specified
+/// editing regions*, Sec. 6.
 pub const MAX_NEW_VERTICES: usize = 1 << 22;
 
 /// Options of the adaptive refinement of a Bendels & Klein edit (Sec. 6, after *Mesh

@@ -26,6 +26,9 @@ pub enum DistanceKind {
 }
 
 /// Options of a [`BlendSession`].
+///
+/// Paper: Bendels & Klein 2003, *Image and 3D-object editing with precisely specified
+/// editing regions*, Secs. 4–5.
 #[derive(Clone, Debug, Default, PartialEq)]
 #[non_exhaustive]
 pub struct BlendOptions {

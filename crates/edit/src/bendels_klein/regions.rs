@@ -16,6 +16,9 @@ pub enum Role {
 }
 
 /// The border of the handle or of the fixed area towards the deformable area.
+///
+/// Paper: Bendels & Klein 2003, *Image and 3D-object editing with precisely specified
+/// editing regions*, Sec. 4.1, eq. (1)–(2).
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct Border {
     /// Vertices of the region with a deformable neighbour.

@@ -79,6 +79,10 @@ fn clamp01(x: f64) -> f64 {
 }
 
 /// How [`ShapeCurve`] fits its control points.
+///
+/// Paper: Bendels & Klein 2003, *Image and 3D-object editing with precisely specified
+/// editing regions*, Sec. 5 (Fritsch & Carlson 1980, *Monotone piecewise cubic
+/// interpolation*).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[non_exhaustive]
 pub struct CurveOptions {

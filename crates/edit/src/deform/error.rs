@@ -116,6 +116,9 @@ impl From<halfedge::Error> for DeformError {
 
 /// What is wrong with a B-spline surface ([`DeformError::InvalidSurface`]); directions are
 /// `'u'` and `'v'`, grid sizes and degrees `[u, v]`.
+///
+/// Paper: Feng, Ma & Peng 1996, *A new free-form deformation through the control of
+/// parametric surfaces*, §2.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum SurfaceProblem {
     /// A degree outside `1 ..= max`.

@@ -11,6 +11,9 @@ use crate::laplace::cotan_weight;
 use crate::vertices::Vertices;
 
 /// The edge weights of the Laplacian.
+///
+/// Paper: Taubin 1995, *A signal processing approach to fair surface design*; Pinkall &
+/// Polthier 1993.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum SmoothingWeights {
     /// Every neighbour counts the same (Taubin's choice, the umbrella operator).

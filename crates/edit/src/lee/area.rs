@@ -10,6 +10,8 @@ use rayon::prelude::*;
 use crate::lee::error::{LeeError, Result};
 
 /// Which side of the boundary loop is the editing area.
+///
+/// Paper: Lee 1999, *Interactive multiresolution editing of arbitrary meshes* §3.2.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum AreaSide {
     /// The side with the smaller surface area (the default).

@@ -8,6 +8,9 @@ use crate::lee::area::EditingArea;
 use crate::lee::error::{LeeError, Result, SolveFailure};
 
 /// The spring constants of the harmonic map.
+///
+/// Paper: Lee 1999, *Interactive multiresolution editing of arbitrary meshes* §4 (Eck et
+/// al. 1995); Floater 2003, *Mean value coordinates*.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum EmbeddingWeights {
     /// Eck et al.'s harmonic spring constants (cotangent weights), as Lee 1999 uses; the
@@ -35,6 +38,8 @@ pub enum BoundaryMapping {
 }
 
 /// Options of [`Embedding::new`].
+///
+/// Paper: Lee 1999, *Interactive multiresolution editing of arbitrary meshes* §4.
 #[derive(Clone, Debug, Default, PartialEq)]
 #[non_exhaustive]
 pub struct EmbeddingOptions {
@@ -72,6 +77,8 @@ impl EmbeddingOptions {
 }
 
 /// The linear solver that produced the interior of the map.
+///
+/// Paper: Lee 1999, *Interactive multiresolution editing of arbitrary meshes* §4.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum EmbeddingSolver {
     /// No interior vertex: nothing to solve.

@@ -8,6 +8,8 @@ use crate::lee::area::EditingArea;
 use crate::lee::error::{LeeError, Result};
 
 /// The kind of local frames.
+///
+/// Paper: Lee 1999, *Interactive multiresolution editing of arbitrary meshes* §3.4–3.5.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub enum FrameKind {
     /// The mesh's global frame at every vertex (Lee 1999's first option).

@@ -64,6 +64,9 @@ use crate::lee::error::{LeeError, Result};
 /// holds about 2.5 such lattices: a session stays within about 250 MB. (Level 14, the
 /// limit before, made one drag allocate 6.4 GB.) Far beyond any editing area: two
 /// vertices per finest cell is a four-million-vertex area.
+///
+/// Paper: Lee, Wolberg & Shin 1997, *Scattered data interpolation with multilevel
+/// B-splines*.
 pub const MAX_LEVELS: usize = 12;
 
 /// The four uniform cubic B-spline basis functions `B_0 … B_3` at `t ∈ [0, 1]`
@@ -93,6 +96,9 @@ pub const fn level_size(k: usize) -> usize {
 /// Where a point falls in a control lattice: the storage index of its first control point
 /// and the B-spline weights along each axis. Computing it once per point lets repeated
 /// evaluations (every drag of an editing session) skip the division and the cubic.
+///
+/// Paper: Lee, Wolberg & Shin 1997, *Scattered data interpolation with multilevel
+/// B-splines*.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct LatticeBasis {
     /// Storage index of control point `(i − 1, j − 1)`; the 4 × 4 block starts here.
@@ -786,6 +792,9 @@ impl BasePlane {
 
 /// A fitted multilevel B-spline function: a base, one control lattice of the finest level
 /// and, on the last scale interval, a weight on the data-only function `f_{l+1}`.
+///
+/// Paper: Lee, Wolberg & Shin 1997, *Scattered data interpolation with multilevel
+/// B-splines*.
 #[derive(Clone, Debug, PartialEq)]
 pub struct MbaFit {
     lattice: ControlLattice,

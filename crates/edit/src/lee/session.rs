@@ -15,6 +15,8 @@ use crate::lee::mba::{level_size, LatticeBasis, MAX_LEVELS};
 use crate::vertices::{first_non_finite, scatter};
 
 /// Options of [`AreaSession::new`].
+///
+/// Paper: Lee 1999, *Interactive multiresolution editing of arbitrary meshes* §3.6 and §5.
 #[derive(Clone, Debug, PartialEq)]
 #[non_exhaustive]
 pub struct SessionOptions {
@@ -93,10 +95,16 @@ impl Default for SessionOptions {
 }
 
 /// Default of [`SessionOptions::parallel_threshold`].
+///
+/// Paper: Lee 1999, *Interactive multiresolution editing of arbitrary meshes* §5 (the
+/// evaluation of a drag).
 pub const DEFAULT_PARALLEL_THRESHOLD: usize = 1 << 18;
 /// Most dense B-spline levels of a session: the finest lattice then has `(2^11 + 3)²`
 /// control points (101 MB of `DVec3`; a drag holds about 2.5 such lattices), far finer
 /// than the embedded edges of any area that fits in memory.
+///
+/// Paper: Lee 1999, *Interactive multiresolution editing of arbitrary meshes* §5; Lee,
+/// Wolberg & Shin 1997, *Scattered data interpolation with multilevel B-splines*.
 pub const MAX_SESSION_LEVELS: usize = MAX_LEVELS;
 const NONE: u32 = u32::MAX;
 

@@ -7,6 +7,9 @@ use glam::{DMat3, DMat4, DVec3, DVec4};
 use crate::bendels_klein::error::{BendelsKleinError, NoLogReason, Result, TransformOverflow};
 
 /// The 1-norm (largest absolute column sum) of a 4×4 matrix.
+///
+/// Paper: Higham 2005, *The scaling and squaring method for the matrix exponential
+/// revisited* (for Alexa 2002's `exp(α log A)`).
 #[inline]
 #[must_use]
 pub fn norm1(m: &DMat4) -> f64 {

@@ -9,6 +9,9 @@ use crate::bendels_klein::error::{BendelsKleinError, Result};
 
 /// Euclidean distance from `p` to the segment `[a, b]` (a point when `a == b`): the
 /// arithmetic every query of this module uses, so brute force and grid agree exactly.
+///
+/// Paper: Bendels & Klein 2003, *Image and 3D-object editing with precisely specified
+/// editing regions*, Sec. 4.1, eq. (1)–(2).
 #[inline]
 #[must_use]
 pub fn point_segment_distance(p: DVec3, a: DVec3, b: DVec3) -> f64 {
@@ -50,6 +53,9 @@ type Cell = [i32; 3];
 
 /// Most half-cell pieces a [`BorderGrid`] traces its segments in (a segment much longer
 /// than the cell size is traced in many): about a few hundred MB of cell lists at most.
+///
+/// Paper: Bendels & Klein 2003, *Image and 3D-object editing with precisely specified
+/// editing regions*, Sec. 4.1.
 pub const MAX_TRACED_PIECES: usize = 1 << 22;
 
 /// Euclidean distance to border polylines (Bendels & Klein, Sec. 4.1, eq. 1–2):
@@ -562,6 +568,9 @@ struct Node {
 
 /// Query points bucketed in a uniform grid, cells in Morton order: the implicit octree
 /// [`BorderGrid::distances_to`] walks. Build once per point set, reuse for every border.
+///
+/// Paper: Bendels & Klein 2003, *Image and 3D-object editing with precisely specified
+/// editing regions*, Sec. 4.1.
 #[derive(Clone, Debug)]
 pub struct QueryPoints {
     origin: DVec3,

@@ -10,6 +10,9 @@ use rayon::prelude::*;
 use crate::bendels_klein::error::{BendelsKleinError, Result};
 
 /// The two-point update rule of [`FastMarching`].
+///
+/// Paper: Kimmel & Sethian 1998, *Computing geodesic paths on manifolds*; Bendels & Klein
+/// 2003, *Image and 3D-object editing with precisely specified editing regions*, Sec. 4.2.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum FastMarchingUpdate {
     /// Planar wavefront across the triangle everywhere (Kimmel & Sethian 1998), whatever
@@ -24,6 +27,9 @@ pub enum FastMarchingUpdate {
 /// A fast-marching source: a vertex (by [`Mesh::vertex_index`]), its start value, and
 /// the radius of the front it emits: 0 for an isolated point, `∞` for a vertex of a
 /// border curve (its front is locally straight).
+///
+/// Paper: Kimmel & Sethian 1998, *Computing geodesic paths on manifolds*; Bendels & Klein
+/// 2003, *Image and 3D-object editing with precisely specified editing regions*, Sec. 4.2.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MarchSource {
     /// Vertex index.
@@ -713,6 +719,9 @@ fn unfold_to_section(
 }
 
 /// Great-circle helper for tests and benches: the angle between two unit vectors.
+///
+/// Paper: the reference for the fast-marching distances of Kimmel & Sethian 1998,
+/// *Computing geodesic paths on manifolds*.
 #[doc(hidden)]
 #[must_use]
 pub fn sphere_distance(a: DVec3, b: DVec3) -> f64 {

@@ -128,6 +128,10 @@ fn envelope(f: &[f64], d: &mut [f64], v: &mut Vec<usize>, z: &mut Vec<f64>) {
 
 /// The squared Euclidean distance from every pixel to the nearest pixel of `mask`
 /// (0 on the mask, `+∞` everywhere when the mask is empty), row-major.
+///
+/// Paper: Felzenszwalb & Huttenlocher 2012, *Distance transforms of sampled functions*;
+/// Bendels & Klein 2003, *Image and 3D-object editing with precisely specified editing
+/// regions*, Sec. 4.1.
 #[must_use]
 pub fn squared_distance_transform(mask: &Mask) -> Vec<f64> {
     let columns: Vec<u32> = (0..mask.width()).collect();
@@ -139,6 +143,10 @@ pub fn squared_distance_transform(mask: &Mask) -> Vec<f64> {
 /// rows[j])`, row-major over `rows × columns` (entry `j · columns.len() + i`): the
 /// exact field sampled on a grid, for a fraction of the work of the whole field.
 /// Columns or rows outside the mask's picture get `+∞`.
+///
+/// Paper: Felzenszwalb & Huttenlocher 2012, *Distance transforms of sampled functions*;
+/// Bendels & Klein 2003, *Image and 3D-object editing with precisely specified editing
+/// regions*, Sec. 4.1.
 #[must_use]
 pub fn squared_distances_at(mask: &Mask, columns: &[u32], rows: &[u32]) -> Vec<f64> {
     let (w, h) = (mask.width() as usize, mask.height() as usize);

@@ -9,6 +9,9 @@ use crate::bendels_klein::image::raster::Raster;
 
 /// A set of pixels of a `width × height` picture: the handle or the fixed region of an
 /// image edit.
+///
+/// Paper: Bendels & Klein 2003, *Image and 3D-object editing with precisely specified
+/// editing regions*, Secs. 2 and 7.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Mask {
     width: u32,

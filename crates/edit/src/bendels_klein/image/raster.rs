@@ -7,6 +7,9 @@ use crate::bendels_klein::error::{BendelsKleinError, Result, MAX_PIXELS};
 
 /// The sample type of a [`Raster`]: `u8` (8 bits per channel, the default) or `u16`
 /// (16 bits, as 16-bit PNGs hold them). Sealed: only these two.
+///
+/// Paper: Bendels & Klein 2003, *Image and 3D-object editing with precisely specified
+/// editing regions*, Sec. 7 (pictures).
 pub trait Sample:
     Copy + Default + PartialEq + Eq + std::fmt::Debug + Send + Sync + 'static + sealed::Sealed
 {
@@ -124,13 +127,22 @@ pub struct RasterOf<S: Sample> {
 }
 
 /// A picture of 8 bits per channel (what most PNGs hold).
+///
+/// Paper: Bendels & Klein 2003, *Image and 3D-object editing with precisely specified
+/// editing regions*, Sec. 7 (pictures).
 pub type Raster = RasterOf<u8>;
 
 /// A picture of 16 bits per channel (16-bit PNGs: scans, medical and scientific
 /// pictures).
+///
+/// Paper: Bendels & Klein 2003, *Image and 3D-object editing with precisely specified
+/// editing regions*, Sec. 7 (pictures).
 pub type Raster16 = RasterOf<u16>;
 
 /// A PNG read at its own depth: 8 bits per channel or 16 ([`Picture::read_png`]).
+///
+/// Paper: Bendels & Klein 2003, *Image and 3D-object editing with precisely specified
+/// editing regions*, Sec. 7 (pictures).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Picture {
     /// 8 bits per channel (and palette pictures, expanded).

@@ -13,6 +13,9 @@ use crate::bendels_klein::regions::Role;
 use crate::bendels_klein::shape::ShapeFunction;
 
 /// Options of an [`ImageSession`].
+///
+/// Paper: Bendels & Klein 2003, *Image and 3D-object editing with precisely specified
+/// editing regions*, Sec. 7 and Fig. 6.
 #[derive(Clone, Debug, PartialEq)]
 #[non_exhaustive]
 pub struct ImageOptions {
@@ -50,6 +53,9 @@ impl Default for ImageOptions {
 }
 
 /// What one [`ImageSession::render_into`] did.
+///
+/// Paper: Bendels & Klein 2003, *Image and 3D-object editing with precisely specified
+/// editing regions*, Sec. 7.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct RenderStats {
     /// Triangles drawn: the two of every grid cell with a corner that moved.
@@ -92,9 +98,15 @@ fn grid_line(len: u32, step: u32) -> Vec<u32> {
 }
 
 /// The edit of an 8-bit picture ([`super::Raster`]).
+///
+/// Paper: Bendels & Klein 2003, *Image and 3D-object editing with precisely specified
+/// editing regions*, Sec. 7 and Fig. 6.
 pub type ImageSession = ImageSessionOf<u8>;
 
 /// The edit of a 16-bit picture ([`super::Raster16`]).
+///
+/// Paper: Bendels & Klein 2003, *Image and 3D-object editing with precisely specified
+/// editing regions*, Sec. 7 and Fig. 6.
 pub type ImageSession16 = ImageSessionOf<u16>;
 
 impl<S: Sample> ImageSessionOf<S> {

@@ -10,6 +10,9 @@ use crate::bendels_klein::regions::Role;
 
 /// A run of consecutive points, `first..=last`. On a closed polygon a span with
 /// `first > last` wraps around: `first..n` then `0..=last`.
+///
+/// Paper: Bendels & Klein 2003, *Image and 3D-object editing with precisely specified
+/// editing regions*, Sec. 2 and Fig. 2.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Span {
     /// The first point.

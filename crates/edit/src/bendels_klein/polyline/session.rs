@@ -27,6 +27,9 @@ pub enum CurveDistance {
 }
 
 /// Options of a [`PolylineSession`].
+///
+/// Paper: Bendels & Klein 2003, *Image and 3D-object editing with precisely specified
+/// editing regions*, Secs. 4–5 and Fig. 3.
 #[derive(Clone, Debug, Default, PartialEq)]
 #[non_exhaustive]
 pub struct PolylineOptions {

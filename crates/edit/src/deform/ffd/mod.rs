@@ -37,9 +37,15 @@ pub enum FfdReach {
 const ROUNDING_ULPS: f64 = 64.0;
 
 /// Most Newton iterations per vertex [`Ffd::attach`] accepts (a bound on its time).
+///
+/// Paper: Feng, Ma & Peng 1996, *A new free-form deformation through the control of
+/// parametric surfaces*, §3.
 pub const MAX_ATTACH_ITERATIONS: usize = 10_000;
 
 /// Options of [`Ffd::attach`].
+///
+/// Paper: Feng, Ma & Peng 1996, *A new free-form deformation through the control of
+/// parametric surfaces*, §3–4.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[non_exhaustive]
 pub struct AttachOptions {

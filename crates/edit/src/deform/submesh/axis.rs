@@ -8,6 +8,8 @@ use crate::deform::checks::{finite_point, unit_direction};
 use crate::deform::error::{DeformError, Result};
 
 /// An oriented line: a point and a unit direction (rotation, taper and twist axes).
+///
+/// Paper: *Interactive editing of multiresolution meshes* §4.3; Barr 1984.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Axis {
     pub(super) point: DVec3,

@@ -16,6 +16,8 @@ use crate::hierarchy_edit::{HierarchyEdit, HierarchyMarks};
 use crate::vertices::{scatter, Snapshot};
 
 /// How the strength of an edit decreases across the propagation collars.
+///
+/// Paper: *Interactive editing of multiresolution meshes* §4.2.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Falloff {
     /// `w_k = 1 − k/(n+1)`.
@@ -302,6 +304,8 @@ fn check_variation(v: &Variation) -> Result<()> {
 /// A sub-mesh edit as [`SubMesh::apply_with_marks`] applied it: the positions it changed
 /// (to undo it exactly) and what it means for a [`Hierarchy`](halfedge::Hierarchy)
 /// whose current level the mesh was, given to the hierarchy through [`HierarchyEdit`].
+///
+/// Paper: *Interactive editing of multiresolution meshes* §4.
 #[derive(Clone, Debug)]
 pub struct AppliedSubmeshEdit {
     snapshot: Snapshot,

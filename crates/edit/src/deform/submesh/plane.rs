@@ -5,6 +5,9 @@
 use glam::{DMat3, DVec3};
 
 /// A plane through `point` with unit `normal`.
+///
+/// Paper: *Interactive editing of multiresolution meshes* §4.3 (the plane fitted to the
+/// frontier).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Plane {
     /// A point of the plane (for a fitted plane, the centroid of the points).
