@@ -12,8 +12,8 @@ use std::time::Instant;
 
 use edit::bendels_klein::{BlendOptions, BlendSession, Regions};
 use edit::deform::{
-    AttachOptions, Axis, BSplineSurface, Ffd, LatticeFrame, Propagation, SubMesh, SubmeshEdit,
-    Variation,
+    AttachOptions, Axis, BSplineSurface, DeformError, Ffd, LatticeFrame, Propagation, SubMesh,
+    SubmeshEdit, Variation,
 };
 use edit::lee::{
     AreaSession, EditingArea, EmbeddingOptions, EmbeddingWeights, LeeError, SessionOptions,
@@ -1522,7 +1522,7 @@ fn ffd_edit(
 /// unchanged along the lattice's border, so the deformation fades to nothing there
 /// whichever borders the attached vertices cross (the library pins crossed borders
 /// only, and which ones are crossed can differ between resolutions).
-fn bend_inside(ffd: &mut Ffd, angle: f64) -> edit::Result<()> {
+fn bend_inside(ffd: &mut Ffd, angle: f64) -> Result<(), DeformError> {
     ffd.bend(angle)?;
     let rest = ffd.rest().0.clone();
     let [cu, cv] = rest.count();
@@ -1608,9 +1608,8 @@ pub fn measure_bk_refine(
         BlendSession::new(coarse, regions, BlendOptions::default()).map_err(lib(hint))?;
     session
         .apply(hierarchy.mesh_mut(), glam::DMat4::from(a))
-        .map_err(edit::Error::from)
-        .and_then(|()| session.mark(&mut hierarchy))
         .map_err(lib(hint))?;
+    session.mark(&mut hierarchy).map_err(lib(hint))?;
     // Split what the edit stretched beyond the input's mean edge length, at the input.
     let mean_edge = {
         let (sum, n) = input

@@ -8,41 +8,69 @@ use crate::bendels_klein::error::BendelsKleinError;
 use crate::deform::error::DeformError;
 use crate::lee::error::LeeError;
 
-/// An error of any editing method: a family's error, or an error of the modules shared by
-/// the families ([`HierarchyMarks`](crate::HierarchyMarks),
-/// [`Snapshot`](crate::Snapshot)), which are kernel errors.
+/// An error of any editing method: a family's error (Lee 1999, *Interactive
+/// multiresolution editing of arbitrary meshes*; Bendels & Klein 2003, *Image and
+/// 3D-object editing with precisely specified editing regions*; the deformers of
+/// *Interactive editing of multiresolution meshes*, Barr 1984, Taubin 1995 and Feng, Ma &
+/// Peng 1996), or an error of the modules shared by the families
+/// ([`HierarchyMarks`](crate::HierarchyMarks), [`Snapshot`](crate::Snapshot)), which are
+/// kernel errors.
 ///
-/// Paper: Lee 1999, *Interactive multiresolution editing of arbitrary meshes*; Bendels &
-/// Klein 2003, *Image and 3D-object editing with precisely specified editing regions*;
-/// *Interactive editing of multiresolution meshes*, Barr 1984, Taubin 1995, Feng, Ma & Peng
-/// 1996, *A new free-form deformation through the control of parametric surfaces*.
+/// Every family error converts into it (`?` works); the payloads are boxed so that a
+/// `Result<_, edit::Error>` stays two words wide (a family error is 120 bytes, most of it
+/// the kernel's [`halfedge::Stale`]).
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
     /// Lee 1999 area editing ([`crate::lee`]).
     #[error(transparent)]
-    Lee(#[from] LeeError),
+    Lee(Box<LeeError>),
     /// Bendels & Klein, on meshes, polylines and pictures ([`crate::bendels_klein`]).
     #[error(transparent)]
-    BendelsKlein(#[from] BendelsKleinError),
+    BendelsKlein(Box<BendelsKleinError>),
     /// Sub-mesh edits and deformers ([`crate::deform`]).
     #[error(transparent)]
-    Deform(#[from] DeformError),
+    Deform(Box<DeformError>),
     /// An error of the half-edge kernel met by a shared module (a hierarchy refusing a
     /// mark).
     #[error(transparent)]
-    Mesh(halfedge::Error),
+    Mesh(Box<halfedge::Error>),
     /// Something derived from a mesh met another mesh, or its mesh in another state (see
-    /// [`halfedge::Binding`]); every family's `Stale` variant is this error too.
+    /// [`halfedge::Binding`]), found by a shared module; every family's `Stale` variant is
+    /// this error too ([`Error::as_stale`] finds either).
     #[error(transparent)]
-    Stale(#[from] halfedge::Stale),
+    Stale(Box<halfedge::Stale>),
+}
+
+impl From<LeeError> for Error {
+    fn from(error: LeeError) -> Self {
+        Self::Lee(Box::new(error))
+    }
+}
+
+impl From<BendelsKleinError> for Error {
+    fn from(error: BendelsKleinError) -> Self {
+        Self::BendelsKlein(Box::new(error))
+    }
+}
+
+impl From<DeformError> for Error {
+    fn from(error: DeformError) -> Self {
+        Self::Deform(Box::new(error))
+    }
+}
+
+impl From<halfedge::Stale> for Error {
+    fn from(stale: halfedge::Stale) -> Self {
+        Self::Stale(Box::new(stale))
+    }
 }
 
 impl From<halfedge::Error> for Error {
     /// Lifts a kernel error; a kernel refusal of stale data becomes [`Error::Stale`].
     fn from(error: halfedge::Error) -> Self {
         match error {
-            halfedge::Error::Stale(stale) => Self::Stale(stale),
-            error => Self::Mesh(error),
+            halfedge::Error::Stale(stale) => stale.into(),
+            error => Self::Mesh(Box::new(error)),
         }
     }
 }
@@ -53,16 +81,24 @@ impl Error {
     #[must_use]
     pub fn as_stale(&self) -> Option<&halfedge::Stale> {
         match self {
-            Self::Stale(s)
-            | Self::Lee(LeeError::Stale(s))
-            | Self::BendelsKlein(BendelsKleinError::Stale(s))
-            | Self::Deform(DeformError::Stale(s)) => Some(s),
-            _ => None,
+            Self::Stale(s) => Some(s),
+            Self::Lee(e) => match e.as_ref() {
+                LeeError::Stale(s) => Some(s),
+                _ => None,
+            },
+            Self::BendelsKlein(e) => match e.as_ref() {
+                BendelsKleinError::Stale(s) => Some(s),
+                _ => None,
+            },
+            Self::Deform(e) => match e.as_ref() {
+                DeformError::Stale(s) => Some(s),
+                _ => None,
+            },
+            Self::Mesh(_) => None,
         }
     }
 }
 
-/// Shorthand for results of the editing methods, by default with [`Error`].
-///
-/// Paper: the three families of this crate (Lee 1999, Bendels & Klein 2003, the deformers).
+/// Shorthand for results of the editing methods, by default with [`Error`]: the three
+/// families of this crate (Lee 1999, Bendels & Klein 2003, the deformers).
 pub type Result<T, E = Error> = std::result::Result<T, E>;
