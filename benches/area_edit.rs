@@ -12,8 +12,8 @@ use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use edit::area::{
-    EditingArea, EditingSession, Embedding, EmbeddingOptions, EmbeddingWeights, SessionOptions,
+use edit::lee::{
+    AreaSession, EditingArea, Embedding, EmbeddingOptions, EmbeddingWeights, SessionOptions,
 };
 use halfedge::{Mesh, VertexId};
 
@@ -51,25 +51,19 @@ fn bench_area(
     group.bench_function(format!("embed_cotangent_{n}"), |b| {
         b.iter(|| Embedding::new(&mesh, black_box(&area), &EmbeddingOptions::default()).unwrap())
     });
-    let mean_value = EmbeddingOptions {
-        weights: EmbeddingWeights::MeanValue,
-        ..EmbeddingOptions::default()
-    };
+    let mean_value = EmbeddingOptions::default().with_weights(EmbeddingWeights::MeanValue);
     group.bench_function(format!("embed_mean_value_{n}"), |b| {
         b.iter(|| Embedding::new(&mesh, black_box(&area), &mean_value).unwrap())
     });
-    let parallel = SessionOptions {
-        parallel_threshold: 1,
-        ..SessionOptions::default()
-    };
+    let parallel = SessionOptions::default().with_parallel_threshold(1);
     let mut sessions = vec![
         (
             "",
-            EditingSession::new(&mesh, area.clone(), &SessionOptions::default()).unwrap(),
+            AreaSession::new(&mesh, area.clone(), &SessionOptions::default()).unwrap(),
         ),
         (
             "parallel_",
-            EditingSession::new(&mesh, area, &parallel).unwrap(),
+            AreaSession::new(&mesh, area, &parallel).unwrap(),
         ),
     ];
     eprintln!("{label}: {} levels", sessions[0].1.levels());

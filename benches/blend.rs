@@ -12,11 +12,11 @@ use std::sync::{Mutex, OnceLock};
 use std::time::{Duration, Instant};
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use edit::blend::{BlendOptions, BlendSession, DistanceKind};
-use edit::distance::{BorderGrid, FastMarching, QueryPoints, Source};
-use edit::matrix::AffinePower;
-use edit::regions::{Regions, Role};
-use edit::shape::ShapeFunction;
+use edit::bendels_klein::affine_power::AffinePower;
+use edit::bendels_klein::{
+    BlendOptions, BlendSession, BorderGrid, DistanceKind, FastMarching, MarchSource, QueryPoints,
+    Regions, Role, ShapeFunction,
+};
 use glam::{DMat4, DQuat, DVec3};
 use halfedge::{generators, Mesh};
 
@@ -109,7 +109,7 @@ fn fast_marching(c: &mut Criterion) {
                 eprintln!("{name}: obtuse corners unfolded {unfolded}, kept {kept}");
                 m
             });
-            let source = Source::point(mesh.vertex_index(mesh.vertices().next().unwrap()));
+            let source = MarchSource::point(mesh.vertex_index(mesh.vertices().next().unwrap()));
             cpu_report(&format!("fast marching from a vertex, {name}"), 3, || {
                 marching.distances(&[source], None).unwrap()
             });
@@ -137,14 +137,14 @@ fn big_session(mesh: &Mesh) -> BlendSession {
             }
         })
         .collect();
+    let roles = halfedge::VertexData::new(mesh, roles).expect("one role per vertex slot");
     let regions = Regions::from_roles(mesh, roles).expect("regions");
     BlendSession::new(
         mesh,
         regions,
-        BlendOptions {
-            distance: DistanceKind::Euclidean,
-            shape: ShapeFunction::Smoothstep,
-        },
+        BlendOptions::default()
+            .with_distance(DistanceKind::Euclidean)
+            .with_shape(ShapeFunction::Smoothstep),
     )
     .expect("session")
 }

@@ -8,10 +8,11 @@ mod common;
 use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use edit::barr::{deform, Bend, Profile, Taper, Twist};
-use edit::ffd::{AttachOptions, Ffd, Frame};
-use edit::selection::Vertices;
-use edit::smoothing::{Smoother, Weights};
+use edit::deform::{
+    apply_deformer, AttachOptions, Bend, Ffd, LatticeFrame, Profile, Smoother, SmoothingWeights,
+    Taper, Twist,
+};
+use edit::Vertices;
 use glam::DVec3;
 use halfedge::Mesh;
 
@@ -54,19 +55,19 @@ fn deformers_on(c: &mut Criterion, name: &str, mut mesh: Mesh) {
     )
     .unwrap();
     group.bench_function("taper", |b| {
-        b.iter(|| deform(&mut mesh, &taper, Vertices::All).unwrap())
+        b.iter(|| apply_deformer(&mut mesh, &taper, Vertices::All).unwrap())
     });
     let twist = Twist::linear(centre, axis, -half, half, 1e-4).unwrap();
     group.bench_function("twist", |b| {
-        b.iter(|| deform(&mut mesh, &twist, Vertices::All).unwrap())
+        b.iter(|| apply_deformer(&mut mesh, &twist, Vertices::All).unwrap())
     });
     let bend = Bend::new(centre, axis, DVec3::Z, 1e-4 / half, Some((-half, half))).unwrap();
     group.bench_function("bend", |b| {
-        b.iter(|| deform(&mut mesh, &bend, Vertices::All).unwrap())
+        b.iter(|| apply_deformer(&mut mesh, &bend, Vertices::All).unwrap())
     });
     let inverse = bend.inverse();
     group.bench_function("bend inverse", |b| {
-        b.iter(|| deform(&mut mesh, &inverse, Vertices::All).unwrap())
+        b.iter(|| apply_deformer(&mut mesh, &inverse, Vertices::All).unwrap())
     });
     group.finish();
 
@@ -74,12 +75,12 @@ fn deformers_on(c: &mut Criterion, name: &str, mut mesh: Mesh) {
     group.sample_size(10);
     group.measurement_time(Duration::from_secs(4));
     group.bench_function("setup uniform (CSR)", |b| {
-        b.iter(|| Smoother::new(&mesh, Vertices::All, Weights::Uniform, true).unwrap())
+        b.iter(|| Smoother::new(&mesh, Vertices::All, SmoothingWeights::Uniform, true).unwrap())
     });
     group.bench_function("setup cotangent (CSR + weights)", |b| {
-        b.iter(|| Smoother::new(&mesh, Vertices::All, Weights::Cotangent, true).unwrap())
+        b.iter(|| Smoother::new(&mesh, Vertices::All, SmoothingWeights::Cotangent, true).unwrap())
     });
-    for weights in [Weights::Uniform, Weights::Cotangent] {
+    for weights in [SmoothingWeights::Uniform, SmoothingWeights::Cotangent] {
         let mut smoother = Smoother::new(&mesh, Vertices::All, weights, true).unwrap();
         group.bench_function(format!("one Laplacian step {weights:?}"), |b| {
             b.iter(|| smoother.laplacian(&mut mesh, 0.33, 1).unwrap())
@@ -100,7 +101,7 @@ fn deformers_on(c: &mut Criterion, name: &str, mut mesh: Mesh) {
         Ffd::covering(
             &mesh,
             Vertices::All,
-            Frame::WORLD,
+            LatticeFrame::WORLD,
             ([3, 3], [6, 6]),
             ([2, 2], [4, 4]),
             0.05,

@@ -21,8 +21,10 @@ use std::sync::Mutex;
 use std::time::Instant;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use edit::image_edit::{edt, test_pattern, ImageOptions, ImageSession, Mask, Raster};
-use edit::polyline::{CurveRegions, Polyline, PolylineOptions, PolylineSession, Span};
+use edit::bendels_klein::image::{edt, test_pattern, ImageOptions, ImageSession, Mask, Raster};
+use edit::bendels_klein::polyline::{
+    CurveRegions, Polyline, PolylineOptions, PolylineSession, Span,
+};
 use glam::{DMat3, DVec2};
 use rayon::prelude::*;
 

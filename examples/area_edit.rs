@@ -26,7 +26,7 @@ mod picks;
 mod progress;
 #[path = "support/weld.rs"]
 mod weld;
-use edit::area::{EditingArea, EditingSession, FrameKind, SessionOptions};
+use edit::lee::{AreaSession, EditingArea, FrameKind, SessionOptions};
 use halfedge::VertexId;
 
 #[derive(Parser, Debug)]
@@ -131,13 +131,11 @@ fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
     'candidates: for (vertex, what) in &candidates {
         let mut size = args.area_vertices;
         while size >= 16.min(args.area_vertices) {
-            let options = SessionOptions {
-                frames: frames_of(*vertex)?,
-                scale: args.scale,
-                ..SessionOptions::default()
-            };
+            let options = SessionOptions::default()
+                .with_frames(frames_of(*vertex)?)
+                .with_scale(args.scale);
             match EditingArea::disk_around(&mesh, *vertex, size)
-                .and_then(|area| EditingSession::new(&mesh, area, &options))
+                .and_then(|area| AreaSession::new(&mesh, area, &options))
             {
                 Ok(session) => {
                     chosen = Some((*vertex, what.clone(), size, session));

@@ -24,9 +24,9 @@ use clap::Parser;
 mod progress;
 #[path = "support/weld.rs"]
 mod weld;
-use edit::blend::{BlendOptions, BlendSession, DistanceKind, RefineOptions};
-use edit::regions::Regions;
-use edit::shape::ShapeFunction;
+use edit::bendels_klein::Regions;
+use edit::bendels_klein::ShapeFunction;
+use edit::bendels_klein::{BlendOptions, BlendSession, DistanceKind, RefineOptions};
 use glam::{DMat4, DVec3};
 use halfedge::{Mesh, Selection, VertexId};
 
@@ -249,14 +249,13 @@ fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
         * DMat4::from_translation(-pivot);
 
     let clock = Instant::now();
-    let options = BlendOptions {
-        distance: if args.euclidean {
+    let options = BlendOptions::default()
+        .with_distance(if args.euclidean {
             DistanceKind::Euclidean
         } else {
             DistanceKind::Geodesic
-        },
-        shape: ShapeFunction::Smoothstep,
-    };
+        })
+        .with_shape(ShapeFunction::Smoothstep);
     let distances = if args.euclidean {
         "Euclidean distances (grid)"
     } else {

@@ -17,10 +17,11 @@ use clap::Parser;
 mod progress;
 #[path = "support/weld.rs"]
 mod weld;
-use edit::barr::{deform, Profile, Taper, Twist};
-use edit::ffd::{AttachOptions, Ffd, Frame};
-use edit::selection::Vertices;
-use edit::smoothing::{taubin, TaubinOptions, Weights};
+use edit::deform::{
+    apply_deformer, taubin, AttachOptions, Ffd, LatticeFrame, Profile, SmoothingWeights, Taper,
+    TaubinOptions, Twist,
+};
+use edit::Vertices;
 use glam::DVec3;
 
 /// Twist, taper, smooth and bend a mesh.
@@ -97,16 +98,13 @@ fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
 
     let twist = Twist::linear(centre, axis, -half, half, args.twist.to_radians())?;
     timed(large, "Barr twist", || {
-        deform(&mut mesh, &twist, Vertices::All)
+        apply_deformer(&mut mesh, &twist, Vertices::All)
     })?;
     let taper = Taper::new(centre, axis, Profile::local(-half, half, 1.0, args.taper)?)?;
     timed(large, "Barr taper", || {
-        deform(&mut mesh, &taper, Vertices::All)
+        apply_deformer(&mut mesh, &taper, Vertices::All)
     })?;
-    let options = TaubinOptions {
-        weights: Weights::Cotangent,
-        ..TaubinOptions::default()
-    };
+    let options = TaubinOptions::default().with_weights(SmoothingWeights::Cotangent);
     timed(
         large,
         &format!("Taubin, {} iterations", args.smooth),
@@ -115,7 +113,7 @@ fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
 
     // the FFD's shape surface lies under the mesh, its u direction along the longest axis
     let up = DVec3::AXES[(longest + 1) % 3];
-    let frame = Frame::new(lo.dot(up) * up, axis, up)?;
+    let frame = LatticeFrame::new(lo.dot(up) * up, axis, up)?;
     let mut ffd = timed(large, "FFD attach", || {
         Ffd::covering(
             &mesh,

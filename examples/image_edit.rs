@@ -1,4 +1,4 @@
-//! Bendels & Klein editing of a picture from the command line (`edit::image_edit`).
+//! Bendels & Klein editing of a picture from the command line (`edit::bendels_klein::image`).
 //!
 //! ```text
 //! cargo run --release --example image_edit -- IN.png OUT.png \
@@ -13,9 +13,9 @@
 //! `T(pivot + translate) · R(rotate) · S(scale) · T(−pivot)` (pivot: the handle polygon's
 //! centroid unless given; a positive angle turns clockwise on screen, since `y` points
 //! down). `IN.png` may be `pattern:WxH`, the procedurally drawn test picture
-//! (`edit::image_edit::test_pattern`). `--overlay` writes the input with the handle
+//! (`edit::bendels_klein::image::test_pattern`). `--overlay` writes the input with the handle
 //! (orange) and fixed (blue) polygons drawn on it. A 16-bit PNG is edited and written at
-//! 16 bits (`edit::image_edit::Picture::read_png`). Prints one JSON line with timings and
+//! 16 bits (`edit::bendels_klein::image::Picture::read_png`). Prints one JSON line with timings and
 //! counts (`bits`: 8 or 16); errors go to stderr.
 
 use std::path::PathBuf;
@@ -23,10 +23,10 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use clap::Parser;
-use edit::image_edit::{
+use edit::bendels_klein::image::{
     test_pattern, ImageOptions, ImageSessionOf, Mask, Picture, Raster, RasterOf, Sample,
 };
-use edit::shape::{CurveOptions, ShapeCurve, ShapeFunction};
+use edit::bendels_klein::{CurveOptions, ShapeCurve, ShapeFunction};
 use glam::{DMat3, DVec2};
 
 #[derive(Parser, Debug)]
@@ -227,10 +227,9 @@ fn edit<S: Sample>(
     }
 
     let clock = Instant::now();
-    let options = ImageOptions {
-        grid_step: args.grid_step,
-        shape,
-    };
+    let options = ImageOptions::default()
+        .with_grid_step(args.grid_step)
+        .with_shape(shape);
     let mut session = ImageSessionOf::new(image, handle, fixed, options)?;
     let prepare_ms = clock.elapsed().as_secs_f64() * 1e3;
 

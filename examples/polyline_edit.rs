@@ -1,5 +1,5 @@
 //! Bendels & Klein editing of a polyline or polygon from the command line
-//! (`edit::polyline`).
+//! (`edit::bendels_klein::polyline`).
 //!
 //! ```text
 //! cargo run --release --example polyline_edit -- IN.txt OUT.txt \
@@ -29,12 +29,12 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use clap::Parser;
-use edit::blend::RefineOptions;
-use edit::polyline::{
-    CurveDistance, CurvePoint, CurveRegions, Polyline, PolylineOptions, PolylineSession, Span,
+use edit::bendels_klein::polyline::{
+    CurveDistance, CurveRegions, Polyline, PolylineOptions, PolylineSession, Span,
 };
-use edit::regions::Role;
-use edit::shape::{CurveOptions, ShapeCurve, ShapeFunction};
+use edit::bendels_klein::{
+    BlendPoint, CurveOptions, RefineOptions, Role, ShapeCurve, ShapeFunction,
+};
 use glam::{DMat3, DMat4, DVec2, DVec3};
 
 #[derive(Parser, Debug)]
@@ -184,7 +184,7 @@ fn read_input(input: &str) -> Result<(Vec<Vec<f64>>, bool), Error> {
 }
 
 /// What the generic edit needs from the dimension.
-trait Dim: CurvePoint {
+trait Dim: BlendPoint {
     fn from_numbers(v: &[f64]) -> Result<Self, String>;
     fn numbers(self) -> Vec<f64>;
     fn transform(args: &Args, pivot: Self) -> Result<Self::Affine, String>;
@@ -350,10 +350,9 @@ fn edit<P: Dim>(args: &Args, raw: &[Vec<f64>], closed: bool) -> Result<serde_jso
         "euclidean" => CurveDistance::Euclidean,
         other => return Err(format!("unknown distance {other:?}: arc or euclidean").into()),
     };
-    let options = PolylineOptions {
-        distance,
-        shape: parse_shape(&args.shape)?,
-    };
+    let options = PolylineOptions::default()
+        .with_distance(distance)
+        .with_shape(parse_shape(&args.shape)?);
     let mut session = PolylineSession::new(&curve, &regions, options)?;
     let prepare_ms = clock.elapsed().as_secs_f64() * 1e3;
 

@@ -20,13 +20,26 @@ pub use halfedge;
 #[cfg(feature = "render")]
 pub mod render;
 
-/// The items most programs need.
+/// The items most programs need: the kernel's mesh, handles and hierarchy, and the
+/// editing methods of the three families (Lee 1999 area editing, Bendels & Klein regions,
+/// the deformers) with the trait that marks a hierarchy after a coarse edit.
 pub mod prelude {
     pub use glam::{self, DMat3, DMat4, DQuat, DVec2, DVec3};
     pub use halfedge::bvh::{Bvh, Ray};
     pub use halfedge::{
-        FaceId, HalfedgeId, Hierarchy, HierarchyOptions, Mesh, Selection, VertexId,
+        FaceId, HalfedgeId, Hierarchy, HierarchyOptions, Mesh, Selection, VertexData, VertexId,
     };
+
+    pub use edit::bendels_klein::{
+        BendelsKleinError, BlendOptions, BlendSession, DistanceKind, RefineOptions, Regions, Role,
+        ShapeFunction,
+    };
+    pub use edit::deform::{
+        apply_deformer, taubin, AttachOptions, Axis, Bend, DeformError, Ffd, LatticeFrame,
+        Propagation, SubMesh, SubmeshEdit, Taper, TaubinOptions, Twist, Variation,
+    };
+    pub use edit::lee::{AreaSession, EditingArea, LeeError, SessionOptions};
+    pub use edit::{HierarchyEdit, Snapshot, Vertices};
 }
 
 /// The README's code, compiled and run as a doctest so that the tour stays true.

@@ -44,7 +44,7 @@
 //!   at the frontier over the host at every resolution.)
 //! - `twist` / `taper`: by `60° A` / to `0.6^A` about the axis along which the region
 //!   reaches farthest beyond its frontier (towards the tip, or the normal of the plane
-//!   fitted to the frontier), with [`Variation::Along`](edit::submesh::Variation::Along)
+//!   fitted to the frontier), with [`Variation::Along`](edit::deform::Variation::Along)
 //!   from the frontier's highest axial coordinate to 70 % of the way to the region's top:
 //!   the strength is geometric, so the same at both resolutions, and the frontier does
 //!   not move. The part beyond 70 % is moved by one rigid (twist) or affine (taper) map.
@@ -80,7 +80,7 @@
 //! and keep their magnitudes.
 //!
 //! At level `N`, the sub-mesh edits are marked in the hierarchy by the library
-//! (`SubMesh::hierarchy_marks`: the sub-mesh as region, a pull, rotation or scale as an
+//! (`SubMesh::apply_with_marks`, given through `HierarchyEdit`: the sub-mesh as region, a pull, rotation or scale as an
 //! affine map, a twist or taper along its axis as a field, `Hierarchy::mark_field`); for
 //! the other edits the example declares every rigid part (the B&K handle, the Lee
 //! primitive) with `Hierarchy::mark_affine` and the coarse vertices the edit may move (its

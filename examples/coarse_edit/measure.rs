@@ -10,13 +10,15 @@ use std::collections::BinaryHeap;
 use std::fmt;
 use std::time::Instant;
 
-use edit::area::{EditingArea, EditingSession, EmbeddingOptions, EmbeddingWeights, SessionOptions};
-use edit::blend::{BlendOptions, BlendSession};
-use edit::ffd::{AttachOptions, BSplineSurface, Ffd, Frame};
-use edit::marks::HierarchyMarks;
-use edit::regions::Regions;
-use edit::selection::Vertices;
-use edit::submesh::{Axis, Edit, Propagation, SubMesh, Variation};
+use edit::bendels_klein::{BlendOptions, BlendSession, Regions};
+use edit::deform::{
+    AttachOptions, Axis, BSplineSurface, DeformError, Ffd, LatticeFrame, Propagation, SubMesh,
+    SubmeshEdit, Variation,
+};
+use edit::lee::{
+    AreaSession, EditingArea, EmbeddingOptions, EmbeddingWeights, LeeError, SessionOptions,
+};
+use edit::{HierarchyEdit, HierarchyMarks, Vertices};
 use glam::{DAffine3, DMat3, DQuat, DVec3};
 use halfedge::{DetailMode, Hierarchy, HierarchyOptions, Mesh, Method, VertexData, VertexId};
 
@@ -555,7 +557,7 @@ struct Applied {
     /// Rigid or affine parts of the coarse edit.
     rigid: Vec<Rigid>,
     /// What the library's method tells the hierarchy about the edit, where it says it
-    /// (sub-mesh edits: `SubMesh::hierarchy_marks`); `None`: the example marks `rigid`
+    /// (sub-mesh edits: `SubMesh::apply_with_marks`); `None`: the example marks `rigid`
     /// and `movable` itself.
     marks: Option<HierarchyMarks>,
 }
@@ -884,7 +886,7 @@ fn submesh_edit(
         EditKind::Pull => {
             let offset = 0.3 * amount * radius * d;
             (
-                Edit::Pull { offset },
+                SubmeshEdit::Pull { offset },
                 inside.clone(),
                 DAffine3::from_translation(offset),
             )
@@ -897,7 +899,7 @@ fn submesh_edit(
                 * DAffine3::from_quat(DQuat::from_axis_angle(axis.direction(), angle))
                 * DAffine3::from_translation(-centre);
             (
-                Edit::Rotate {
+                SubmeshEdit::Rotate {
                     axis,
                     angle,
                     bounded: false,
@@ -910,7 +912,7 @@ fn submesh_edit(
             let factor = 0.8f64.powf(amount);
             // the re-seating translation is the library's: measured below
             (
-                Edit::Scale { centre, factor },
+                SubmeshEdit::Scale { centre, factor },
                 inside.clone(),
                 DAffine3::from_translation(centre)
                     * DAffine3::from_mat3(DMat3::from_diagonal(DVec3::splat(factor)))
@@ -973,7 +975,7 @@ fn submesh_edit(
                 let map =
                     from_axis * DAffine3::from_quat(DQuat::from_axis_angle(d, angle)) * to_axis;
                 (
-                    Edit::Twist {
+                    SubmeshEdit::Twist {
                         axis: Some(axis_along),
                         angle,
                         variation,
@@ -988,7 +990,7 @@ fn submesh_edit(
                     DMat3::from_diagonal(DVec3::splat(factor)) + (1.0 - factor) * outer(d, d);
                 let map = from_axis * DAffine3::from_mat3(linear) * to_axis;
                 (
-                    Edit::Taper {
+                    SubmeshEdit::Taper {
                         axis: Some(axis_along),
                         factor,
                         variation,
@@ -1001,11 +1003,10 @@ fn submesh_edit(
         _ => unreachable!("submesh_edit is called for sub-mesh edits only"),
     };
     let before = coarse.positions().to_vec();
-    let marks = sub
-        .hierarchy_marks(coarse, &edit, Propagation::NONE)
+    let applied = sub
+        .apply_with_marks(coarse, &edit, Propagation::NONE)
         .map_err(lib(hint))?;
-    sub.apply(coarse, &edit, Propagation::NONE)
-        .map_err(lib(hint))?;
+    let marks = applied.hierarchy_marks(coarse).map_err(lib(hint))?;
     // The library re-seats a scaled sub-mesh by a translation fitted to its frontier:
     // the mean offset of the scaled vertices from the plain scale.
     let reseat = |list: &[u32], before: &[DVec3], after: &[DVec3]| {
@@ -1030,7 +1031,7 @@ fn submesh_edit(
             let fine_shift = reseat(fine_sub.vertex_indices(), &fine_before, fine.positions());
             let offset = coarse_shift - fine_shift;
             fine_sub
-                .apply(fine, &Edit::Pull { offset }, Propagation::NONE)
+                .apply(fine, &SubmeshEdit::Pull { offset }, Propagation::NONE)
                 .map_err(lib(hint))?;
         }
         fine_region = fine_sub.len();
@@ -1071,13 +1072,8 @@ fn lee_edit(
         .ok_or_else(|| Failure::new("the tip is not a live vertex", "report this bug"))?;
     // mean-value weights: the harmonic map of a coarse area with obtuse triangles can
     // fold (and put the tip outside the rectangle)
-    let options = SessionOptions {
-        embedding: EmbeddingOptions {
-            weights: EmbeddingWeights::MeanValue,
-            ..EmbeddingOptions::default()
-        },
-        ..SessionOptions::default()
-    };
+    let options = SessionOptions::default()
+        .with_embedding(EmbeddingOptions::default().with_weights(EmbeddingWeights::MeanValue));
     let rest = coarse.position(tip_v);
     let normal = coarse.vertex_normal(tip_v);
     let normal = if normal == DVec3::ZERO {
@@ -1091,7 +1087,7 @@ fn lee_edit(
     let (area, session, drag) = loop {
         let attempt = EditingArea::from_faces(coarse, &disk_faces(coarse, region, size))
             .and_then(|area| {
-                let mut session = EditingSession::new(coarse, area.clone(), &options)?;
+                let mut session = AreaSession::new(coarse, area.clone(), &options)?;
                 let reach = area
                     .boundary()
                     .iter()
@@ -1103,7 +1099,7 @@ fn lee_edit(
                 let miss = coarse.position(tip_v).distance(rest + drag) / drag.length();
                 if miss > 1e-9 {
                     session.cancel(coarse)?;
-                    return Err(edit::EditError::InvalidParameter {
+                    return Err(LeeError::InvalidParameter {
                         name: "area",
                         reason: format!(
                             "its B-spline lattice does not reach the tip (the tip missed its target by {miss:.3e} of the drag)"
@@ -1137,13 +1133,10 @@ fn lee_edit(
         // into it), with the same lattice (levels) and scale
         let fine_area =
             preimage_area(coarse, fine, ancestors, &area, &interior).map_err(lib(hint))?;
-        let fine_options = SessionOptions {
-            levels: Some(session.levels()),
-            ..options
-        };
+        let fine_options = options.with_levels(session.levels());
         fine_region = fine_area.n_interior();
         let mut fine_session =
-            EditingSession::new(fine, fine_area, &fine_options).map_err(lib(hint))?;
+            AreaSession::new(fine, fine_area, &fine_options).map_err(lib(hint))?;
         let primitive: Vec<VertexId> = fine
             .vertices()
             .filter(|&v| ancestors[fine.vertex_index(v)] as usize == tip)
@@ -1265,7 +1258,7 @@ fn preimage_area(
     ancestors: &[u32],
     area: &EditingArea,
     interior: &[bool],
-) -> edit::Result<EditingArea> {
+) -> Result<EditingArea, LeeError> {
     let mut in_area = vec![false; coarse.face_slots()];
     for &f in area.faces() {
         in_area[coarse.face_index(f)] = true;
@@ -1305,20 +1298,20 @@ fn preimage_area(
 /// The editing area of the faces in `in_area`, repaired where a finer mesh makes the
 /// image of a coarse disk pinch (the faces around the pinch vertex are added) or enclose
 /// a pocket (filled), a few times at most.
-fn accept_area(mesh: &Mesh, in_area: &mut [bool]) -> edit::Result<EditingArea> {
+fn accept_area(mesh: &Mesh, in_area: &mut [bool]) -> Result<EditingArea, LeeError> {
     let (vertex_component, _) = mesh.connected_components();
     let mut result = EditingArea::from_faces(mesh, &faces_of(mesh, in_area));
     for _ in 0..64 {
         let changed = match &result {
             Ok(_) => break,
-            Err(edit::EditError::AreaPinched { vertex }) => {
+            Err(LeeError::AreaPinched { vertex }) => {
                 let mut changed = false;
                 for f in mesh.adjacent_faces(*vertex) {
                     changed |= !std::mem::replace(&mut in_area[mesh.face_index(f)], true);
                 }
                 changed
             }
-            Err(edit::EditError::AreaNotDisk { .. }) => {
+            Err(LeeError::AreaNotDisk { .. }) => {
                 let seed = mesh
                     .faces()
                     .find(|&f| in_area[mesh.face_index(f)])
@@ -1392,7 +1385,7 @@ fn bk_edit(
     let movable: Vec<bool> = regions
         .roles()
         .iter()
-        .map(|&r| r != edit::regions::Role::Fixed)
+        .map(|&r| r != edit::bendels_klein::Role::Fixed)
         .collect();
     let mut session =
         BlendSession::new(coarse, regions, BlendOptions::default()).map_err(lib(hint))?;
@@ -1465,7 +1458,7 @@ fn ffd_edit(
         ));
     }
     let up = perpendicular(d, mean_normal(coarse, &mask));
-    let frame = Frame::new(centre, d, up).map_err(lib(hint))?;
+    let frame = LatticeFrame::new(centre, d, up).map_err(lib(hint))?;
     let (lo, hi) = sub
         .vertex_indices()
         .iter()
@@ -1529,7 +1522,7 @@ fn ffd_edit(
 /// unchanged along the lattice's border, so the deformation fades to nothing there
 /// whichever borders the attached vertices cross (the library pins crossed borders
 /// only, and which ones are crossed can differ between resolutions).
-fn bend_inside(ffd: &mut Ffd, angle: f64) -> edit::Result<()> {
+fn bend_inside(ffd: &mut Ffd, angle: f64) -> Result<(), DeformError> {
     ffd.bend(angle)?;
     let rest = ffd.rest().0.clone();
     let [cu, cv] = rest.count();
@@ -1546,7 +1539,7 @@ fn bend_inside(ffd: &mut Ffd, angle: f64) -> edit::Result<()> {
 }
 
 /// `--edit bk-refine`: the Bendels & Klein edit of `bk` made at the level with adaptive
-/// refinement inside the hierarchy (`BlendSession::apply_in_hierarchy`, then
+/// refinement inside the hierarchy (`BlendSession::apply` and `HierarchyEdit::mark`, then
 /// `refine_in_hierarchy`, which splits the long edges at the input and builds the
 /// hierarchy again), then a walk to every level and back. Returns one JSON object:
 /// `new_vertices`, `levels`, `levels_reachable` (every level reached and back, the mesh
@@ -1614,8 +1607,9 @@ pub fn measure_bk_refine(
     let mut session =
         BlendSession::new(coarse, regions, BlendOptions::default()).map_err(lib(hint))?;
     session
-        .apply_in_hierarchy(&mut hierarchy, glam::DMat4::from(a))
+        .apply(hierarchy.mesh_mut(), glam::DMat4::from(a))
         .map_err(lib(hint))?;
+    session.mark(&mut hierarchy).map_err(lib(hint))?;
     // Split what the edit stretched beyond the input's mean edge length, at the input.
     let mean_edge = {
         let (sum, n) = input
@@ -1627,7 +1621,7 @@ pub fn measure_bk_refine(
     let report = session
         .refine_in_hierarchy(
             &mut hierarchy,
-            edit::blend::RefineOptions::new(1.5 * mean_edge),
+            edit::bendels_klein::RefineOptions::new(1.5 * mean_edge),
         )
         .map_err(lib(
             "this is a bug of the library; report it with the command line",

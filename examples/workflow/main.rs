@@ -58,11 +58,10 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use clap::Parser;
-use edit::area::{EditingArea, EditingSession, SessionOptions};
-use edit::blend::{BlendOptions, BlendSession, DistanceKind};
-use edit::regions::Regions;
-use edit::shape::ShapeFunction;
-use edit::submesh::{Edit, Propagation, SubMesh, Variation};
+use edit::bendels_klein::{BlendOptions, BlendSession, DistanceKind, Regions, ShapeFunction};
+use edit::deform::{Propagation, SubMesh, SubmeshEdit, Variation};
+use edit::lee::{AreaSession, EditingArea, SessionOptions};
+use edit::HierarchyEdit;
 use glam::{DMat4, DVec3};
 use halfedge::{BuildProgress, Hierarchy, HierarchyOptions, Mesh, VertexId};
 use multires::render::{self, Camera, Panel};
@@ -344,14 +343,18 @@ fn run(args: Args) -> Result<(), BoxError> {
     let before_taper = hierarchy.mesh().positions().to_vec();
     if let Some(sub) = &sub {
         let clock = Instant::now();
-        let taper = Edit::Taper {
+        let taper = SubmeshEdit::Taper {
             axis: None,
             factor: 0.6,
             variation: Variation::Levels(None),
         };
         // Marked in the hierarchy: its region (the sub-mesh) and the part at full
         // strength, which lands exactly when refined.
-        match sub.apply_in_hierarchy(&mut hierarchy, &taper, Propagation::linear(2)) {
+        let tapered = sub
+            .apply_with_marks(hierarchy.mesh_mut(), &taper, Propagation::linear(2))
+            .map_err(edit::Error::from)
+            .and_then(|applied| applied.mark(&mut hierarchy));
+        match tapered {
             Ok(_) => rows.push(Row {
                 step: "taper",
                 detail: "sub-mesh tapered to 0.6, 2 propagation levels".to_string(),
@@ -595,7 +598,7 @@ fn label_submesh(mesh: &mut Mesh, axis: DVec3, fraction: f64) -> Result<Labelled
             Ok((frontier, attribute, counts)) => {
                 let values = mesh.attribute_values(attribute).unwrap();
                 if values[mesh.vertex_index(tip)] == 1 && counts.left_vertices >= MIN_SUBMESH {
-                    let sub = SubMesh::from_labels(mesh, values, |&l| l == 1)
+                    let sub = SubMesh::from_labels(mesh, attribute, |&l| l == 1)
                         .map_err(|e| e.to_string())?;
                     let moved = !first_axis || f != fraction;
                     let detail = format!(
@@ -715,12 +718,9 @@ fn lee_drag(
         while size >= MIN_AREA {
             let mesh = hierarchy.mesh();
             let tried = EditingArea::disk_around(mesh, centre, size).and_then(|area| {
-                let options = SessionOptions {
-                    scale: 0.6,
-                    ..SessionOptions::default()
-                };
+                let options = SessionOptions::default().with_scale(0.6);
                 progress::step(large, "Lee: embedding the editing area", || {
-                    EditingSession::new(mesh, area, &options)
+                    AreaSession::new(mesh, area, &options)
                 })
             });
             match tried {
@@ -732,9 +732,9 @@ fn lee_drag(
                     session
                         .set_primitive(hierarchy.mesh(), &[centre])
                         .and_then(|()| session.drag(hierarchy.mesh_mut(), pull))
-                        .and_then(|()| session.hierarchy_marks(hierarchy.mesh()))
-                        .and_then(|marks| marks.mark(hierarchy))
-                        .and_then(|()| session.commit(hierarchy.mesh()))
+                        .map_err(edit::Error::from)
+                        .and_then(|()| session.mark(hierarchy))
+                        .and_then(|()| Ok(session.commit(hierarchy.mesh())?))
                         .map_err(|e| e.to_string())?;
                     let mesh = hierarchy.mesh();
                     let detail = format!(
@@ -776,7 +776,7 @@ struct Landing {
 
 /// The Bendels & Klein rule of the module docs: a handle around the vertex furthest
 /// along −x of the hierarchy's current mesh, rotated and pulled, in the hierarchy
-/// (`BlendSession::apply_in_hierarchy`: the handle lands exactly at full resolution, the
+/// (`BlendSession::apply` and `HierarchyEdit::mark`: the handle lands exactly at full resolution, the
 /// fixed part stays where it was). Returns the table's detail and a note when the radii
 /// had to shrink.
 fn blend_rotate(
@@ -828,10 +828,9 @@ fn blend_rotate(
                     .iter()
                     .map(|&v| mesh.vertex_index(v) as u32)
                     .collect();
-                let options = BlendOptions {
-                    distance: DistanceKind::Geodesic,
-                    shape: ShapeFunction::Smoothstep,
-                };
+                let options = BlendOptions::default()
+                    .with_distance(DistanceKind::Geodesic)
+                    .with_shape(ShapeFunction::Smoothstep);
                 let mut blend =
                     progress::step(large, "B&K: geodesic distances (fast marching)", || {
                         BlendSession::new(mesh, regions, options)
@@ -842,7 +841,9 @@ fn blend_rotate(
                     * DMat4::from_translation(-centre)
                     * DMat4::from_translation(-DVec3::X * 0.05 * diagonal * scale);
                 blend
-                    .apply_in_hierarchy(hierarchy, rotation)
+                    .apply(hierarchy.mesh_mut(), rotation)
+                    .map_err(edit::Error::from)
+                    .and_then(|()| blend.mark(hierarchy))
                     .map_err(|e| e.to_string())?;
                 let landing = Landing {
                     handle: handle_slots,

@@ -9,17 +9,17 @@
 //! - [`hierarchy`]: the kernel, collapse / split, the progressive hierarchy (rounds or
 //!   QEM), detail coefficients and sub-mesh labels (crate `halfedge`).
 //! - [`area_editing`]: Lee 1999 area editing, harmonic map + multilevel B-splines with a
-//!   scale parameter ([`crate::area`], [`crate::mba`]).
+//!   scale parameter ([`crate::lee`]).
 //! - [`bendels_klein`]: Bendels & Klein precisely specified regions, distance fields,
-//!   shape functions, `exp(α log A)` and adaptive refinement ([`crate::regions`],
-//!   [`crate::distance`], [`crate::shape`], [`crate::matrix`], [`crate::blend`]).
+//!   shape functions, `exp(α log A)` and adaptive refinement
+//!   ([`crate::bendels_klein`]).
 //! - [`images_and_polylines`]: the same edit on polylines / polygons and on pictures
-//!   (grid mesh, exact distance transform, resampling) ([`crate::polyline`],
-//!   [`crate::image_edit`]).
+//!   (grid mesh, exact distance transform, resampling)
+//!   ([`crate::bendels_klein::polyline`], [`crate::bendels_klein::image`]).
 //! - [`submesh_edits`]: sub-mesh edits with propagation levels, Barr's deformers and
-//!   Taubin smoothing ([`crate::submesh`], [`crate::barr`], [`crate::smoothing`]).
+//!   Taubin smoothing ([`crate::deform`]).
 //! - [`ffd`]: Feng, Ma & Peng's shape/height-surface free-form deformation
-//!   ([`crate::ffd`]).
+//!   ([`crate::deform::Ffd`]).
 //! - [`workflow`]: simplify → edit → refine, the job of the `workflow` example.
 //! - [`coarse_edits`]: how coarse edits come back at full resolution (detail modes, exact
 //!   regions, affine marks) and the `coarse_edit` example that measures it.

@@ -6,6 +6,9 @@ use halfedge::{HalfedgeId, Mesh};
 /// Cotangent of the angle at the corner opposite `h` in its face, or 0 for a boundary
 /// halfedge or one that is not live in `mesh`. Degenerate corners (and corners at
 /// non-finite positions) give 0 rather than NaN or infinity.
+///
+/// Paper: Pinkall & Polthier 1993, *Computing discrete minimal surfaces and their
+/// conjugates*.
 pub fn opposite_cotangent(mesh: &Mesh, h: HalfedgeId) -> f64 {
     if !mesh.is_valid_halfedge(h) || mesh.is_boundary_halfedge(h) {
         return 0.0;
@@ -32,6 +35,9 @@ pub fn opposite_cotangent(mesh: &Mesh, h: HalfedgeId) -> f64 {
 /// The cotangent weight of the edge of `h`: `(cot α + cot β) / 2`, with α, β the angles
 /// opposite the edge (one term on a boundary edge). Can be negative for obtuse angles;
 /// 0 for a halfedge that is not live in `mesh`.
+///
+/// Paper: Pinkall & Polthier 1993; Eck et al. 1995, *Multiresolution analysis of arbitrary
+/// meshes* (whose harmonic spring constants are 4× these).
 pub fn cotan_weight(mesh: &Mesh, h: HalfedgeId) -> f64 {
     if !mesh.is_valid_halfedge(h) {
         return 0.0;

@@ -1,8 +1,8 @@
 //! Multilevel B-spline approximation (Lee, Wolberg & Shin 1997) with the scale parameter
 //! and boundary fixing of Lee 1999 §5: analytic cases and the paper's figures.
 
-use edit::mba::{Mba, MbaBase};
-use edit::EditError;
+use edit::lee::mba::{Mba, MbaBase};
+use edit::lee::LeeError;
 use glam::{DVec2, DVec3};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -207,29 +207,29 @@ fn bad_data_is_refused() {
     let p = [DVec2::splat(0.5)];
     assert!(matches!(
         mba.fit(&p, &[]),
-        Err(EditError::MbaLengthMismatch {
+        Err(LeeError::MbaLengthMismatch {
             points: 1,
             values: 0
         })
     ));
     assert!(matches!(
         mba.fit(&p, &[DVec3::new(f64::NAN, 0.0, 0.0)]),
-        Err(EditError::MbaNonFiniteData { index: 0 })
+        Err(LeeError::MbaNonFiniteData { index: 0 })
     ));
     assert!(matches!(
         mba.fit(&[DVec2::new(1.5, 0.5)], &[DVec3::ONE]),
-        Err(EditError::MbaPointOutsideDomain { index: 0, .. })
+        Err(LeeError::MbaPointOutsideDomain { index: 0, .. })
     ));
     assert!(matches!(
         mba.fit_scaled(1.5, &p, &[DVec3::ONE]),
-        Err(EditError::InvalidParameter { name: "s", .. })
+        Err(LeeError::InvalidParameter { name: "s", .. })
     ));
     assert!(matches!(
         mba.clone()
             .with_fixed_boundary(true)
             .with_base(MbaBase::Mean)
             .fit(&p, &[DVec3::ONE]),
-        Err(EditError::InvalidParameter { name: "base", .. })
+        Err(LeeError::InvalidParameter { name: "base", .. })
     ));
     assert!(Mba::new(DVec2::ONE, DVec2::ZERO, 4).is_err());
     assert!(Mba::new(DVec2::ZERO, DVec2::ONE, 0).is_err());

@@ -3,8 +3,8 @@
 //! interpolated, and a scale that reaches as far on a coarse as on a fine mesh (§3.6),
 //! with the reach table of `docs/guide/area-editing.md`.
 
-use edit::area::{AreaSide, EditingArea, EditingSession, FrameKind, SessionOptions};
-use edit::EditError;
+use edit::lee::LeeError;
+use edit::lee::{AreaSession, AreaSide, EditingArea, FrameKind, SessionOptions};
 use glam::DVec3;
 use halfedge::{generators, Mesh, VertexId};
 
@@ -54,13 +54,13 @@ fn motion(mesh: &Mesh, rest: &[DVec3], v: VertexId) -> f64 {
 }
 
 /// Embedded distance of local vertex `i` to the rectangle's border.
-fn to_border(session: &EditingSession, i: usize) -> f64 {
+fn to_border(session: &AreaSession, i: usize) -> f64 {
     let p = session.embedding().uv()[i];
     let size = session.embedding().size();
     p.x.min(p.y).min(size.x - p.x).min(size.y - p.y)
 }
 
-fn local(session: &EditingSession, mesh: &Mesh, v: VertexId) -> usize {
+fn local(session: &AreaSession, mesh: &Mesh, v: VertexId) -> usize {
     session.area().local_index(mesh, v).unwrap()
 }
 
@@ -128,11 +128,8 @@ fn boundary_fixing_makes_the_motion_vanish_on_the_border_with_its_slope() {
         ] {
             let mut mesh = mesh.clone();
             let rest = mesh.positions().to_vec();
-            let options = SessionOptions {
-                frames: frames.clone(),
-                ..SessionOptions::default()
-            };
-            let mut session = EditingSession::new(&mesh, area.clone(), &options).unwrap();
+            let options = SessionOptions::default().with_frames(frames.clone());
+            let mut session = AreaSession::new(&mesh, area.clone(), &options).unwrap();
             session.set_primitive(&mesh, &[centre]).unwrap();
             let big = to_border(&session, local(&session, &mesh, centre));
             let pull = 0.2 * mesh.vertex_normal(centre) + DVec3::new(0.05, -0.03, 0.0);
@@ -179,7 +176,7 @@ fn no_fold_at_the_border_at_any_scale() {
     ];
     for (name, (mut mesh, area, centre)) in areas {
         let rest = mesh.positions().to_vec();
-        let mut session = EditingSession::new(&mesh, area, &SessionOptions::default()).unwrap();
+        let mut session = AreaSession::new(&mesh, area, &SessionOptions::default()).unwrap();
         let ring = first_ring(&mesh, session.area());
         let near_border: Vec<_> = session
             .area()
@@ -229,7 +226,7 @@ fn primitives_of_several_vertices_reach_their_targets() {
     for (name, (mesh, area, centre)) in [("grid", grid_area(32)), ("cap", cap_area(3))] {
         let mut mesh = mesh.clone();
         let rest = mesh.positions().to_vec();
-        let mut session = EditingSession::new(&mesh, area, &SessionOptions::default()).unwrap();
+        let mut session = AreaSession::new(&mesh, area, &SessionOptions::default()).unwrap();
         // a chain of 3 through the centre and a patch of 10 around it
         let ring: Vec<VertexId> = mesh.adjacent_vertices(centre).collect();
         let chain = vec![ring[0], centre, ring[ring.len() / 2]];
@@ -296,7 +293,7 @@ fn scattered_primitives_reach_their_targets() {
     let rest = mesh.positions().to_vec();
     let id = |i: usize, j: usize| mesh.vertex_at(i + j * 33).unwrap();
     let primitive = [id(9, 9), id(20, 13), id(14, 23)];
-    let mut session = EditingSession::new(&mesh, area, &SessionOptions::default()).unwrap();
+    let mut session = AreaSession::new(&mesh, area, &SessionOptions::default()).unwrap();
     session.set_primitive(&mesh, &primitive).unwrap();
     let drag = DVec3::new(0.0, 0.02, 0.1);
     for s in [0.1, 0.5, 1.0] {
@@ -327,7 +324,7 @@ fn a_scale_reaches_as_far_on_a_coarse_and_on_a_fine_mesh() {
         let mut edge = Vec::new();
         for (mut mesh, area, centre) in [coarse, fine] {
             let rest = mesh.positions().to_vec();
-            let mut session = EditingSession::new(&mesh, area, &SessionOptions::default()).unwrap();
+            let mut session = AreaSession::new(&mesh, area, &SessionOptions::default()).unwrap();
             levels.push(session.levels());
             edge.push(
                 mesh.adjacent_vertices(centre)
@@ -378,7 +375,7 @@ const REACH_TABLE: [(f64, f64, f64); 6] = [
 fn reach_against_scale_is_the_guides_table() {
     for (column, (mut mesh, area, centre)) in [(1, grid_area(128)), (2, cap_area(6))] {
         let rest = mesh.positions().to_vec();
-        let mut session = EditingSession::new(&mesh, area, &SessionOptions::default()).unwrap();
+        let mut session = AreaSession::new(&mesh, area, &SessionOptions::default()).unwrap();
         println!(
             "column {column}: {} levels, finest scale {}",
             session.levels(),
@@ -410,7 +407,7 @@ fn the_edit_changes_continuously_with_the_scale() {
     // across the nodes s = 1/2^k and the finest level's node, and where the detail
     // levels start or stop
     let (mut mesh, area, centre) = grid_area(32);
-    let mut session = EditingSession::new(&mesh, area, &SessionOptions::default()).unwrap();
+    let mut session = AreaSession::new(&mesh, area, &SessionOptions::default()).unwrap();
     let mut primitive = vec![centre];
     primitive.extend(mesh.adjacent_vertices(centre));
     session.set_primitive(&mesh, &primitive).unwrap();
@@ -439,20 +436,17 @@ fn level_counts_are_bounded_and_keep_the_reach() {
     let (mut mesh, area, centre) = grid_area(32);
     let rest = mesh.positions().to_vec();
     for levels in [0, 2, 13, 14, usize::MAX] {
-        let options = SessionOptions {
-            levels: Some(levels),
-            ..SessionOptions::default()
-        };
+        let options = SessionOptions::default().with_levels(levels);
         assert!(matches!(
-            EditingSession::new(&mesh, area.clone(), &options),
-            Err(EditError::InvalidParameter { name: "levels", .. })
+            AreaSession::new(&mesh, area.clone(), &options),
+            Err(LeeError::InvalidParameter { name: "levels", .. })
         ));
     }
-    let mut session = EditingSession::new(&mesh, area.clone(), &SessionOptions::default()).unwrap();
+    let mut session = AreaSession::new(&mesh, area.clone(), &SessionOptions::default()).unwrap();
     let auto = session.levels();
     assert!(matches!(
         session.set_levels(13),
-        Err(EditError::InvalidParameter { name: "levels", .. })
+        Err(LeeError::InvalidParameter { name: "levels", .. })
     ));
     assert_eq!(session.levels(), auto);
     // the documented maximum works (its lattice is about 100 MB) and reaches as far
@@ -461,13 +455,11 @@ fn level_counts_are_bounded_and_keep_the_reach() {
     let pull = DVec3::new(0.0, 0.0, 0.1);
     session.drag(&mut mesh, pull).unwrap();
     let at_auto = reach(&mesh, &rest, session.area(), centre, 0.1);
-    let options = SessionOptions {
-        levels: Some(edit::area::MAX_SESSION_LEVELS),
-        scale: 0.5,
-        ..SessionOptions::default()
-    };
+    let options = SessionOptions::default()
+        .with_levels(edit::lee::MAX_SESSION_LEVELS)
+        .with_scale(0.5);
     session.cancel(&mut mesh).unwrap();
-    let mut deep = EditingSession::new(&mesh, area, &options).unwrap();
+    let mut deep = AreaSession::new(&mesh, area, &options).unwrap();
     deep.set_primitive(&mesh, &[centre]).unwrap();
     deep.drag(&mut mesh, pull).unwrap();
     let at_max = reach(&mesh, &rest, deep.area(), centre, 0.1);

@@ -4,11 +4,11 @@
 mod area_common;
 
 use area_common::{nose, vertex};
-use edit::area::{
+use edit::lee::LeeError;
+use edit::lee::{
     AreaSide, BoundaryMapping, EditingArea, Embedding, EmbeddingOptions, EmbeddingSolver,
     EmbeddingWeights,
 };
-use edit::EditError;
 use glam::{DVec2, DVec3};
 use halfedge::{FaceId, Mesh, VertexId};
 
@@ -140,7 +140,7 @@ fn an_annulus_is_not_a_disk_with(load: &dyn Fn(&str) -> Mesh) {
         })
         .collect();
     match EditingArea::from_faces(&mesh, &annulus) {
-        Err(EditError::AreaNotDisk {
+        Err(LeeError::AreaNotDisk {
             boundary_loops: 2,
             components: 1,
             euler: 0,
@@ -168,7 +168,7 @@ fn an_area_touching_the_bunnys_holes_is_refused_with(load: &dyn Fn(&str) -> Mesh
         .unwrap();
     let area = EditingArea::disk_around(&mesh, on_hole, 40);
     assert!(
-        matches!(area, Err(EditError::AreaTouchesMeshBoundary { .. })),
+        matches!(area, Err(LeeError::AreaTouchesMeshBoundary { .. })),
         "{area:?}"
     );
 }
@@ -187,7 +187,7 @@ fn a_handle_and_a_non_separating_loop_are_refused() {
         })
         .collect();
     match EditingArea::from_faces(&mesh, &with_handle) {
-        Err(EditError::AreaNotDisk {
+        Err(LeeError::AreaNotDisk {
             boundary_loops: 1,
             euler: -1,
             ..
@@ -201,7 +201,7 @@ fn a_handle_and_a_non_separating_loop_are_refused() {
         .collect();
     assert!(matches!(
         EditingArea::from_picks(&mesh, &meridian, AreaSide::Smaller),
-        Err(EditError::LoopDoesNotSeparate)
+        Err(LeeError::LoopDoesNotSeparate)
     ));
 }
 
@@ -228,10 +228,7 @@ fn mean_value_map_has_no_flipped_triangles(mesh: &Mesh, seed: VertexId) {
     let mesh = mesh.clone();
     let area = EditingArea::disk_around(&mesh, seed, 3000).unwrap();
     assert!(area.vertices().len() >= 3000);
-    let options = EmbeddingOptions {
-        weights: EmbeddingWeights::MeanValue,
-        ..EmbeddingOptions::default()
-    };
+    let options = EmbeddingOptions::default().with_weights(EmbeddingWeights::MeanValue);
     let embedding = Embedding::new(&mesh, &area, &options).unwrap();
     assert_eq!(embedding.solver(), EmbeddingSolver::Lu);
     assert!(
@@ -283,13 +280,10 @@ fn corners_must_be_distinct_boundary_vertices_with(load: &dyn Fn(&str) -> Mesh) 
     let nose = nose(&mesh);
     let area = EditingArea::disk_around(&mesh, nose, 200).unwrap();
     let b = area.boundary().to_vec();
-    let options = |boundary| EmbeddingOptions {
-        boundary,
-        ..EmbeddingOptions::default()
-    };
+    let options = |boundary| EmbeddingOptions::default().with_boundary(boundary);
     assert!(matches!(
         Embedding::new(&mesh, &area, &options(BoundaryMapping::Corners([b[0], b[3], nose, b[9]]))),
-        Err(EditError::CornerNotOnBoundary { vertex }) if vertex == nose
+        Err(LeeError::CornerNotOnBoundary { vertex }) if vertex == nose
     ));
     assert!(matches!(
         Embedding::new(
@@ -297,13 +291,11 @@ fn corners_must_be_distinct_boundary_vertices_with(load: &dyn Fn(&str) -> Mesh) 
             &area,
             &options(BoundaryMapping::Corners([b[0], b[3], b[0], b[9]]))
         ),
-        Err(EditError::RepeatedCorner { .. })
+        Err(LeeError::RepeatedCorner { .. })
     ));
-    let fixed = EmbeddingOptions {
-        aspect_ratio: Some(2.0),
-        boundary: BoundaryMapping::OneCorner(b[5]),
-        ..EmbeddingOptions::default()
-    };
+    let fixed = EmbeddingOptions::default()
+        .with_aspect_ratio(2.0)
+        .with_boundary(BoundaryMapping::OneCorner(b[5]));
     let embedding = Embedding::new(&mesh, &area, &fixed).unwrap();
     assert!((embedding.size().x / embedding.size().y - 2.0).abs() < 1e-12);
     assert_eq!(

@@ -5,8 +5,8 @@
 mod area_common;
 
 use area_common::nose;
-use edit::area::{EditingArea, EditingSession, FrameKind, SessionOptions};
-use edit::EditError;
+use edit::lee::LeeError;
+use edit::lee::{AreaSession, EditingArea, FrameKind, SessionOptions};
 use glam::DVec3;
 use halfedge::{Mesh, VertexId};
 
@@ -14,10 +14,10 @@ const PULL: DVec3 = DVec3::new(0.03, -0.02, 0.12);
 
 /// Spot (or its stand-in, whichever `load` gives) with an area of about 500 vertices
 /// around the snout.
-fn spot_session(load: &dyn Fn(&str) -> Mesh, options: &SessionOptions) -> (Mesh, EditingSession) {
+fn spot_session(load: &dyn Fn(&str) -> Mesh, options: &SessionOptions) -> (Mesh, AreaSession) {
     let mesh = load("spot.obj");
     let area = EditingArea::disk_around(&mesh, nose(&mesh), 500).unwrap();
-    let session = EditingSession::new(&mesh, area, options).unwrap();
+    let session = AreaSession::new(&mesh, area, options).unwrap();
     (mesh, session)
 }
 
@@ -67,10 +67,7 @@ fn boundary_and_outside_never_move_for_any_scale_with(load: &dyn Fn(&str) -> Mes
             x_axis: None,
         },
     ] {
-        let options = SessionOptions {
-            frames,
-            ..SessionOptions::default()
-        };
+        let options = SessionOptions::default().with_frames(frames);
         let (mut mesh, mut session) = spot_session(load, &options);
         let rest = mesh.positions().to_vec();
         session.set_primitive(&mesh, &nose_and_ring(&mesh)).unwrap();
@@ -334,14 +331,12 @@ fn normal_frames_move_vertices_along_their_normals_on_real_meshes() {
 }
 
 fn normal_frames_move_vertices_along_their_normals_with(load: &dyn Fn(&str) -> Mesh) {
-    let options = SessionOptions {
-        frames: FrameKind::Normal {
+    let options = SessionOptions::default()
+        .with_frames(FrameKind::Normal {
             seed: None,
             x_axis: Some(DVec3::X),
-        },
-        scale: 0.75,
-        ..SessionOptions::default()
-    };
+        })
+        .with_scale(0.75);
     let (mut mesh, mut session) = spot_session(load, &options);
     let rest = mesh.positions().to_vec();
     let nose = nose(&mesh);
@@ -397,11 +392,11 @@ fn bad_input_is_refused_and_leaves_the_mesh_unchanged_with(load: &dyn Fn(&str) -
     let nose = nose(&mesh);
     assert!(matches!(
         session.drag(&mut mesh, PULL),
-        Err(EditError::EmptyPrimitive)
+        Err(LeeError::EmptyPrimitive)
     ));
     assert!(matches!(
         session.set_primitive(&mesh, &[]),
-        Err(EditError::EmptyPrimitive)
+        Err(LeeError::EmptyPrimitive)
     ));
     // Spot's tail end is far from the snout
     let outside = mesh
@@ -410,12 +405,12 @@ fn bad_input_is_refused_and_leaves_the_mesh_unchanged_with(load: &dyn Fn(&str) -
         .unwrap();
     assert!(matches!(
         session.set_primitive(&mesh, &[nose, outside]),
-        Err(EditError::PrimitiveOutsideArea { vertex }) if vertex == outside
+        Err(LeeError::PrimitiveOutsideArea { vertex }) if vertex == outside
     ));
     let on_boundary = session.area().boundary()[0];
     assert!(matches!(
         session.set_primitive(&mesh, &[on_boundary]),
-        Err(EditError::PrimitiveOnAreaBoundary { .. })
+        Err(LeeError::PrimitiveOnAreaBoundary { .. })
     ));
     assert!(session.primitive().is_empty());
     session.set_primitive(&mesh, &[nose, nose]).unwrap();
@@ -426,11 +421,11 @@ fn bad_input_is_refused_and_leaves_the_mesh_unchanged_with(load: &dyn Fn(&str) -
     ] {
         assert!(matches!(
             session.drag(&mut mesh, bad),
-            Err(EditError::NonFiniteDisplacement { .. })
+            Err(LeeError::NonFiniteDisplacement { .. })
         ));
         assert!(matches!(
             session.move_vertex(&mesh, nose, bad),
-            Err(EditError::NonFiniteTarget { .. })
+            Err(LeeError::NonFiniteTarget { .. })
         ));
     }
     let not_in_primitive = session
@@ -442,24 +437,24 @@ fn bad_input_is_refused_and_leaves_the_mesh_unchanged_with(load: &dyn Fn(&str) -
         .unwrap();
     assert!(matches!(
         session.move_vertex(&mesh, not_in_primitive, DVec3::ZERO),
-        Err(EditError::NotInPrimitive { .. })
+        Err(LeeError::NotInPrimitive { .. })
     ));
     assert!(matches!(
         session.set_scale(f64::NAN),
-        Err(EditError::InvalidParameter { .. })
+        Err(LeeError::InvalidParameter { .. })
     ));
     assert!(matches!(
         session.set_scale(1.5),
-        Err(EditError::InvalidParameter { .. })
+        Err(LeeError::InvalidParameter { .. })
     ));
     assert!(matches!(
         session.set_levels(2),
-        Err(EditError::InvalidParameter { .. })
+        Err(LeeError::InvalidParameter { .. })
     ));
     let mut other = load("cow.obj");
     assert!(matches!(
         session.drag(&mut other, PULL),
-        Err(EditError::Stale(_))
+        Err(LeeError::Stale(_))
     ));
     assert_eq!(mesh.positions(), rest.as_slice());
     // and the session still works afterwards
@@ -480,10 +475,7 @@ fn parallel_evaluation_matches_the_sequential_one_on_real_meshes() {
 
 fn parallel_evaluation_matches_the_sequential_one_with(load: &dyn Fn(&str) -> Mesh) {
     let (mut sequential, mut a) = spot_session(load, &SessionOptions::default());
-    let parallel_options = SessionOptions {
-        parallel_threshold: 1,
-        ..SessionOptions::default()
-    };
+    let parallel_options = SessionOptions::default().with_parallel_threshold(1);
     let (mut parallel, mut b) = spot_session(load, &parallel_options);
     let nose = nose(&sequential);
     a.set_primitive(&sequential, &nose_and_ring(&sequential))
@@ -513,7 +505,7 @@ fn spots_snout_areas_fall_off_smoothly_to_the_border() {
         let mut mesh = spot.clone();
         let rest = mesh.positions().to_vec();
         let area = EditingArea::disk_around(&mesh, nose, n).unwrap();
-        let mut session = EditingSession::new(&mesh, area, &SessionOptions::default()).unwrap();
+        let mut session = AreaSession::new(&mesh, area, &SessionOptions::default()).unwrap();
         let a = session.area().clone();
         let uv = session.embedding().uv().to_vec();
         let size = session.embedding().size();

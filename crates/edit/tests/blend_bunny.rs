@@ -6,10 +6,10 @@
 
 use std::path::PathBuf;
 
-use edit::blend::{BlendOptions, BlendSession, DistanceKind, RefineOptions};
-use edit::distance::FastMarching;
-use edit::regions::{Regions, Role};
-use edit::shape::ShapeFunction;
+use edit::bendels_klein::FastMarching;
+use edit::bendels_klein::ShapeFunction;
+use edit::bendels_klein::{BlendOptions, BlendSession, DistanceKind, RefineOptions};
+use edit::bendels_klein::{Regions, Role};
 use glam::{DMat4, DQuat, DVec3};
 use halfedge::{Mesh, VertexId};
 
@@ -193,10 +193,9 @@ fn pull_the_nose_with_a_rotation_with(bunny: &dyn Fn() -> Mesh) {
     let mut session = BlendSession::new(
         &mesh,
         regions,
-        BlendOptions {
-            distance: DistanceKind::Geodesic,
-            shape: ShapeFunction::Smootherstep,
-        },
+        BlendOptions::default()
+            .with_distance(DistanceKind::Geodesic)
+            .with_shape(ShapeFunction::Smootherstep),
     )
     .unwrap();
     session.apply(&mut mesh, a).unwrap();
@@ -265,10 +264,9 @@ fn rotate_the_ear_with(bunny: &dyn Fn() -> Mesh) {
         let mut session = BlendSession::new(
             &mesh,
             regions.clone(),
-            BlendOptions {
-                distance: kind,
-                shape: ShapeFunction::Smoothstep,
-            },
+            BlendOptions::default()
+                .with_distance(kind)
+                .with_shape(ShapeFunction::Smoothstep),
         )
         .unwrap();
         session.apply(&mut mesh, a).unwrap();

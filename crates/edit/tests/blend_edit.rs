@@ -2,10 +2,10 @@
 //! the paper's Fig. 3 point (geodesic α is monotone, Euclidean α need not be), crease-free
 //! joins with a C¹ shape function, and adaptive refinement.
 
-use edit::blend::{BlendOptions, BlendSession, DistanceKind, RefineOptions};
-use edit::distance::{FastMarching, Source};
-use edit::regions::{Regions, Role};
-use edit::shape::{CurveOptions, ShapeCurve, ShapeFunction};
+use edit::bendels_klein::{BlendOptions, BlendSession, DistanceKind, RefineOptions};
+use edit::bendels_klein::{CurveOptions, ShapeCurve, ShapeFunction};
+use edit::bendels_klein::{FastMarching, MarchSource};
+use edit::bendels_klein::{Regions, Role};
 use glam::{DMat4, DQuat, DVec3};
 use halfedge::{generators, Mesh, VertexId};
 
@@ -56,10 +56,9 @@ fn fixed_area_is_bit_identical_and_handle_moves_rigidly_after_any_edit() {
         let mut session = BlendSession::new(
             &mesh,
             regions,
-            BlendOptions {
-                distance: kind,
-                shape: ShapeFunction::Smoothstep,
-            },
+            BlendOptions::default()
+                .with_distance(kind)
+                .with_shape(ShapeFunction::Smoothstep),
         )
         .unwrap();
         assert_eq!(mesh.positions(), &before[..], "setting up moved the mesh");
@@ -167,15 +166,15 @@ fn geodesic_alpha_is_monotone_from_fixed_to_handle_euclidean_is_not() {
             }
         })
         .collect();
-    let regions = Regions::from_roles(&mesh, roles).unwrap();
+    let regions =
+        Regions::from_roles(&mesh, halfedge::VertexData::new(&mesh, roles).unwrap()).unwrap();
     let alpha_of = |kind| {
         let session = BlendSession::new(
             &mesh,
             regions.clone(),
-            BlendOptions {
-                distance: kind,
-                shape: ShapeFunction::Linear,
-            },
+            BlendOptions::default()
+                .with_distance(kind)
+                .with_shape(ShapeFunction::Linear),
         )
         .unwrap();
         session.alpha().to_vec()
@@ -297,10 +296,9 @@ fn c1_shape_function_leaves_no_crease_at_either_border() {
         let mut session = BlendSession::new(
             &mesh,
             regions.clone(),
-            BlendOptions {
-                distance: DistanceKind::Geodesic,
-                shape: shape.clone(),
-            },
+            BlendOptions::default()
+                .with_distance(DistanceKind::Geodesic)
+                .with_shape(shape.clone()),
         )
         .unwrap();
         session
@@ -356,10 +354,9 @@ fn refinement_splits_stretched_triangles_and_keeps_the_mesh_valid() {
         let mut session = BlendSession::new(
             &mesh,
             regions,
-            BlendOptions {
-                distance: kind,
-                shape: ShapeFunction::Smoothstep,
-            },
+            BlendOptions::default()
+                .with_distance(kind)
+                .with_shape(ShapeFunction::Smoothstep),
         )
         .unwrap();
         let a = DMat4::from_translation(DVec3::new(0.0, 0.0, 1.5));
@@ -426,12 +423,12 @@ fn virtual_origin_distances_of_new_vertices() {
     flat.positions_mut()
         .copy_from_slice(&session.original_positions()[..mesh.vertex_slots()]);
     let marching = FastMarching::new(&flat);
-    let sources: Vec<Source> = session
+    let sources: Vec<MarchSource> = session
         .regions()
         .fixed_border()
         .vertices
         .iter()
-        .map(|&v| Source::on_curve(flat.vertex_index(v)))
+        .map(|&v| MarchSource::on_curve(flat.vertex_index(v)))
         .collect();
     let fresh = marching.distances(&sources, None).unwrap();
     let (mut n, mut sum, mut worst, mut worst_exact) = (0, 0.0, 0.0f64, 0.0f64);
@@ -455,7 +452,7 @@ fn virtual_origin_distances_of_new_vertices() {
             .edges
             .iter()
             .map(|&(a, b)| {
-                edit::distance::point_segment_distance(p, flat.position(a), flat.position(b))
+                edit::bendels_klein::point_segment_distance(p, flat.position(a), flat.position(b))
             })
             .fold(f64::INFINITY, f64::min);
         worst = worst.max((approx - reference).abs());

@@ -1,7 +1,7 @@
 //! Fast-marching geodesics (Bendels & Klein, Sec. 4.2) against analytic distances.
 
-use edit::distance::geodesic::sphere_distance;
-use edit::distance::{FastMarching, FastMarchingUpdate};
+use edit::bendels_klein::sphere_distance;
+use edit::bendels_klein::{FastMarching, FastMarchingUpdate};
 use glam::DVec3;
 use halfedge::{generators, Mesh};
 use rand::{Rng, SeedableRng};

@@ -2,8 +2,8 @@
 //! vertices are added at the input, every level stays reachable, the handle lands exactly
 //! and the fixed part does not move (on a generated mesh).
 
-use edit::blend::{BlendOptions, BlendSession, RefineOptions};
-use edit::regions::Regions;
+use edit::bendels_klein::{BlendOptions, BlendSession, RefineOptions, Regions};
+use edit::HierarchyEdit;
 use glam::{DMat4, DVec3};
 use halfedge::{generators, Hierarchy, HierarchyOptions, VertexId};
 
@@ -32,10 +32,9 @@ fn refinement_at_a_coarse_level_composes_with_the_hierarchy() {
     let report = session
         .refine_in_hierarchy(
             &mut h,
-            RefineOptions {
-                max_edge_length: 2.0 * fine_edge,
-                max_new_vertices: 100_000,
-            },
+            RefineOptions::default()
+                .with_max_edge_length(2.0 * fine_edge)
+                .with_max_new_vertices(100_000),
         )
         .unwrap();
     assert!(report.new_vertices > 100, "{report:?}");
@@ -56,12 +55,12 @@ fn refinement_at_a_coarse_level_composes_with_the_hierarchy() {
         let i = original.vertex_index(v);
         let (before, after) = (original.position(v), fine.position(v));
         match roles[ancestors[i] as usize] {
-            edit::regions::Role::Handle => {
+            edit::bendels_klein::Role::Handle => {
                 let target = a.transform_point3(before);
                 assert!((after - target).length() < 1e-9, "handle vertex {v} missed");
             }
-            edit::regions::Role::Fixed => assert_eq!(after, before, "fixed vertex {v} moved"),
-            edit::regions::Role::Deformable => {}
+            edit::bendels_klein::Role::Fixed => assert_eq!(after, before, "fixed vertex {v} moved"),
+            edit::bendels_klein::Role::Deformable => {}
         }
     }
     // The session described the coarse mesh before the refinement.
@@ -95,21 +94,23 @@ fn a_handle_rotated_at_a_coarse_level_lands_exactly() {
             * DMat4::from_rotation_y(angle)
             * DMat4::from_translation(-DVec3::X)
     };
-    session.apply_in_hierarchy(&mut h, turn(0.3)).unwrap();
-    session.apply_in_hierarchy(&mut h, turn(0.6)).unwrap();
+    for angle in [0.3, 0.6] {
+        session.apply(h.mesh_mut(), turn(angle)).unwrap();
+        session.mark(&mut h).unwrap();
+    }
     h.refine_to(0).unwrap();
     let a = turn(0.6);
     let mut handle_vertices = 0;
     for v in original.vertices() {
         let (before, after) = (original.position(v), h.mesh().position(v));
         match roles[ancestors[original.vertex_index(v)] as usize] {
-            edit::regions::Role::Handle => {
+            edit::bendels_klein::Role::Handle => {
                 handle_vertices += 1;
                 let error = (after - a.transform_point3(before)).length();
                 assert!(error < 1e-9, "handle vertex {v} off by {error}");
             }
-            edit::regions::Role::Fixed => assert_eq!(after, before),
-            edit::regions::Role::Deformable => {}
+            edit::bendels_klein::Role::Fixed => assert_eq!(after, before),
+            edit::bendels_klein::Role::Deformable => {}
         }
     }
     assert!(handle_vertices > 100);

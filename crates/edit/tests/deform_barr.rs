@@ -3,9 +3,9 @@
 mod deform_common;
 
 use deform_common::{bit_identical, closed_box, max_distance};
-use edit::barr::{deform, Bend, Deformer, Profile, Taper, Twist};
-use edit::selection::Vertices;
-use edit::EditError;
+use edit::deform::DeformError;
+use edit::deform::{apply_deformer, Bend, Deformer, Profile, Taper, Twist};
+use edit::Vertices;
 use glam::DVec3;
 use halfedge::generators;
 
@@ -35,7 +35,7 @@ fn identity_parameters_leave_positions_bit_identical() {
         Box::new(Bend::new(c, axis, DVec3::X, 0.0, Some((-0.5, 0.5))).unwrap()),
     ];
     for d in &identities {
-        deform(&mut mesh, d.as_ref(), Vertices::All).unwrap();
+        apply_deformer(&mut mesh, d.as_ref(), Vertices::All).unwrap();
         assert!(bit_identical(&before, mesh.positions()));
         for p in &before {
             assert_eq!(
@@ -46,7 +46,7 @@ fn identity_parameters_leave_positions_bit_identical() {
     }
     // a local twist leaves everything below its range bit-identical
     let twist = Twist::linear(DVec3::ZERO, DVec3::Z, 0.2, 0.9, 1.0).unwrap();
-    deform(&mut mesh, &twist, Vertices::All).unwrap();
+    apply_deformer(&mut mesh, &twist, Vertices::All).unwrap();
     for (a, b) in before.iter().zip(mesh.positions()) {
         if a.z < 0.2 {
             assert_eq!(
@@ -72,9 +72,9 @@ fn twist_then_inverse_restores_to_1e12_with(load: &dyn Fn(&str) -> halfedge::Mes
     let mut mesh = load("spot.obj");
     let before = mesh.positions().to_vec();
     let (_, twist, _) = deformers();
-    deform(&mut mesh, &twist, Vertices::All).unwrap();
+    apply_deformer(&mut mesh, &twist, Vertices::All).unwrap();
     assert!(max_distance(&before, mesh.positions()) > 0.1);
-    deform(&mut mesh, &twist.inverse(), Vertices::All).unwrap();
+    apply_deformer(&mut mesh, &twist.inverse(), Vertices::All).unwrap();
     assert!(max_distance(&before, mesh.positions()) < 1e-12);
     // the inverse is the twist by −θ
     let minus = Twist::new(
@@ -83,8 +83,8 @@ fn twist_then_inverse_restores_to_1e12_with(load: &dyn Fn(&str) -> halfedge::Mes
         Profile::local(-0.7, 0.9, 0.4, -1.3).unwrap(),
     )
     .unwrap();
-    deform(&mut mesh, &twist, Vertices::All).unwrap();
-    deform(&mut mesh, &minus, Vertices::All).unwrap();
+    apply_deformer(&mut mesh, &twist, Vertices::All).unwrap();
+    apply_deformer(&mut mesh, &minus, Vertices::All).unwrap();
     assert!(max_distance(&before, mesh.positions()) < 1e-12);
 }
 
@@ -103,14 +103,14 @@ fn taper_and_bend_inverses_restore_to_1e12_with(load: &dyn Fn(&str) -> halfedge:
     let mut mesh = load("spot.obj");
     let before = mesh.positions().to_vec();
     let (taper, _, bend) = deformers();
-    deform(&mut mesh, &taper, Vertices::All).unwrap();
+    apply_deformer(&mut mesh, &taper, Vertices::All).unwrap();
     assert!(max_distance(&before, mesh.positions()) > 0.05);
-    deform(&mut mesh, &taper.inverse(), Vertices::All).unwrap();
+    apply_deformer(&mut mesh, &taper.inverse(), Vertices::All).unwrap();
     assert!(max_distance(&before, mesh.positions()) < 1e-12);
 
-    deform(&mut mesh, &bend, Vertices::All).unwrap();
+    apply_deformer(&mut mesh, &bend, Vertices::All).unwrap();
     assert!(max_distance(&before, mesh.positions()) > 0.05);
-    deform(&mut mesh, &bend.inverse(), Vertices::All).unwrap();
+    apply_deformer(&mut mesh, &bend.inverse(), Vertices::All).unwrap();
     assert!(max_distance(&before, mesh.positions()) < 1e-12);
     mesh.check().unwrap();
 }
@@ -126,7 +126,7 @@ fn bend_keeps_arc_length_of_the_axis_and_cross_sections_rigid() {
     let before = mesh.positions().to_vec();
     let k = std::f64::consts::FRAC_PI_2 / 2.0;
     let bend = Bend::new(DVec3::ZERO, DVec3::Y, DVec3::Z, k, Some((0.0, 2.0))).unwrap();
-    deform(&mut mesh, &bend, Vertices::All).unwrap();
+    apply_deformer(&mut mesh, &bend, Vertices::All).unwrap();
     for (p, q) in before.iter().zip(mesh.positions()) {
         // the neutral line z = 0 maps onto the circle of radius 1/k about (·, 0, 1/k)
         let r = 1.0 / k - p.z;
@@ -146,7 +146,7 @@ fn selections_move_only_their_vertices_and_errors_change_nothing() {
     let (_, twist, _) = deformers();
     let mask =
         halfedge::VertexData::new(&mesh, before.iter().map(|p| p.x > 0.3).collect()).unwrap();
-    deform(&mut mesh, &twist, Vertices::Mask(&mask)).unwrap();
+    apply_deformer(&mut mesh, &twist, Vertices::Mask(&mask)).unwrap();
     for (i, (a, b)) in before.iter().zip(mesh.positions()).enumerate() {
         if mask[i] {
             assert!(b.distance(twist.deform_point(*a)) == 0.0);
@@ -156,7 +156,7 @@ fn selections_move_only_their_vertices_and_errors_change_nothing() {
     }
     let mut mesh = generators::icosphere(3);
     let list: Vec<_> = mesh.vertices().step_by(7).collect();
-    deform(&mut mesh, &twist, Vertices::List(&list)).unwrap();
+    apply_deformer(&mut mesh, &twist, Vertices::List(&list)).unwrap();
     let moved = before
         .iter()
         .zip(mesh.positions())
@@ -168,12 +168,12 @@ fn selections_move_only_their_vertices_and_errors_change_nothing() {
     // A mask made for another mesh, even one of the same size, is stale.
     let other = generators::icosphere(3);
     assert!(matches!(
-        deform(
+        apply_deformer(
             &mut mesh,
             &twist,
             Vertices::Mask(&halfedge::VertexData::filled(&other, true))
         ),
-        Err(EditError::Stale(_))
+        Err(DeformError::Stale(_))
     ));
     // a global taper reaching zero on the object is refused before anything moves
     let taper = Taper::new(
@@ -183,8 +183,8 @@ fn selections_move_only_their_vertices_and_errors_change_nothing() {
     )
     .unwrap();
     assert!(matches!(
-        deform(&mut mesh, &taper, Vertices::All),
-        Err(EditError::NonPositiveTaper { .. })
+        apply_deformer(&mut mesh, &taper, Vertices::All),
+        Err(DeformError::NonPositiveTaper { .. })
     ));
     assert!(bit_identical(&before, mesh.positions()));
 }

@@ -5,10 +5,10 @@ mod deform_common;
 use std::collections::HashMap;
 
 use deform_common::{closed_box, max_distance};
-use edit::barr::{Deformer, Twist};
-use edit::ffd::{AttachOptions, BSplineSurface, Ffd, Frame, Mode};
-use edit::selection::Vertices;
-use edit::EditError;
+use edit::deform::DeformError;
+use edit::deform::{AttachOptions, BSplineSurface, Ffd, FfdReach, LatticeFrame};
+use edit::deform::{Deformer, Twist};
+use edit::Vertices;
 use glam::DVec3;
 use halfedge::Mesh;
 
@@ -20,7 +20,7 @@ fn world_ffd(mesh: &Mesh, shape: Grid, height: Grid, margin: f64) -> Ffd {
     Ffd::covering(
         mesh,
         Vertices::All,
-        Frame::WORLD,
+        LatticeFrame::WORLD,
         shape,
         height,
         margin,
@@ -53,7 +53,7 @@ fn undisplaced_surfaces_reproduce_the_bunny_to_1e9_with(load: &dyn Fn(&str) -> M
     let before = mesh.positions().to_vec();
     // S cubic 6×5, H quadratic 4×4: the two surfaces differ
     let ffd = world_ffd(&mesh, ([3, 3], [6, 5]), ([2, 2], [4, 4]), 0.05);
-    assert_eq!(ffd.mode(), Mode::Global);
+    assert_eq!(ffd.reach(), FfdReach::Global);
     assert_eq!(ffd.attached(), mesh.n_vertices());
     ffd.deform(&mut mesh).unwrap();
     assert!(max_distance(&before, mesh.positions()) < 1e-9);
@@ -61,7 +61,7 @@ fn undisplaced_surfaces_reproduce_the_bunny_to_1e9_with(load: &dyn Fn(&str) -> M
     // in a tilted frame, with the shape surface already curved at attach time
     let mut mesh = load("spot.obj");
     let before = mesh.positions().to_vec();
-    let frame = Frame::new(
+    let frame = LatticeFrame::new(
         DVec3::new(0.1, -1.0, 0.2),
         DVec3::new(1.0, 0.2, 0.1),
         DVec3::new(0.1, 1.0, 0.3),
@@ -96,7 +96,7 @@ fn undisplaced_surfaces_reproduce_the_bunny_to_1e9_with(load: &dyn Fn(&str) -> M
         AttachOptions::default(),
     )
     .unwrap();
-    assert_eq!(ffd.mode(), Mode::Global);
+    assert_eq!(ffd.reach(), FfdReach::Global);
     ffd.deform(&mut mesh).unwrap();
     assert!(max_distance(&before, mesh.positions()) < 1e-9);
 }
@@ -168,7 +168,7 @@ fn a_bent_shape_surface_bends_a_box_with_every_vertex_in_its_column() {
     let mut mesh = box_mesh();
     let before = mesh.positions().to_vec();
     let mut ffd = world_ffd(&mesh, ([2, 1], [8, 2]), ([2, 1], [8, 2]), 0.0);
-    assert_eq!(ffd.mode(), Mode::Global);
+    assert_eq!(ffd.reach(), FfdReach::Global);
     ffd.bend(1.5).unwrap();
     ffd.deform(&mut mesh).unwrap();
     mesh.check().unwrap();
@@ -311,7 +311,7 @@ fn local_mode_pins_the_crossed_border_and_keeps_the_object_continuous_with(
     let (lo, hi) = mesh.bounding_box().unwrap();
     // the shape surface covers only the half x < −0.02 (the head side)
     let shape = BSplineSurface::planar(
-        &Frame::WORLD,
+        &LatticeFrame::WORLD,
         [3, 3],
         [8, 6],
         [lo.x - 0.01, lo.z - 0.01],
@@ -320,7 +320,7 @@ fn local_mode_pins_the_crossed_border_and_keeps_the_object_continuous_with(
     )
     .unwrap();
     let height = BSplineSurface::planar(
-        &Frame::WORLD,
+        &LatticeFrame::WORLD,
         [3, 3],
         [8, 6],
         [lo.x - 0.01, lo.z - 0.01],
@@ -331,13 +331,13 @@ fn local_mode_pins_the_crossed_border_and_keeps_the_object_continuous_with(
     let mut ffd = Ffd::attach(
         &mesh,
         Vertices::All,
-        Frame::WORLD,
+        LatticeFrame::WORLD,
         shape,
         height,
         AttachOptions::default(),
     )
     .unwrap();
-    assert_eq!(ffd.mode(), Mode::Local);
+    assert_eq!(ffd.reach(), FfdReach::Local);
     assert_eq!(ffd.crossed_borders(), [false, true, false, false]);
     assert!(ffd.attached() > 1000 && ffd.attached() < mesh.n_vertices());
     for j in 0..6 {
@@ -366,23 +366,21 @@ fn local_mode_pins_the_crossed_border_and_keeps_the_object_continuous_with(
     assert!(largest > 0.02);
     // continuity: with the border pinned, the displacement of attached vertices tends
     // to zero at the border (linearly in the distance 1 − u); without, it jumps there
-    let free = AttachOptions {
-        shape_layers: 0,
-        height_layers: 0,
-        ..AttachOptions::default()
-    };
+    let free = AttachOptions::default()
+        .with_shape_layers(0)
+        .with_height_layers(0);
     let mut loose_mesh = load("stanford-bunny.obj");
     let (rest_shape, rest_height) = ffd.rest();
     let mut loose = Ffd::attach(
         &loose_mesh,
         Vertices::All,
-        Frame::WORLD,
+        LatticeFrame::WORLD,
         rest_shape.clone(),
         rest_height.clone(),
         free,
     )
     .unwrap();
-    assert_eq!(loose.mode(), Mode::Local);
+    assert_eq!(loose.reach(), FfdReach::Local);
     edit(&mut loose);
     loose.deform(&mut loose_mesh).unwrap();
     let near_border = |f: &Ffd, m: &Mesh, delta: f64| {
@@ -427,12 +425,12 @@ fn errors_are_typed_and_change_nothing_with(load: &dyn Fn(&str) -> Mesh) {
     let mut other_mesh = other.clone();
     assert!(matches!(
         ffd.deform(&mut other_mesh),
-        Err(EditError::Stale(_))
+        Err(DeformError::Stale(_))
     ));
     assert_eq!(other_mesh.positions(), other.positions());
     // a shape surface far to the side: every vertex projects onto its border
     let far = BSplineSurface::planar(
-        &Frame::WORLD,
+        &LatticeFrame::WORLD,
         [1, 1],
         [2, 2],
         [10.0, 10.0],
@@ -441,7 +439,7 @@ fn errors_are_typed_and_change_nothing_with(load: &dyn Fn(&str) -> Mesh) {
     )
     .unwrap();
     let h = BSplineSurface::planar(
-        &Frame::WORLD,
+        &LatticeFrame::WORLD,
         [1, 1],
         [2, 2],
         [10.0, 10.0],
@@ -453,16 +451,16 @@ fn errors_are_typed_and_change_nothing_with(load: &dyn Fn(&str) -> Mesh) {
         Ffd::attach(
             &mesh,
             Vertices::All,
-            Frame::WORLD,
+            LatticeFrame::WORLD,
             far,
             h,
             AttachOptions::default()
         ),
-        Err(EditError::NothingAttached)
+        Err(DeformError::NothingAttached)
     ));
     assert!(matches!(
-        Frame::new(DVec3::ZERO, DVec3::Y, DVec3::Y),
-        Err(EditError::DegenerateDirection { .. })
+        LatticeFrame::new(DVec3::ZERO, DVec3::Y, DVec3::Y),
+        Err(DeformError::DegenerateDirection { .. })
     ));
     let mut ffd = ffd;
     assert!(ffd.taper(-1.0, 1.0).is_err());

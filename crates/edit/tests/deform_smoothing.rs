@@ -4,9 +4,9 @@
 mod deform_common;
 
 use deform_common::{bit_identical, volume};
-use edit::selection::Vertices;
-use edit::smoothing::{taubin, Smoother, TaubinOptions, Weights};
-use edit::submesh::SubMesh;
+use edit::deform::SubMesh;
+use edit::deform::{taubin, Smoother, SmoothingWeights, TaubinOptions};
+use edit::Vertices;
 use glam::DVec3;
 use halfedge::generators;
 use rand::{Rng, SeedableRng};
@@ -24,7 +24,7 @@ fn noisy_sphere(level: usize, noise: f64) -> halfedge::Mesh {
 
 #[test]
 fn taubin_keeps_sphere_volume_where_laplacian_shrinks_it() {
-    for weights in [Weights::Uniform, Weights::Cotangent] {
+    for weights in [SmoothingWeights::Uniform, SmoothingWeights::Cotangent] {
         let original = noisy_sphere(4, 0.02);
         let v0 = volume(&original);
         let iterations = 50;
@@ -79,11 +79,7 @@ fn identity_parameters_leave_positions_bit_identical_on_real_meshes() {
 fn identity_parameters_leave_positions_bit_identical_with(load: &dyn Fn(&str) -> halfedge::Mesh) {
     let mut mesh = load("stanford-bunny.obj");
     let before = mesh.positions().to_vec();
-    let zero = TaubinOptions {
-        lambda: 0.0,
-        mu: 0.0,
-        ..TaubinOptions::default()
-    };
+    let zero = TaubinOptions::default().with_lambda(0.0).with_mu(0.0);
     taubin(&mut mesh, Vertices::All, &zero, 5).unwrap();
     taubin(&mut mesh, Vertices::All, &TaubinOptions::default(), 0).unwrap();
     assert!(bit_identical(&before, mesh.positions()));
@@ -116,7 +112,7 @@ fn submesh_smoothing_moves_only_the_submesh_and_its_collar_with(
     for &i in &collar {
         region[i as usize] = true;
     }
-    let mut s = Smoother::for_submesh(&mesh, &sub, 1, Weights::Cotangent, true).unwrap();
+    let mut s = Smoother::for_submesh(&mesh, &sub, 1, SmoothingWeights::Cotangent, true).unwrap();
     s.taubin(&mut mesh, 0.33, -0.34, 10).unwrap();
     let mut moved = 0;
     for (i, (a, b)) in before.iter().zip(mesh.positions()).enumerate() {
@@ -135,10 +131,7 @@ fn whole_mesh_with_free_boundary_moves_boundary_vertices() {
     let mut mesh = generators::grid(6, 6, 1.0, 1.0);
     let corner = mesh.vertex_at(0).unwrap();
     mesh.set_position(corner, DVec3::new(0.0, 0.0, 0.3));
-    let options = TaubinOptions {
-        fix_boundary: false,
-        ..TaubinOptions::default()
-    };
+    let options = TaubinOptions::default().with_fix_boundary(false);
     taubin(&mut mesh, Vertices::All, &options, 3).unwrap();
     assert!(mesh.position(corner).z < 0.3);
 }

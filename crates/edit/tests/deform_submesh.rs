@@ -4,7 +4,7 @@
 mod deform_common;
 
 use deform_common::{bit_identical, bunny_ear, bunny_head, max_distance};
-use edit::submesh::{Axis, Edit, Propagation, SubMesh, Variation};
+use edit::deform::{Axis, Propagation, SubMesh, SubmeshEdit, Variation};
 use glam::DVec3;
 use halfedge::{generators, Mesh};
 
@@ -28,28 +28,28 @@ fn grid_disk() -> (Mesh, SubMesh) {
     (mesh, sub)
 }
 
-fn all_edits(mesh: &Mesh, sub: &SubMesh) -> Vec<Edit> {
+fn all_edits(mesh: &Mesh, sub: &SubMesh) -> Vec<SubmeshEdit> {
     let axis = sub.axis(mesh).unwrap();
     let (lo, hi) = sub.axial_extent(mesh, &axis).unwrap();
     vec![
-        Edit::Pull {
+        SubmeshEdit::Pull {
             offset: DVec3::new(0.5, -0.2, 1.0),
         },
-        Edit::Scale {
+        SubmeshEdit::Scale {
             centre: DVec3::new(15.0, 15.0, 0.0),
             factor: 1.4,
         },
-        Edit::Rotate {
+        SubmeshEdit::Rotate {
             axis: Axis::new(DVec3::new(15.0, 15.0, 0.0), DVec3::new(0.2, 1.0, 0.3)).unwrap(),
             angle: 0.3,
             bounded: false,
         },
-        Edit::Taper {
+        SubmeshEdit::Taper {
             axis: Some(axis),
             factor: 1.5,
             variation: Variation::Uniform,
         },
-        Edit::Twist {
+        SubmeshEdit::Twist {
             axis: Some(Axis::new(axis.point(), DVec3::new(1.0, 0.0, 0.2)).unwrap()),
             angle: 0.4,
             variation: Variation::Along {
@@ -81,34 +81,34 @@ fn identity_edits_leave_positions_bit_identical_with(load: &dyn Fn(&str) -> Mesh
     let before = mesh.positions().to_vec();
     let axis = sub.axis(&mesh).unwrap();
     let identities = [
-        Edit::Pull {
+        SubmeshEdit::Pull {
             offset: DVec3::ZERO,
         },
-        Edit::Scale {
+        SubmeshEdit::Scale {
             centre: DVec3::new(0.1, 0.2, 0.3),
             factor: 1.0,
         },
-        Edit::Rotate {
+        SubmeshEdit::Rotate {
             axis,
             angle: 0.0,
             bounded: true,
         },
-        Edit::Rotate {
+        SubmeshEdit::Rotate {
             axis,
             angle: 0.0,
             bounded: false,
         },
-        Edit::Taper {
+        SubmeshEdit::Taper {
             axis: None,
             factor: 1.0,
             variation: Variation::Levels(None),
         },
-        Edit::Taper {
+        SubmeshEdit::Taper {
             axis: None,
             factor: 1.0,
             variation: Variation::Uniform,
         },
-        Edit::Twist {
+        SubmeshEdit::Twist {
             axis: None,
             angle: 0.0,
             variation: Variation::Along {
@@ -190,8 +190,12 @@ fn propagation_stops_after_n_collars_with_monotone_strength() {
     // collar is constant within it and decreases with k)
     let offset = DVec3::new(0.0, 0.0, 2.0);
     let mut mesh = mesh0.clone();
-    sub.apply(&mut mesh, &Edit::Pull { offset }, Propagation::linear(n))
-        .unwrap();
+    sub.apply(
+        &mut mesh,
+        &SubmeshEdit::Pull { offset },
+        Propagation::linear(n),
+    )
+    .unwrap();
     let mut previous = offset.length();
     for collar in &collars[..n] {
         let d: Vec<f64> = collar
@@ -208,7 +212,7 @@ fn propagation_stops_after_n_collars_with_monotone_strength() {
     let mut mesh = mesh0.clone();
     sub.apply(
         &mut mesh,
-        &Edit::Scale {
+        &SubmeshEdit::Scale {
             centre,
             factor: 2.0,
         },
@@ -292,7 +296,7 @@ fn bunny_ear_scaled_with_and_without_propagation_with(load: &dyn Fn(&str) -> Mes
     let mut mesh = mesh0.clone();
     sub.apply(
         &mut mesh,
-        &Edit::Scale { centre, factor },
+        &SubmeshEdit::Scale { centre, factor },
         Propagation::NONE,
     )
     .unwrap();
@@ -316,7 +320,7 @@ fn bunny_ear_scaled_with_and_without_propagation_with(load: &dyn Fn(&str) -> Mes
     let mut mesh = mesh0.clone();
     sub.apply(
         &mut mesh,
-        &Edit::Scale { centre, factor },
+        &SubmeshEdit::Scale { centre, factor },
         Propagation::linear(4),
     )
     .unwrap();
@@ -365,7 +369,7 @@ fn bunny_ear_rotated_about_a_vertex_normal_and_bounded_by_the_frontier_plane_wit
     let mut mesh = mesh0.clone();
     sub.apply(
         &mut mesh,
-        &Edit::Rotate {
+        &SubmeshEdit::Rotate {
             axis,
             angle: 0.5,
             bounded: false,
@@ -384,7 +388,7 @@ fn bunny_ear_rotated_about_a_vertex_normal_and_bounded_by_the_frontier_plane_wit
     // Fig. 11: a sideways rotation about an axis in the frontier plane pushes part of
     // the ear through that plane; bounded, no vertex crosses it.
     let sideways = Axis::new(plane.point, plane.normal.cross(DVec3::Z)).unwrap();
-    let rotate = |bounded| Edit::Rotate {
+    let rotate = |bounded| SubmeshEdit::Rotate {
         axis: sideways,
         angle: 1.2,
         bounded,
@@ -455,7 +459,7 @@ fn bunny_head_tapered_over_20_levels_with(load: &dyn Fn(&str) -> Mesh) {
     let mut mesh = mesh0.clone();
     sub.apply(
         &mut mesh,
-        &Edit::Taper {
+        &SubmeshEdit::Taper {
             axis: None,
             factor,
             variation: Variation::Levels(Some(levels)),
@@ -486,7 +490,7 @@ fn bunny_head_tapered_over_20_levels_with(load: &dyn Fn(&str) -> Mesh) {
     // tapering back with 1/factor restores
     sub.apply(
         &mut mesh,
-        &Edit::Taper {
+        &SubmeshEdit::Taper {
             axis: None,
             factor: 1.0 / factor,
             variation: Variation::Levels(Some(levels)),
@@ -520,7 +524,7 @@ fn bunny_ear_twisted_over_10_levels_and_back_with(load: &dyn Fn(&str) -> Mesh) {
     assert!(sub.max_level() > 10);
     let axis = sub.axis(&mesh0).unwrap();
     let angle = 1.0;
-    let twist = Edit::Twist {
+    let twist = SubmeshEdit::Twist {
         axis: None,
         angle,
         variation: Variation::Levels(Some(10)),
@@ -549,7 +553,7 @@ fn bunny_ear_twisted_over_10_levels_and_back_with(load: &dyn Fn(&str) -> Mesh) {
     }
     // the usual twist (all levels) differs, and θ then −θ restores to 1e-12
     let mut usual = mesh0.clone();
-    let full = Edit::Twist {
+    let full = SubmeshEdit::Twist {
         axis: None,
         angle,
         variation: Variation::Levels(None),

@@ -1,9 +1,9 @@
-//! The geodesic ball (`edit::distance::geodesic_ball`) on the unit sphere, where the
+//! The geodesic ball (`edit::bendels_klein::geodesic_ball`) on the unit sphere, where the
 //! surface distance is the great-circle distance, against the kernel's edge-path ball.
 
-use edit::distance::geodesic::sphere_distance;
-use edit::distance::geodesic_ball;
-use edit::EditError;
+use edit::bendels_klein::geodesic_ball;
+use edit::bendels_klein::sphere_distance;
+use edit::bendels_klein::BendelsKleinError;
 use glam::DVec3;
 use halfedge::generators;
 
@@ -57,11 +57,11 @@ fn several_seeds_and_bad_arguments() {
     assert_eq!(point.vertices(&sphere), vec![top]);
     assert!(matches!(
         geodesic_ball(&sphere, &[top], -1.0),
-        Err(EditError::InvalidParameter { .. })
+        Err(BendelsKleinError::InvalidParameter { .. })
     ));
     assert!(matches!(
         geodesic_ball(&sphere, &[top], f64::NAN),
-        Err(EditError::InvalidParameter { .. })
+        Err(BendelsKleinError::InvalidParameter { .. })
     ));
     let mut collapsed = sphere.clone();
     let e = collapsed.halfedges().next().unwrap();
@@ -69,6 +69,6 @@ fn several_seeds_and_bad_arguments() {
     collapsed.collapse(e).unwrap();
     assert!(matches!(
         geodesic_ball(&collapsed, &[gone], 0.5),
-        Err(EditError::InvalidVertex(_))
+        Err(BendelsKleinError::Mesh(halfedge::Error::InvalidHandle(_)))
     ));
 }

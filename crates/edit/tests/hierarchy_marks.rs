@@ -1,18 +1,41 @@
 //! Edits made at a coarse level of a hierarchy with the marks each method gives
-//! (`SubMesh::apply_in_hierarchy`, `EditingSession::hierarchy_marks`,
-//! `Ffd::hierarchy_marks`), refined back to the input: the part moved at full strength
+//! through the `HierarchyEdit` trait (`SubMesh::apply_with_marks`, `AreaSession`, `Ffd`,
+//! `BlendSession`), refined back to the input: the part moved at full strength
 //! is the exact image of its original fine vertices, and nothing outside the edit's
 //! region moves (issue 12, items 2, 3 and 6), on a generated bumpy sphere.
 
-use edit::area::{EditingArea, EditingSession, SessionOptions};
-use edit::ffd::{AttachOptions, Ffd, Frame};
-use edit::selection::Vertices;
-use edit::submesh::{Axis, Edit, Propagation, SubMesh, Variation};
-use edit::EditError;
+use edit::deform::{
+    AttachOptions, Axis, Ffd, LatticeFrame, Propagation, SubMesh, SubmeshEdit, Variation,
+};
+use edit::lee::{AreaSession, EditingArea, SessionOptions};
+use edit::{HierarchyEdit, HierarchyMarks, Vertices};
 use glam::{DAffine3, DQuat, DVec3};
 use halfedge::{generators, DetailMode, Hierarchy, HierarchyOptions, Mesh, VertexId};
 
 const LEVEL: usize = 3;
+
+/// Applies `edit` to the hierarchy's mesh and gives the hierarchy the edit's marks.
+fn apply_marked(
+    sub: &SubMesh,
+    h: &mut Hierarchy,
+    edit: &SubmeshEdit,
+    propagation: Propagation,
+) -> edit::Result<()> {
+    let applied = sub.apply_with_marks(h.mesh_mut(), edit, propagation)?;
+    applied.mark(h)
+}
+
+/// The marks `edit` would give, worked out on a copy of `mesh`.
+fn marks_of(
+    sub: &SubMesh,
+    mesh: &Mesh,
+    edit: &SubmeshEdit,
+    propagation: Propagation,
+) -> HierarchyMarks {
+    let mut copy = mesh.clone();
+    let applied = sub.apply_with_marks(&mut copy, edit, propagation).unwrap();
+    applied.hierarchy_marks(mesh).unwrap()
+}
 
 /// An icosphere with smooth bumps, so that its detail coefficients are not radial.
 fn bumpy_sphere() -> Mesh {
@@ -100,7 +123,7 @@ fn a_submesh_rotated_at_a_coarse_level_lands_exactly_and_nothing_else_moves() {
     let sub = SubMesh::from_vertices(h.mesh(), &cap(h.mesh(), 0.55)).unwrap();
     let inside = sub.mask().to_vec();
     let (point, angle) = (DVec3::new(0.0, 0.0, 0.55), 0.5);
-    let edit = Edit::Rotate {
+    let edit = SubmeshEdit::Rotate {
         axis: Axis::new(point, DVec3::X).unwrap(),
         angle,
         bounded: false,
@@ -110,8 +133,7 @@ fn a_submesh_rotated_at_a_coarse_level_lands_exactly_and_nothing_else_moves() {
         sub.apply(h.mesh_mut(), &edit, Propagation::NONE).unwrap();
         h
     };
-    sub.apply_in_hierarchy(&mut h, &edit, Propagation::NONE)
-        .unwrap();
+    apply_marked(&sub, &mut h, &edit, Propagation::NONE).unwrap();
     let map = rotation_about(point, DVec3::X, angle);
     let (worst, outside_moved, _) = refine_and_measure(&original, h, &inside, map, &inside);
     assert!(
@@ -127,11 +149,11 @@ fn a_submesh_rotated_at_a_coarse_level_lands_exactly_and_nothing_else_moves() {
 #[test]
 fn a_coarse_scale_lands_with_its_reseating_and_a_pull_lands_exactly() {
     for edit in [
-        Edit::Scale {
+        SubmeshEdit::Scale {
             centre: DVec3::new(0.1, 0.0, 0.8),
             factor: 0.7,
         },
-        Edit::Pull {
+        SubmeshEdit::Pull {
             offset: DVec3::new(0.05, -0.1, 0.2),
         },
     ] {
@@ -139,14 +161,11 @@ fn a_coarse_scale_lands_with_its_reseating_and_a_pull_lands_exactly() {
         let sub = SubMesh::from_vertices(h.mesh(), &cap(h.mesh(), 0.6)).unwrap();
         let inside = sub.mask().to_vec();
         let before = h.mesh().positions().to_vec();
-        let marks = sub
-            .hierarchy_marks(h.mesh(), &edit, Propagation::NONE)
-            .unwrap();
+        let marks = marks_of(&sub, h.mesh(), &edit, Propagation::NONE);
         assert_eq!(marks.affine_parts().len(), 1);
         assert_eq!(marks.affine_parts()[0].0.len(), sub.len());
         let map = marks.affine_parts()[0].1;
-        sub.apply_in_hierarchy(&mut h, &edit, Propagation::NONE)
-            .unwrap();
+        apply_marked(&sub, &mut h, &edit, Propagation::NONE).unwrap();
         // The map given to the hierarchy is what the edit did at the coarse level.
         for &i in sub.vertex_indices() {
             let (p, q) = (before[i as usize], h.mesh().positions()[i as usize]);
@@ -169,7 +188,7 @@ fn a_coarse_twist_along_its_axis_comes_back_as_the_same_twist_of_the_input() {
     let (original, mut h) = hierarchy(DetailMode::LocalFrame);
     let sub = SubMesh::from_vertices(h.mesh(), &cap(h.mesh(), 0.3)).unwrap();
     let axis = Axis::new(DVec3::ZERO, DVec3::Z).unwrap();
-    let edit = Edit::Twist {
+    let edit = SubmeshEdit::Twist {
         axis: Some(axis),
         angle: 1.0,
         variation: Variation::Along {
@@ -185,11 +204,11 @@ fn a_coarse_twist_along_its_axis_comes_back_as_the_same_twist_of_the_input() {
     );
     let inside = sub.mask().to_vec();
     let ancestors = h.ancestors(LEVEL).unwrap();
-    let marks = sub.hierarchy_marks(h.mesh(), &edit, propagation).unwrap();
+    let marks = marks_of(&sub, h.mesh(), &edit, propagation);
     assert!(marks.affine_parts().is_empty());
     assert_eq!(marks.field_parts().len(), 1);
     assert_eq!(marks.field_parts()[0].0.len(), sub.len());
-    sub.apply_in_hierarchy(&mut h, &edit, propagation).unwrap();
+    apply_marked(&sub, &mut h, &edit, propagation).unwrap();
     let (_, outside_moved, fine) =
         refine_and_measure(&original, h, &inside, DAffine3::IDENTITY, &region);
     assert_eq!(outside_moved, 0, "vertices beyond the collars moved");
@@ -234,7 +253,7 @@ fn a_coarse_lee_drag_lands_its_primitive_and_keeps_the_outside() {
             .iter()
             .map(|&v| coarse.vertex_index(v) as u32),
     );
-    let mut session = EditingSession::new(coarse, area, &SessionOptions::default()).unwrap();
+    let mut session = AreaSession::new(coarse, area, &SessionOptions::default()).unwrap();
     session.set_primitive(coarse, &[top]).unwrap();
     let drag = DVec3::new(0.05, 0.0, 0.25);
     session.drag(h.mesh_mut(), drag).unwrap();
@@ -264,7 +283,7 @@ fn a_coarse_ffd_moves_only_the_fine_vertices_of_its_footprint() {
     let (original, mut h) = hierarchy(DetailMode::LocalFrame);
     let coarse = h.mesh();
     let footprint: Vec<VertexId> = cap(coarse, 0.4);
-    let frame = Frame::new(DVec3::new(0.0, 0.0, 0.4), DVec3::X, DVec3::Z).unwrap();
+    let frame = LatticeFrame::new(DVec3::new(0.0, 0.0, 0.4), DVec3::X, DVec3::Z).unwrap();
     let mut ffd = Ffd::covering(
         coarse,
         Vertices::List(&footprint),
@@ -294,24 +313,23 @@ fn a_coarse_ffd_moves_only_the_fine_vertices_of_its_footprint() {
 fn marks_are_refused_on_another_level_and_ignored_with_translations() {
     let (_, mut h) = hierarchy(DetailMode::LocalFrame);
     let sub = SubMesh::from_vertices(h.mesh(), &cap(h.mesh(), 0.6)).unwrap();
-    let edit = Edit::Pull {
+    let edit = SubmeshEdit::Pull {
         offset: DVec3::new(0.0, 0.0, 0.1),
     };
-    let marks = sub
-        .hierarchy_marks(h.mesh(), &edit, Propagation::NONE)
+    let marks = marks_of(&sub, h.mesh(), &edit, Propagation::NONE);
+    // Applied to a clone of the hierarchy's mesh (an interactive application's scratch
+    // copy), the edit's marks fit the hierarchy.
+    let mut scratch = h.mesh().clone();
+    let applied = sub
+        .apply_with_marks(&mut scratch, &edit, Propagation::NONE)
         .unwrap();
-    // Made on a clone of the hierarchy's mesh (an interactive application's scratch
-    // copy), they fit the hierarchy.
-    let scratch = h.mesh().clone();
-    let from_scratch = sub
-        .hierarchy_marks(&scratch, &edit, Propagation::NONE)
-        .unwrap();
-    from_scratch.mark(&mut h.clone()).unwrap();
+    applied.mark(&mut h.clone()).unwrap();
     h.go_to_level(LEVEL + 1).unwrap();
-    assert!(matches!(marks.mark(&mut h), Err(EditError::Stale(_))));
+    assert!(matches!(marks.mark(&mut h), Err(halfedge::Error::Stale(_))));
+    assert!(matches!(applied.mark(&mut h), Err(e) if e.as_stale().is_some()));
     assert!(matches!(
-        sub.apply_in_hierarchy(&mut h, &edit, Propagation::NONE),
-        Err(EditError::Stale(_))
+        apply_marked(&sub, &mut h, &edit, Propagation::NONE),
+        Err(e) if e.as_stale().is_some()
     ));
 
     // The paper's translations: the edit is made, no mark is given, the refinement is
@@ -321,8 +339,7 @@ fn marks_are_refused_on_another_level_and_ignored_with_translations() {
     let mut plain = h.clone();
     sub.apply(plain.mesh_mut(), &edit, Propagation::NONE)
         .unwrap();
-    sub.apply_in_hierarchy(&mut h, &edit, Propagation::NONE)
-        .unwrap();
+    apply_marked(&sub, &mut h, &edit, Propagation::NONE).unwrap();
     plain.go_to_level(0).unwrap();
     h.go_to_level(0).unwrap();
     assert_eq!(h.mesh().positions(), plain.mesh().positions());
@@ -334,14 +351,12 @@ fn the_taper_map_given_to_the_hierarchy_is_the_edit_at_full_strength() {
     let sub = SubMesh::from_vertices(h.mesh(), &cap(h.mesh(), 0.2)).unwrap();
     let axis = Axis::new(DVec3::new(0.1, 0.0, 0.0), DVec3::new(0.2, 0.1, 1.0)).unwrap();
     let factor = 0.5;
-    let edit = Edit::Taper {
+    let edit = SubmeshEdit::Taper {
         axis: Some(axis),
         factor,
         variation: Variation::Uniform,
     };
-    let marks = sub
-        .hierarchy_marks(h.mesh(), &edit, Propagation::NONE)
-        .unwrap();
+    let marks = marks_of(&sub, h.mesh(), &edit, Propagation::NONE);
     let (part, map) = &marks.affine_parts()[0];
     assert_eq!(part.len(), sub.len());
     let d = axis.direction();
@@ -355,8 +370,8 @@ fn the_taper_map_given_to_the_hierarchy_is_the_edit_at_full_strength() {
 
 #[test]
 fn a_coarse_blend_marks_its_handle_and_moving_region_and_lands_the_handle() {
-    use edit::blend::{BlendOptions, BlendSession};
-    use edit::regions::{Regions, Role};
+    use edit::bendels_klein::{BlendOptions, BlendSession};
+    use edit::bendels_klein::{Regions, Role};
     let (original, mut h) = hierarchy(DetailMode::LocalFrame);
     let coarse = h.mesh();
     let handle = cap(coarse, 0.7);
@@ -377,7 +392,10 @@ fn a_coarse_blend_marks_its_handle_and_moving_region_and_lands_the_handle() {
     // Made for this level: a walk coarser makes them stale.
     let mut other = h.clone();
     other.go_to_level(LEVEL + 1).unwrap();
-    assert!(matches!(marks.mark(&mut other), Err(EditError::Stale(_))));
+    assert!(matches!(
+        marks.mark(&mut other),
+        Err(halfedge::Error::Stale(_))
+    ));
     marks.replace(&mut h).unwrap();
     let part = mask(
         h.mesh(),

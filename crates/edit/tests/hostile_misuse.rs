@@ -16,19 +16,19 @@
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::time::{Duration, Instant};
 
-use edit::area::{EditingArea, EditingSession, FrameKind, LocalFrames, SessionOptions};
-use edit::barr::{deform, Bend, Profile, Taper, Twist};
-use edit::blend::{BlendOptions, BlendSession, DistanceKind, RefineOptions};
-use edit::distance::{BorderGrid, FastMarching, QueryPoints, Source};
-use edit::ffd::{AttachOptions, BSplineSurface, Ffd, Frame};
-use edit::matrix::{log, scalar_power, AffinePower};
-use edit::mba::{ControlLattice, Mba};
-use edit::regions::Regions;
-use edit::selection::{Snapshot, Vertices};
-use edit::shape::{CurveOptions, ShapeCurve, ShapeFunction};
-use edit::smoothing::{taubin, Smoother, TaubinOptions, Weights};
-use edit::submesh::{Axis, Edit, Propagation, SubMesh, Variation};
-use edit::{EditError, Result};
+use edit::bendels_klein::affine_power::{log, scalar_power, AffinePower};
+use edit::bendels_klein::{
+    BendelsKleinError, BlendOptions, BlendSession, BorderGrid, CurveOptions, DistanceKind,
+    FastMarching, MarchSource, QueryPoints, RefineOptions, Regions, ShapeCurve, ShapeFunction,
+};
+use edit::deform::{
+    apply_deformer, taubin, AttachOptions, Axis, BSplineSurface, Bend, DeformError, Ffd,
+    LatticeFrame, Profile, Propagation, Smoother, SmoothingWeights, SubMesh, SubmeshEdit, Taper,
+    TaubinOptions, Twist, Variation,
+};
+use edit::lee::mba::{ControlLattice, Mba};
+use edit::lee::{AreaSession, EditingArea, FrameKind, LeeError, LocalFrames, SessionOptions};
+use edit::{Result, Snapshot, Vertices};
 use glam::{DMat4, DVec2, DVec3};
 use halfedge::{generators, Mesh, VertexId};
 
@@ -70,10 +70,14 @@ struct Case {
     run: Run,
 }
 
-fn case(name: impl Into<String>, run: impl Fn(&mut Mesh, &mut Cx) -> Result<()> + 'static) -> Case {
+/// A case whose run fails with any of the edit crate's errors.
+fn case<E: Into<edit::Error>>(
+    name: impl Into<String>,
+    run: impl Fn(&mut Mesh, &mut Cx) -> std::result::Result<(), E> + 'static,
+) -> Case {
     Case {
         name: name.into(),
-        run: Box::new(run),
+        run: Box::new(move |m, cx| run(m, cx).map_err(Into::into)),
     }
 }
 
@@ -87,7 +91,11 @@ struct Cx {
 }
 
 impl Cx {
-    fn edit<T>(&mut self, m: &mut Mesh, f: impl FnOnce(&mut Mesh) -> Result<T>) -> Result<T> {
+    fn edit<T, E: std::fmt::Display>(
+        &mut self,
+        m: &mut Mesh,
+        f: impl FnOnce(&mut Mesh) -> std::result::Result<T, E>,
+    ) -> std::result::Result<T, E> {
         let before = state(m);
         let finite_before: Vec<bool> = m.positions().iter().map(|p| p.is_finite()).collect();
         let result = f(m);
@@ -154,17 +162,17 @@ fn cap_mask(mesh: &Mesh, h: f64) -> halfedge::VertexData<bool> {
     halfedge::VertexData::from_fn(mesh, false, |v| mesh.position(v).z > h)
 }
 
-fn area(mesh: &Mesh) -> Result<EditingArea> {
+fn area(mesh: &Mesh) -> Result<EditingArea, LeeError> {
     EditingArea::disk_around(mesh, top(mesh), 60)
 }
 
-fn session(mesh: &Mesh, options: &SessionOptions) -> Result<EditingSession> {
-    let mut s = EditingSession::new(mesh, area(mesh)?, options)?;
+fn session(mesh: &Mesh, options: &SessionOptions) -> Result<AreaSession, LeeError> {
+    let mut s = AreaSession::new(mesh, area(mesh)?, options)?;
     s.set_primitive(mesh, &[top(mesh)])?;
     Ok(s)
 }
 
-fn regions(mesh: &Mesh) -> Result<Regions> {
+fn regions(mesh: &Mesh) -> Result<Regions, BendelsKleinError> {
     let handle: Vec<VertexId> = mesh
         .vertices()
         .filter(|&v| mesh.position(v).z > 0.8)
@@ -176,23 +184,20 @@ fn regions(mesh: &Mesh) -> Result<Regions> {
     Regions::from_sets(mesh, &handle, &fixed)
 }
 
-fn blend(mesh: &Mesh, distance: DistanceKind) -> Result<BlendSession> {
+fn blend(mesh: &Mesh, distance: DistanceKind) -> Result<BlendSession, BendelsKleinError> {
     BlendSession::new(
         mesh,
         regions(mesh)?,
-        BlendOptions {
-            distance,
-            ..BlendOptions::default()
-        },
+        BlendOptions::default().with_distance(distance),
     )
 }
 
-fn submesh(mesh: &Mesh) -> Result<SubMesh> {
+fn submesh(mesh: &Mesh) -> Result<SubMesh, DeformError> {
     SubMesh::from_mask(mesh, &cap_mask(mesh, 0.3))
 }
 
-fn ffd(mesh: &Mesh) -> Result<Ffd> {
-    let frame = Frame::new(DVec3::ZERO, DVec3::X, DVec3::Z)?;
+fn ffd(mesh: &Mesh) -> Result<Ffd, DeformError> {
+    let frame = LatticeFrame::new(DVec3::ZERO, DVec3::X, DVec3::Z)?;
     Ffd::covering(
         mesh,
         Vertices::All,
@@ -219,10 +224,7 @@ fn cases() -> Vec<Case> {
             EditingArea::disk_around(m, top(m), n).map(drop)
         }));
         cases.push(case(format!("session levels Some({n})"), move |m, cx| {
-            let options = SessionOptions {
-                levels: Some(n),
-                ..SessionOptions::default()
-            };
+            let options = SessionOptions::default().with_levels(n);
             let mut s = session(m, &options)?;
             cx.edit(m, |m| s.drag(m, DVec3::new(0.0, 0.0, 0.1)))
         }));
@@ -234,10 +236,7 @@ fn cases() -> Vec<Case> {
         cases.push(case(
             format!("session parallel_threshold {n}"),
             move |m, cx| {
-                let options = SessionOptions {
-                    parallel_threshold: n,
-                    ..SessionOptions::default()
-                };
+                let options = SessionOptions::default().with_parallel_threshold(n);
                 cx.edit(m, |m| session(m, &options)?.drag(m, DVec3::Z))
             },
         ));
@@ -246,10 +245,7 @@ fn cases() -> Vec<Case> {
         cases.push(case(
             format!("session levels Some({level}) drag"),
             move |m, cx| {
-                let options = SessionOptions {
-                    levels: Some(level),
-                    ..SessionOptions::default()
-                };
+                let options = SessionOptions::default().with_levels(level);
                 cx.edit(m, |m| {
                     session(m, &options)?.drag(m, DVec3::new(0.0, 0.0, 0.1))
                 })
@@ -271,23 +267,17 @@ fn cases() -> Vec<Case> {
         cases.push(case(
             format!("session normal frames x_axis {d}"),
             move |m, cx| {
-                let options = SessionOptions {
-                    frames: FrameKind::Normal {
-                        seed: None,
-                        x_axis: Some(d),
-                    },
-                    ..SessionOptions::default()
-                };
+                let options = SessionOptions::default().with_frames(FrameKind::Normal {
+                    seed: None,
+                    x_axis: Some(d),
+                });
                 cx.edit(m, |m| session(m, &options)?.drag(m, DVec3::Z))
             },
         ));
     }
     for &x in &numbers {
         cases.push(case(format!("session scale {x}"), move |m, cx| {
-            let options = SessionOptions {
-                scale: x,
-                ..SessionOptions::default()
-            };
+            let options = SessionOptions::default().with_scale(x);
             cx.edit(m, |m| session(m, &options)?.drag(m, DVec3::Z))
         }));
         cases.push(case(format!("session set_scale {x}"), move |m, cx| {
@@ -299,7 +289,7 @@ fn cases() -> Vec<Case> {
     cases.push(case(
         "session primitive: stale, empty, boundary",
         |m, cx| {
-            let mut s = EditingSession::new(m, area(m)?, &SessionOptions::default())?;
+            let mut s = AreaSession::new(m, area(m)?, &SessionOptions::default())?;
             assert!(s.set_primitive(m, &[stale_vertex()]).is_err());
             assert!(s.set_primitive(m, &[]).is_err());
             let boundary = s.area().boundary()[0];
@@ -317,7 +307,7 @@ fn cases() -> Vec<Case> {
     }));
     cases.push(case("area from stale picks and faces", |m, _cx| {
         let picks = [stale_vertex(), top(m), bottom(m)];
-        let a = EditingArea::from_picks(m, &picks, edit::area::AreaSide::Smaller);
+        let a = EditingArea::from_picks(m, &picks, edit::lee::AreaSide::Smaller);
         let faces = [generators::icosphere(4).faces().last().unwrap()];
         let b = EditingArea::from_faces(m, &faces);
         a.and(b).map(drop)
@@ -341,7 +331,7 @@ fn cases() -> Vec<Case> {
                 (f.frame(usize::MAX), d),
                 (glam::DMat3::IDENTITY, DVec3::ONE)
             );
-            Ok(())
+            Ok::<_, LeeError>(())
         },
     ));
     cases.push(case("area grown by foreign faces", |m, _cx| {
@@ -376,7 +366,7 @@ fn cases() -> Vec<Case> {
             let v = f.evaluate(DVec2::splat(0.4));
             assert!(v.is_finite(), "an Ok fit evaluates to {v}");
             assert!(f.evaluate_data_point(usize::MAX).is_none());
-            Ok(())
+            Ok::<_, LeeError>(())
         }));
         cases.push(case(format!("Mba domain {x}"), move |_, _| {
             let mba = Mba::new(DVec2::splat(-x), DVec2::splat(x), 6)?;
@@ -450,10 +440,7 @@ fn cases() -> Vec<Case> {
                     })?;
                     // (A budget of its own: the default, a million vertices, is legitimate
                     // work that takes seconds.)
-                    let options = RefineOptions {
-                        max_new_vertices: 20_000,
-                        ..RefineOptions::new(x)
-                    };
+                    let options = RefineOptions::new(x).with_max_new_vertices(20_000);
                     cx.edit(m, |m| s.refine(m, options)).map(drop)
                 },
             ));
@@ -466,10 +453,9 @@ fn cases() -> Vec<Case> {
                     cx.edit(m, |m| {
                         s.apply(m, DMat4::from_translation(DVec3::new(0.0, 0.0, 0.5)))
                     })?;
-                    let options = RefineOptions {
-                        max_edge_length: 0.05,
-                        max_new_vertices: n,
-                    };
+                    let options = RefineOptions::default()
+                        .with_max_edge_length(0.05)
+                        .with_max_new_vertices(n);
                     cx.edit(m, |m| s.refine(m, options)).map(drop)
                 },
             ));
@@ -487,7 +473,11 @@ fn cases() -> Vec<Case> {
             let v = top(m);
             assert!(Regions::from_sets(m, &[stale_vertex()], &[]).is_err());
             assert!(Regions::from_sets(m, &[v], &[v]).is_err());
-            assert!(Regions::from_roles(m, Vec::new()).is_err());
+            let foreign_roles = halfedge::VertexData::filled(
+                &generators::icosphere(1),
+                edit::bendels_klein::Role::Deformable,
+            );
+            assert!(Regions::from_roles(m, foreign_roles).is_err());
             assert!(Regions::from_picks(m, &[v], &[stale_vertex()]).is_err());
             Regions::from_loops(m, &[], &[]).map(drop)
         },
@@ -496,7 +486,7 @@ fn cases() -> Vec<Case> {
         cases.push(case(format!("scalar_power alpha {x}"), move |_, _| {
             let m = scalar_power(x, DMat4::from_scale(DVec3::splat(2.0)))?;
             assert!(m.to_cols_array().iter().all(|c| c.is_finite()), "{m}");
-            Ok(())
+            Ok::<_, edit::Error>(())
         }));
         cases.push(case(format!("log of scale {x}"), move |_, _| {
             let l = log(DMat4::from_scale(DVec3::splat(x)))?;
@@ -530,14 +520,16 @@ fn cases() -> Vec<Case> {
             let other = halfedge::Mesh::from_arrays(&positions, &triangles)?.0;
             assert!(matches!(
                 fm.distances(
-                    &[Source::point(0)],
+                    &[MarchSource::point(0)],
                     Some(&halfedge::VertexData::filled(&other, true))
                 ),
-                Err(EditError::Stale(_))
+                Err(BendelsKleinError::Stale(_))
             ));
             assert!(halfedge::VertexData::new(m, vec![true]).is_err());
-            assert!(fm.distances(&[Source::point(usize::MAX)], None).is_err());
-            let nan = Source {
+            assert!(fm
+                .distances(&[MarchSource::point(usize::MAX)], None)
+                .is_err());
+            let nan = MarchSource {
                 vertex: 0,
                 distance: f64::NAN,
                 radius: 0.0,
@@ -562,35 +554,35 @@ fn cases() -> Vec<Case> {
             let d = grid.distance(DVec3::splat(x));
             let q = QueryPoints::new(m.positions(), x);
             let _ = (d, grid.distances_to(&q));
-            Ok(())
+            Ok::<_, edit::Error>(())
         }));
     }
 
     // ---- sub-mesh edits ----
     for &x in &numbers {
         let edits = [
-            Edit::Pull {
+            SubmeshEdit::Pull {
                 offset: DVec3::splat(x),
             },
-            Edit::Scale {
+            SubmeshEdit::Scale {
                 centre: DVec3::ZERO,
                 factor: x,
             },
-            Edit::Scale {
+            SubmeshEdit::Scale {
                 centre: DVec3::splat(x),
                 factor: 2.0,
             },
-            Edit::Rotate {
+            SubmeshEdit::Rotate {
                 axis: Axis::new(DVec3::ZERO, DVec3::Z).unwrap(),
                 angle: x,
                 bounded: true,
             },
-            Edit::Taper {
+            SubmeshEdit::Taper {
                 axis: None,
                 factor: x,
                 variation: Variation::Along { start: 0.0, end: x },
             },
-            Edit::Twist {
+            SubmeshEdit::Twist {
                 axis: None,
                 angle: x,
                 variation: Variation::Levels(Some(usize::MAX)),
@@ -609,14 +601,14 @@ fn cases() -> Vec<Case> {
                         if let Some(inverse) = edit.inverse() {
                             let _ = cx.edit(m, |m| submesh(m)?.apply(m, &inverse, propagation));
                         }
-                        cx.edit(m, |m| snapshot.restore(m))
+                        cx.edit(m, |m| Ok::<_, DeformError>(snapshot.restore(m)?))
                     },
                 ));
             }
         }
         cases.push(case(format!("axis through {x}"), move |m, cx| {
             let axis = Axis::new(DVec3::splat(x), DVec3::new(x, 1.0, 0.0))?;
-            let edit = Edit::Twist {
+            let edit = SubmeshEdit::Twist {
                 axis: Some(axis),
                 angle: 1.0,
                 variation: Variation::Uniform,
@@ -633,7 +625,7 @@ fn cases() -> Vec<Case> {
             let foreign = halfedge::VertexData::filled(&generators::icosphere(1), true);
             assert!(matches!(
                 SubMesh::from_mask(m, &foreign),
-                Err(EditError::Stale(_))
+                Err(DeformError::Stale(_))
             ));
             assert!(SubMesh::from_vertices(m, &[stale_vertex()]).is_err());
             let s = submesh(m)?;
@@ -648,23 +640,23 @@ fn cases() -> Vec<Case> {
             format!("taper factor {x} and inverse"),
             move |m, cx| {
                 let t = Taper::linear(DVec3::ZERO, DVec3::Z, -1.0, 1.0, x)?;
-                cx.edit(m, |m| deform(m, &t, Vertices::All))?;
-                cx.edit(m, |m| deform(m, &t.inverse(), Vertices::All))
+                cx.edit(m, |m| apply_deformer(m, &t, Vertices::All))?;
+                cx.edit(m, |m| apply_deformer(m, &t.inverse(), Vertices::All))
             },
         ));
         cases.push(case(format!("global taper {x}"), move |m, cx| {
             let t = Taper::new(DVec3::ZERO, DVec3::Z, Profile::global(0.0, 1.0, 1.0, x)?)?;
-            cx.edit(m, |m| deform(m, &t, Vertices::All))
+            cx.edit(m, |m| apply_deformer(m, &t, Vertices::All))
         }));
         cases.push(case(format!("twist {x}"), move |m, cx| {
             let t = Twist::linear(DVec3::ZERO, DVec3::Z, -x, x, x)?;
-            deform(m, &t, Vertices::Mask(&cap_mask(m, 0.0)))?;
-            cx.edit(m, |m| deform(m, &t.inverse(), Vertices::All))
+            apply_deformer(m, &t, Vertices::Mask(&cap_mask(m, 0.0)))?;
+            cx.edit(m, |m| apply_deformer(m, &t.inverse(), Vertices::All))
         }));
         cases.push(case(format!("bend rate {x}"), move |m, cx| {
             let b = Bend::new(DVec3::ZERO, DVec3::X, DVec3::Z, x, Some((-x, x)))?;
-            cx.edit(m, |m| deform(m, &b, Vertices::All))?;
-            cx.edit(m, |m| deform(m, &b.inverse(), Vertices::All))
+            cx.edit(m, |m| apply_deformer(m, &b, Vertices::All))?;
+            cx.edit(m, |m| apply_deformer(m, &b.inverse(), Vertices::All))
         }));
         cases.push(case(format!("bend about {x}"), move |m, cx| {
             let b = Bend::new(
@@ -675,7 +667,7 @@ fn cases() -> Vec<Case> {
                 None,
             )?;
             let v = top(m);
-            cx.edit(m, |m| deform(m, &b, Vertices::List(&[v])))
+            cx.edit(m, |m| apply_deformer(m, &b, Vertices::List(&[v])))
         }));
     }
     cases.push(case("deform: wrong mask, stale list", |m, cx| {
@@ -685,27 +677,26 @@ fn cases() -> Vec<Case> {
         let other = Mesh::from_arrays(&positions, &triangles)?.0;
         let foreign = halfedge::VertexData::filled(&other, true);
         assert!(matches!(
-            cx.edit(m, |m| deform(m, &t, Vertices::Mask(&foreign))),
-            Err(EditError::Stale(_))
+            cx.edit(m, |m| apply_deformer(m, &t, Vertices::Mask(&foreign))),
+            Err(DeformError::Stale(_))
         ));
-        cx.edit(m, |m| deform(m, &t, Vertices::List(&[stale_vertex()])))
+        cx.edit(m, |m| {
+            apply_deformer(m, &t, Vertices::List(&[stale_vertex()]))
+        })
     }));
 
     // ---- smoothing ----
     for &x in &numbers {
         for &n in &[1usize, 100, 1 << 21, usize::MAX] {
             cases.push(case(format!("taubin lambda {x} x{n}"), move |m, cx| {
-                let options = TaubinOptions {
-                    lambda: x,
-                    ..TaubinOptions::default()
-                };
+                let options = TaubinOptions::default().with_lambda(x);
                 cx.edit(m, |m| taubin(m, Vertices::All, &options, n))
             }));
         }
         cases.push(case(
             format!("laplacian lambda {x}, cotangent"),
             move |m, cx| {
-                let mut s = Smoother::new(m, Vertices::All, Weights::Cotangent, false)?;
+                let mut s = Smoother::new(m, Vertices::All, SmoothingWeights::Cotangent, false)?;
                 cx.edit(m, |m| s.laplacian(m, x, 50))
             },
         ));
@@ -714,9 +705,15 @@ fn cases() -> Vec<Case> {
         "smoother of another mesh, submesh collars usize::MAX",
         |m, cx| {
             let other = generators::icosphere(1);
-            let mut s = Smoother::new(&other, Vertices::All, Weights::Uniform, true)?;
+            let mut s = Smoother::new(&other, Vertices::All, SmoothingWeights::Uniform, true)?;
             assert!(cx.edit(m, |m| s.taubin(m, 0.33, -0.34, 3)).is_err());
-            let mut s = Smoother::for_submesh(m, &submesh(m)?, usize::MAX, Weights::Uniform, true)?;
+            let mut s = Smoother::for_submesh(
+                m,
+                &submesh(m)?,
+                usize::MAX,
+                SmoothingWeights::Uniform,
+                true,
+            )?;
             cx.edit(m, |m| s.taubin(m, 0.33, -0.34, 3))
         },
     ));
@@ -727,7 +724,7 @@ fn cases() -> Vec<Case> {
             cases.push(case(
                 format!("BSplineSurface::planar degree {degree} count {n}"),
                 move |_, _| {
-                    let frame = Frame::new(DVec3::ZERO, DVec3::X, DVec3::Z)?;
+                    let frame = LatticeFrame::new(DVec3::ZERO, DVec3::X, DVec3::Z)?;
                     BSplineSurface::planar(&frame, [degree, 3], [n, n], [0.0, 0.0], [1.0, 1.0], 0.0)
                         .map(drop)
                 },
@@ -738,13 +735,11 @@ fn cases() -> Vec<Case> {
             move |_, _| BSplineSurface::new([1, 1], [n, n], vec![DVec3::ZERO; 4]).map(drop),
         ));
         cases.push(case(format!("ffd attach iterations {n}"), move |m, cx| {
-            let frame = Frame::new(DVec3::ZERO, DVec3::X, DVec3::Z)?;
-            let options = AttachOptions {
-                max_iterations: n.min(1 << 20),
-                shape_layers: n,
-                height_layers: n,
-                ..AttachOptions::default()
-            };
+            let frame = LatticeFrame::new(DVec3::ZERO, DVec3::X, DVec3::Z)?;
+            let options = AttachOptions::default()
+                .with_max_iterations(n.min(1 << 20))
+                .with_shape_layers(n)
+                .with_height_layers(n);
             let f = Ffd::covering(
                 m,
                 Vertices::All,
@@ -786,7 +781,7 @@ fn cases() -> Vec<Case> {
             },
         ));
         cases.push(case(format!("ffd covering margin {x}"), move |m, cx| {
-            let frame = Frame::new(DVec3::ZERO, DVec3::X, DVec3::Z)?;
+            let frame = LatticeFrame::new(DVec3::ZERO, DVec3::X, DVec3::Z)?;
             let f = Ffd::covering(
                 m,
                 Vertices::All,
@@ -799,7 +794,7 @@ fn cases() -> Vec<Case> {
             cx.edit(m, |m| f.deform(m))
         }));
         cases.push(case(format!("frame {x}"), move |m, cx| {
-            let frame = Frame::new(DVec3::splat(x), DVec3::new(x, 1.0, 0.0), DVec3::Z)?;
+            let frame = LatticeFrame::new(DVec3::splat(x), DVec3::new(x, 1.0, 0.0), DVec3::Z)?;
             let f = Ffd::covering(
                 m,
                 Vertices::All,
@@ -922,16 +917,16 @@ fn every_edit_entry_point_survives_hostile_arguments() {
 fn the_oracle_catches_broken_edits() {
     let mut m = generators::icosphere(1);
     let mut cx = Cx::default();
-    let _ = cx.edit(&mut m, |m| -> Result<()> {
+    let _ = cx.edit(&mut m, |m| -> Result<(), DeformError> {
         m.positions_mut()[0].x += 1.0;
-        Err(EditError::EmptySubMesh)
+        Err(DeformError::EmptySubMesh)
     });
     assert_eq!(cx.failures.len(), 1);
     let _ = cx.edit(&mut m, |m| {
         m.positions_mut()[1] = DVec3::NAN;
-        Ok(())
+        Ok::<_, DeformError>(())
     });
     assert_eq!(cx.failures.len(), 2, "{:?}", cx.failures);
-    let _ = cx.edit(&mut m, |_| Ok(()));
+    let _ = cx.edit(&mut m, |_| Ok::<_, DeformError>(()));
     assert_eq!(cx.failures.len(), 2);
 }

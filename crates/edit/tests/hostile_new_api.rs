@@ -5,11 +5,14 @@
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
-use edit::blend::{BlendOptions, BlendSession, RefineOptions};
-use edit::distance::geodesic_ball;
-use edit::image_edit::{test_pattern, ImageOptions, ImageSession, Mask, Raster};
-use edit::polyline::{CurveRegions, Polyline, PolylineOptions, PolylineSession, Span};
-use edit::regions::Regions;
+use edit::bendels_klein::geodesic_ball;
+use edit::bendels_klein::image::{test_pattern, ImageOptions, ImageSession, Mask, Raster};
+use edit::bendels_klein::polyline::{
+    CurveRegions, Polyline, PolylineOptions, PolylineSession, Span,
+};
+use edit::bendels_klein::Regions;
+use edit::bendels_klein::{BlendOptions, BlendSession, RefineOptions};
+use edit::HierarchyEdit;
 use glam::{DMat3, DMat4, DVec2, DVec3};
 use halfedge::bvh::{Bvh, Ray};
 use halfedge::{generators, Hierarchy, HierarchyOptions, Mesh, Selection, VertexId};
@@ -55,10 +58,8 @@ fn polyline_entry_points_survive_hostile_arguments() {
     if let Ok(r) = CurveRegions::from_spans(&rep, &[Span::single(5)], &[Span::single(0)]) {
         for opts in [
             PolylineOptions::default(),
-            PolylineOptions {
-                distance: edit::polyline::CurveDistance::Euclidean,
-                ..PolylineOptions::default()
-            },
+            PolylineOptions::default()
+                .with_distance(edit::bendels_klein::polyline::CurveDistance::Euclidean),
         ] {
             cases += 1;
             if let Ok(mut s) = survive("repeated", || PolylineSession::new(&rep, &r, opts)) {
@@ -106,10 +107,11 @@ fn polyline_entry_points_survive_hostile_arguments() {
     let mut s = polyline_session();
     let before = s.points().to_vec();
     let r = survive("refine unbounded", || {
-        s.refine(RefineOptions {
-            max_edge_length: 1e-300,
-            max_new_vertices: usize::MAX,
-        })
+        s.refine(
+            RefineOptions::default()
+                .with_max_edge_length(1e-300)
+                .with_max_new_vertices(usize::MAX),
+        )
     });
     assert!(r.is_err(), "an unbounded refinement was accepted: {r:?}");
     assert_eq!(s.points(), &before[..]);
@@ -222,10 +224,7 @@ fn image_entry_points_survive_hostile_arguments() {
     for step in [0, 1, u32::MAX] {
         cases += 1;
         let s = image_session();
-        let opts = ImageOptions {
-            grid_step: step,
-            ..ImageOptions::default()
-        };
+        let opts = ImageOptions::default().with_grid_step(step);
         let r = survive("grid step", || {
             ImageSession::new(
                 s.source().clone(),
@@ -391,16 +390,16 @@ fn blend_in_hierarchy_survives_hostile_arguments() {
     for budget in [usize::MAX, (1 << 22) + 1] {
         cases += 1;
         let (mut h, mut s) = build();
-        s.apply_in_hierarchy(&mut h, DMat4::from_translation(DVec3::Z))
+        s.apply(h.mesh_mut(), DMat4::from_translation(DVec3::Z))
             .unwrap();
+        s.mark(&mut h).unwrap();
         let before = state(&h);
         let r = survive("refine_in_hierarchy", || {
             s.refine_in_hierarchy(
                 &mut h,
-                RefineOptions {
-                    max_edge_length: 1e-300,
-                    max_new_vertices: budget,
-                },
+                RefineOptions::default()
+                    .with_max_edge_length(1e-300)
+                    .with_max_new_vertices(budget),
             )
         });
         assert!(
@@ -414,7 +413,11 @@ fn blend_in_hierarchy_survives_hostile_arguments() {
         let (mut h, mut s) = build();
         let before = state(&h);
         let a = DMat4::from_translation(DVec3::new(x, 0.0, 0.0));
-        match survive("apply_in_hierarchy", || s.apply_in_hierarchy(&mut h, a)) {
+        let apply_marked = |s: &mut BlendSession, h: &mut Hierarchy| -> edit::Result<()> {
+            s.apply(h.mesh_mut(), a)?;
+            s.mark(h)
+        };
+        match survive("apply and mark", || apply_marked(&mut s, &mut h)) {
             Ok(()) => {
                 assert!(
                     h.mesh().positions().iter().all(|p| p.is_finite()),
@@ -440,10 +443,9 @@ fn blend_in_hierarchy_survives_hostile_arguments() {
         if survive("refine hostile", || {
             s.refine_in_hierarchy(
                 &mut h,
-                RefineOptions {
-                    max_edge_length: x,
-                    max_new_vertices: 200,
-                },
+                RefineOptions::default()
+                    .with_max_edge_length(x)
+                    .with_max_new_vertices(200),
             )
         })
         .is_err()

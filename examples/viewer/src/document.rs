@@ -21,7 +21,7 @@
 //! hierarchy could not walk it); undo brings the hierarchy back. A change that the
 //! hierarchy can take (new vertices added at its input, `halfedge::Hierarchy::edit_input`,
 //! as the Bendels–Klein refinement does through
-//! `edit::blend::BlendSession::refine_in_hierarchy`) goes through
+//! `edit::bendels_klein::BlendSession::refine_in_hierarchy`) goes through
 //! [`Document::edit_hierarchy`] instead: the document keeps the hierarchy at its level,
 //! and undo gives back the hierarchy as it was.
 //!

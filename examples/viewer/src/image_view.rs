@@ -1,5 +1,5 @@
 //! The 2-D image view: a PNG edited with Bendels & Klein's method on pictures
-//! ([`edit::image_edit`]).
+//! ([`edit::bendels_klein::image`]).
 //!
 //! When the viewer opens a `.png`, the central area shows the picture (fitted to the
 //! panel) instead of the 3-D scene. The user draws a **handle** polygon (the part that
@@ -24,8 +24,8 @@
 
 use std::path::{Path, PathBuf};
 
-use edit::image_edit::{ImageEditError, ImageOptions, ImageSession, Mask, Raster};
-use edit::shape::ShapeFunction;
+use edit::bendels_klein::image::{ImageOptions, ImageSession, Mask, Raster};
+use edit::bendels_klein::{BendelsKleinError, ShapeFunction};
 use glam::{DMat3, DVec2};
 use three_d::egui;
 
@@ -45,7 +45,7 @@ pub fn is_png(path: &Path) -> bool {
 pub enum ImageViewError {
     /// The library refused (its own message).
     #[error(transparent)]
-    Edit(#[from] ImageEditError),
+    Edit(#[from] BendelsKleinError),
     /// A transform before any handle polygon.
     #[error("set the handle polygon first (draw it and close it, or `image_handle`)")]
     NoHandle,
@@ -208,7 +208,7 @@ impl ImageView {
     /// Reads the PNG at `path`.
     ///
     /// # Errors
-    /// The library's [`ImageEditError::Png`] (or a size error) when it cannot be read.
+    /// The library's [`BendelsKleinError::Png`] (or a size error) when it cannot be read.
     pub fn open(path: &Path) -> Result<Self, ImageViewError> {
         Ok(Self::new(Raster::read_png(path)?, path.to_owned()))
     }
@@ -340,7 +340,7 @@ impl ImageView {
     /// Sets the grid step (passed to the library as it is).
     ///
     /// # Errors
-    /// The library's [`ImageEditError::GridStep`] for 0.
+    /// The library's [`BendelsKleinError::GridStep`] for 0.
     pub fn set_grid_step(&mut self, grid_step: u32) -> Result<(), ImageViewError> {
         let state = EditState {
             grid_step,
@@ -411,7 +411,7 @@ impl ImageView {
     ///
     /// # Errors
     /// [`ImageViewError::NotPng`] for a name without the `.png` extension; the
-    /// library's [`ImageEditError::Png`].
+    /// library's [`BendelsKleinError::Png`].
     pub fn save(&self, path: &Path) -> Result<(), ImageViewError> {
         if !is_png(path) {
             return Err(ImageViewError::NotPng(path.to_owned()));
@@ -452,10 +452,9 @@ impl ImageView {
                 Some(polygon) => Mask::outside_polygon(w, h, polygon)?,
                 None => Mask::border(w, h, 1)?,
             };
-            let options = ImageOptions {
-                grid_step: state.grid_step,
-                shape: state.shape.function(),
-            };
+            let options = ImageOptions::default()
+                .with_grid_step(state.grid_step)
+                .with_shape(state.shape.function());
             fresh = Some(ImageSession::new(
                 self.source.clone(),
                 handle_mask,

@@ -43,7 +43,7 @@
 //! hierarchy build) holds the next action back until that work is done.
 //!
 //! The `image_*` actions fail when no image is open. Their values go to the library
-//! (`edit::image_edit`) unchecked: what it refuses (a polygon of fewer than 3 points,
+//! (`edit::bendels_klein::image`) unchecked: what it refuses (a polygon of fewer than 3 points,
 //! regions that overlap or touch, a scale of 0, a grid step of 0) fails the action with
 //! its message, and the edit stays as it was.
 //!

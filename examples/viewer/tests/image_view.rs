@@ -1,6 +1,6 @@
 //! The 2-D image view (`viewer::image_view`): its state driven directly (no window),
 //! and the viewer binary editing a PNG in scripted mode, both compared with
-//! `edit::image_edit` applied directly.
+//! `edit::bendels_klein::image` applied directly.
 //!
 //! The scripted tests need an X display, as those of `scripted.rs` (same skip rules:
 //! see `common::display_command`).
@@ -12,8 +12,8 @@ use std::process::Command;
 use std::time::Duration;
 
 use common::{display, display_command, image_stats, run_script, run_viewer, scratch_dir};
-use edit::image_edit::{test_pattern, ImageOptions, ImageSession, Mask, Raster};
-use edit::shape::ShapeFunction;
+use edit::bendels_klein::image::{test_pattern, ImageOptions, ImageSession, Mask, Raster};
+use edit::bendels_klein::ShapeFunction;
 use glam::{DMat3, DVec2};
 use viewer::image_view::{
     display_rgba, pivot, Fit, ImageUi, ImageView, ImageViewError, MouseTool, ShapePreset, Transform,
@@ -46,10 +46,7 @@ fn library(
         Some(p) => Mask::outside_polygon(w, h, p).unwrap(),
         None => Mask::border(w, h, 1).unwrap(),
     };
-    let options = ImageOptions {
-        shape,
-        ..ImageOptions::default()
-    };
+    let options = ImageOptions::default().with_shape(shape);
     let mut session = ImageSession::new(
         source.clone(),
         Mask::polygon(w, h, handle).unwrap(),

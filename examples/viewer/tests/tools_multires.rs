@@ -296,8 +296,8 @@ fn ffd_identity_drag_footprint_and_undo() {
     let dragged = read(&p("dragged.obj"));
     dragged.check().unwrap();
     let (lo, hi) = original.bounding_box().unwrap();
-    let unit = edit::ffd::BSplineSurface::planar(
-        &edit::ffd::Frame::WORLD,
+    let unit = edit::deform::BSplineSurface::planar(
+        &edit::deform::LatticeFrame::WORLD,
         [3, 3],
         [10, 10],
         [0.0, 0.0],
@@ -485,15 +485,15 @@ fn ffd_press_beyond_the_silhouette_grabs_a_control_point() {
     // The FFD as the tool attaches it (global, 6 × 6 bicubic): its corner control point
     // S(0, 0) lies 5 % beyond the corner of the sheet.
     let (lo, hi) = original.bounding_box().unwrap();
-    let frame = edit::ffd::Frame::new(lo, DVec3::X, DVec3::Z).unwrap();
-    let ffd = edit::ffd::Ffd::covering(
+    let frame = edit::deform::LatticeFrame::new(lo, DVec3::X, DVec3::Z).unwrap();
+    let ffd = edit::deform::Ffd::covering(
         &original,
-        edit::selection::Vertices::All,
+        edit::Vertices::All,
         frame,
         ([3, 3], [6, 6]),
         ([3, 3], [6, 6]),
         0.05,
-        edit::ffd::AttachOptions::default(),
+        edit::deform::AttachOptions::default(),
     )
     .unwrap();
     let corner = ffd.shape().control_point(0, 0).unwrap();

@@ -17,8 +17,8 @@ use common::{display_command, meshes_dir, read, scratch_dir};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use edit::area::{AreaSide, EditingArea};
-use edit::regions::{Regions, Role};
+use edit::bendels_klein::{Regions, Role};
+use edit::lee::{AreaSide, EditingArea};
 use glam::{DMat4, DVec3};
 use halfedge::{Mesh, VertexId};
 

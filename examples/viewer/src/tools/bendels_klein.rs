@@ -1,5 +1,5 @@
 //! *Bendels–Klein* — Bendels & Klein, *Image and 3D-object editing with precisely
-//! specified editing regions* (`edit::regions`, `edit::blend`): the user gives a
+//! specified editing regions* (`edit::bendels_klein`): the user gives a
 //! **handle** and a **fixed** region (Sec. 2), either by their borders — closed loops
 //! through clicked vertices, joined by shortest edge paths — or by painting vertices
 //! with a brush of radius `r`; every other vertex is deformable. The distance of each
@@ -20,8 +20,8 @@
 
 use std::time::Instant;
 
-use edit::blend::{BlendOptions, BlendSession, DistanceKind, RefineOptions};
-use edit::regions::{Regions, Role};
+use edit::bendels_klein::{BlendOptions, BlendSession, DistanceKind, RefineOptions, Regions, Role};
+use edit::HierarchyEdit;
 use glam::{DMat4, DVec3};
 use halfedge::{Mesh, VertexId};
 use three_d::egui;
@@ -172,14 +172,13 @@ impl BendelsKlein {
     }
 
     fn options(&self) -> BlendOptions {
-        BlendOptions {
-            distance: if self.geodesic {
+        BlendOptions::default()
+            .with_distance(if self.geodesic {
                 DistanceKind::Geodesic
             } else {
                 DistanceKind::Euclidean
-            },
-            shape: self.curve.model.shape(),
-        }
+            })
+            .with_shape(self.curve.model.shape())
     }
 
     /// Builds the regions from their source (when complete) and a session on the
@@ -363,7 +362,7 @@ impl BendelsKlein {
         copy_positions(ctx, label, self.scratch.mesh(), slots.into_iter());
         // At a coarse level of a hierarchy the handle's transform and the moved region are
         // marked: refining lands the handle exactly and keeps the fixed region still.
-        ctx.doc.mark_hierarchy(|h| session.mark_in_hierarchy(h))?;
+        ctx.doc.mark_hierarchy(|h| session.mark(h))?;
         ctx.info(format!(
             "Bendels–Klein: handle transform applied to {n} vertices (exp(α log A)) in {}",
             ms(t)

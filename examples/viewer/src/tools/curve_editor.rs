@@ -1,7 +1,7 @@
 //! A shape-function curve editor (Bendels & Klein, Sec. 5 and Fig. 8: "the shape
 //! function is interactively modified"): an egui canvas showing `f` on [0, 1]², with the
 //! presets *linear*, *C¹* (smoothstep) and *C²* (smootherstep), and a user curve through
-//! draggable control points (`edit::shape::ShapeCurve`, a piecewise cubic Hermite curve
+//! draggable control points (`edit::bendels_klein::ShapeCurve`, a piecewise cubic Hermite curve
 //! through (0, 0), the points and (1, 1), with flat ends).
 //!
 //! [`CurveModel`] is the model without GUI: it keeps the control points valid for
@@ -11,7 +11,7 @@
 //! model changes: drag a point to move it, click on empty space to add a point,
 //! right-click a point to remove it.
 
-use edit::shape::{CurveOptions, ShapeCurve, ShapeFunction};
+use edit::bendels_klein::{CurveOptions, ShapeCurve, ShapeFunction};
 use three_d::egui;
 
 /// Smallest gap in x between control points (and to the ends).
@@ -86,17 +86,16 @@ impl CurveModel {
         self.monotone
     }
 
-    /// The shape function for `edit::blend`.
+    /// The shape function for `edit::bendels_klein`.
     pub fn shape(&self) -> ShapeFunction {
         match self.preset {
             Preset::Linear => ShapeFunction::Linear,
             Preset::C1 => ShapeFunction::Smoothstep,
             Preset::C2 => ShapeFunction::Smootherstep,
             Preset::Curve => {
-                let options = CurveOptions {
-                    monotone: self.monotone,
-                    flat_ends: true,
-                };
+                let options = CurveOptions::default()
+                    .with_monotone(self.monotone)
+                    .with_flat_ends(true);
                 // The model keeps the points valid; a refusal would be a bug, shown as C¹.
                 ShapeCurve::new(&self.points, options)
                     .map_or(ShapeFunction::Smoothstep, ShapeFunction::Curve)
@@ -200,10 +199,9 @@ impl CurveModel {
     /// A message when the points are not valid for `ShapeCurve` (x strictly increasing
     /// in (0, 1), y in [0, 1], non-decreasing when monotone).
     pub fn set_points(&mut self, points: Vec<(f64, f64)>) -> Result<(), String> {
-        let options = CurveOptions {
-            monotone: self.monotone,
-            flat_ends: true,
-        };
+        let options = CurveOptions::default()
+            .with_monotone(self.monotone)
+            .with_flat_ends(true);
         ShapeCurve::new(&points, options).map_err(|e| e.to_string())?;
         self.points = points;
         self.preset = Preset::Curve;
@@ -448,10 +446,9 @@ mod tests {
             assert!(is_monotone(&model));
         }
         // The model never produced points ShapeCurve refuses.
-        let options = CurveOptions {
-            monotone: true,
-            flat_ends: true,
-        };
+        let options = CurveOptions::default()
+            .with_monotone(true)
+            .with_flat_ends(true);
         assert!(ShapeCurve::new(model.points(), options).is_ok());
     }
 

@@ -1,5 +1,5 @@
 //! *FFD* — the shape- and height-surface free-form deformation of Feng, Ma & Peng, *A new
-//! free-form deformation through the control of parametric surfaces* ([`edit::ffd`]).
+//! free-form deformation through the control of parametric surfaces* ([`edit::deform`]).
 //!
 //! *Attach* fits a placement frame to the bounding box of the mesh (or of the sub-mesh of
 //! the *Multiresolution* labels): `u` along the longest side, heights along the shortest,
@@ -19,8 +19,8 @@
 
 use std::cell::Cell;
 
-use edit::ffd::{AttachOptions, BSplineSurface, Ffd, Frame, Mode};
-use edit::selection::Vertices;
+use edit::deform::{AttachOptions, BSplineSurface, Ffd, FfdReach, LatticeFrame};
+use edit::{HierarchyEdit, Vertices};
 use glam::DVec3;
 use halfedge::Mesh;
 use three_d::egui;
@@ -206,7 +206,7 @@ impl FfdTool {
         let mut axes = [0usize, 1, 2];
         axes.sort_by(|&a, &b| extent[b].total_cmp(&extent[a]));
         let (long, short) = (axes[0], axes[2]);
-        let frame = Frame::new(lo, DVec3::AXES[long], DVec3::AXES[short])?;
+        let frame = LatticeFrame::new(lo, DVec3::AXES[long], DVec3::AXES[short])?;
         let margin = if self.local { -0.2 } else { 0.05 };
         let grid = self.grid;
         let ffd = Ffd::covering(
@@ -227,7 +227,7 @@ impl FfdTool {
             .max(1e-3 * extent[long])
             .max(f64::MIN_POSITIVE);
         let (s, h) = (ffd.shape().clone(), ffd.height().clone());
-        let mode = ffd.mode();
+        let mode = ffd.reach();
         let n = ffd.attached();
         self.state = Some(Attached {
             ffd,
@@ -241,8 +241,8 @@ impl FfdTool {
             "FFD attached: {} vertices ({}), S and H {}×{} bicubic",
             group(n),
             match mode {
-                Mode::Global => "global",
-                Mode::Local => "local: border control points fixed",
+                FfdReach::Global => "global",
+                FfdReach::Local => "local: border control points fixed",
             },
             grid[0],
             grid[1]
@@ -278,8 +278,7 @@ impl FfdTool {
         }
         // At a coarse level of a hierarchy the footprint is the edit's region: refining
         // moves its fine vertices with it and nothing else.
-        ctx.doc
-            .mark_hierarchy(|h| st.ffd.hierarchy_marks(h.mesh())?.mark(h))?;
+        ctx.doc.mark_hierarchy(|h| st.ffd.mark(h))?;
         Ok(moved)
     }
 
@@ -587,7 +586,7 @@ impl Tool for FfdTool {
                 ui.weak(format!(
                     "{} vertices attached ({})",
                     group(st.ffd.attached()),
-                    if st.ffd.mode() == Mode::Global {
+                    if st.ffd.reach() == FfdReach::Global {
                         "global"
                     } else {
                         "local"

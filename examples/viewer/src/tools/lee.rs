@@ -1,5 +1,5 @@
 //! *Lee area editing* — Lee 1999, *Interactive multiresolution editing of arbitrary
-//! meshes* (`edit::area`): the user specifies an **editing area** (§3.2) by clicking
+//! meshes* (`edit::lee`): the user specifies an **editing area** (§3.2) by clicking
 //! vertices that shortest edge paths join into a closed loop, or as a disk of radius `r`
 //! around a clicked vertex; the area is embedded once onto a rectangle by a harmonic map
 //! (§4). Then an **editing primitive** (one vertex or several, §3.3) is dragged in the
@@ -14,7 +14,8 @@
 
 use std::time::Instant;
 
-use edit::area::{AreaSide, EditingArea, EditingSession, FrameKind, SessionOptions};
+use edit::lee::{AreaSession, AreaSide, EditingArea, FrameKind, SessionOptions};
+use edit::HierarchyEdit;
 use halfedge::{FaceId, Mesh, VertexId};
 use three_d::egui;
 
@@ -84,7 +85,7 @@ pub struct LeeAreaEdit {
     boundary_picks: Vec<VertexId>,
     source: Option<AreaSource>,
     primitive: Vec<VertexId>,
-    session: Option<EditingSession>,
+    session: Option<AreaSession>,
     scratch: Scratch,
     /// The last drag can still be re-shaped by the scale / frames.
     edit_active: bool,
@@ -103,11 +104,9 @@ impl LeeAreaEdit {
     }
 
     fn options(&self) -> SessionOptions {
-        SessionOptions {
-            scale: self.scale,
-            frames: self.frame_kind(),
-            ..SessionOptions::default()
-        }
+        SessionOptions::default()
+            .with_scale(self.scale)
+            .with_frames(self.frame_kind())
     }
 
     fn frame_kind(&self) -> FrameKind {
@@ -123,7 +122,7 @@ impl LeeAreaEdit {
 
     /// The editing area, if one is set.
     pub fn area(&self) -> Option<&EditingArea> {
-        self.session.as_ref().map(EditingSession::area)
+        self.session.as_ref().map(AreaSession::area)
     }
 
     /// Builds the editing area from the current source and starts a session.
@@ -140,7 +139,7 @@ impl LeeAreaEdit {
             Some(AreaSource::Disk(seed)) => disk_area(mesh, seed, self.radius * diagonal(mesh))?,
         };
         let t_area = start.elapsed();
-        let session = EditingSession::new(mesh, area, &self.options())?;
+        let session = AreaSession::new(mesh, area, &self.options())?;
         let t_embed = start.elapsed() - t_area;
         let area = session.area();
         let message = format!(
@@ -592,8 +591,7 @@ impl Tool for LeeAreaEdit {
                         // At a coarse level of a hierarchy the drag is one edit: its area
                         // and the primitive's translation are marked, so that refining
                         // lands the primitive and keeps the outside still.
-                        ctx.doc
-                            .mark_hierarchy(|h| session.hierarchy_marks(h.mesh())?.mark(h))?;
+                        ctx.doc.mark_hierarchy(|h| session.mark(h))?;
                         let (n, total) = self.drag_updates;
                         ctx.info(format!(
                             "Lee drag: primitive of {} vertices moved by {:.4} over {} \

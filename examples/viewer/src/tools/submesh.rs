@@ -1,8 +1,8 @@
 //! *Sub-mesh edits* — the edits of *Interactive Editing of Multiresolution Meshes* §4.2–4.3
 //! on a sub-mesh, with `n` propagation levels (collars of faces beyond the frontier over
 //! which the edit fades), and Taubin's λ|μ smoothing (§4.2, Taubin 1995) of the sub-mesh
-//! and its collar or of the whole mesh. The library side is [`edit::submesh`] and
-//! [`edit::smoothing`].
+//! and its collar or of the whole mesh. The library side is [`edit::deform`] and
+//! [`edit::deform`].
 //!
 //! The sub-mesh is the *Multiresolution* tool's labels (the sub-mesh and its frontier),
 //! the vertices within a number of rings around a picked vertex, or the whole mesh.
@@ -15,8 +15,10 @@
 
 use std::collections::VecDeque;
 
-use edit::smoothing::{Smoother, Weights};
-use edit::submesh::{Axis, Edit, Falloff, Propagation, SubMesh, Variation};
+use edit::deform::{
+    Axis, Falloff, Propagation, Smoother, SmoothingWeights, SubMesh, SubmeshEdit, Variation,
+};
+use edit::HierarchyEdit;
 use glam::DVec3;
 use halfedge::{Mesh, VertexId};
 use three_d::egui;
@@ -190,7 +192,7 @@ impl SubMeshEdit {
     }
 
     /// The edit of the current operation (not pull, not smooth) on `sub`.
-    fn edit(&self, mesh: &Mesh, sub: &SubMesh) -> Result<Edit, ToolError> {
+    fn edit(&self, mesh: &Mesh, sub: &SubMesh) -> Result<SubmeshEdit, ToolError> {
         let positions = mesh.positions();
         let centroid = sub
             .vertex_indices()
@@ -217,7 +219,7 @@ impl SubMeshEdit {
             }
         };
         Ok(match self.operation {
-            Operation::Scale => Edit::Scale {
+            Operation::Scale => SubmeshEdit::Scale {
                 centre: centroid,
                 factor: self.scale,
             },
@@ -227,7 +229,7 @@ impl SubMeshEdit {
                 } else {
                     Axis::new(centroid, view.forward)?
                 };
-                Edit::Rotate {
+                SubmeshEdit::Rotate {
                     axis,
                     angle: self.angle.to_radians(),
                     bounded: false,
@@ -235,7 +237,7 @@ impl SubMeshEdit {
             }
             Operation::Taper => {
                 let (axis, variation) = barr(sub)?;
-                Edit::Taper {
+                SubmeshEdit::Taper {
                     axis,
                     factor: self.taper,
                     variation,
@@ -243,7 +245,7 @@ impl SubMeshEdit {
             }
             Operation::Twist => {
                 let (axis, variation) = barr(sub)?;
-                Edit::Twist {
+                SubmeshEdit::Twist {
                     axis,
                     angle: self.twist.to_radians(),
                     variation,
@@ -271,12 +273,12 @@ impl SubMeshEdit {
             }
             Operation::Smooth => {
                 let weights = if self.cotangent {
-                    Weights::Cotangent
+                    SmoothingWeights::Cotangent
                 } else {
-                    Weights::Uniform
+                    SmoothingWeights::Uniform
                 };
                 let mut smoother = if self.smooth_whole {
-                    Smoother::new(mesh, edit::selection::Vertices::All, weights, true)?
+                    Smoother::new(mesh, edit::Vertices::All, weights, true)?
                 } else {
                     let sub = self.submesh(mesh)?;
                     Smoother::for_submesh(mesh, &sub, self.smooth_collar, weights, true)?
@@ -305,8 +307,7 @@ impl SubMeshEdit {
             _ => {
                 let sub = self.submesh(mesh)?;
                 let edit = self.edit(mesh, &sub)?;
-                marks = Some(sub.hierarchy_marks(mesh, &edit, self.propagation())?);
-                sub.apply(&mut work, &edit, self.propagation())?;
+                marks = Some(sub.apply_with_marks(&mut work, &edit, self.propagation())?);
                 (sub.len(), format!("{op}, n = {}", self.levels))
             }
         };
@@ -646,14 +647,23 @@ impl Tool for SubMeshEdit {
                     return;
                 };
                 d.work.positions_mut().copy_from_slice(&d.base);
-                let edit = Edit::Pull {
+                let edit = SubmeshEdit::Pull {
                     offset: drag.delta(),
                 };
                 // The whole drag is one edit: its marks are given once, at its end.
-                let marks = (drag.phase == DragPhase::End)
-                    .then(|| d.sub.hierarchy_marks(&d.work, &edit, propagation));
-                match d.sub.apply(&mut d.work, &edit, propagation) {
-                    Ok(snapshot) => {
+                let applied = if drag.phase == DragPhase::End {
+                    d.sub
+                        .apply_with_marks(&mut d.work, &edit, propagation)
+                        .map(|applied| (applied.snapshot().clone(), Some(applied)))
+                } else {
+                    d.sub
+                        .apply(&mut d.work, &edit, propagation)
+                        .map(|snapshot| (snapshot, None))
+                };
+                let mut marks = None;
+                match applied {
+                    Ok((snapshot, applied)) => {
+                        marks = applied;
                         d.touched.extend_from_slice(snapshot.indices());
                         d.touched.sort_unstable();
                         d.touched.dedup();
@@ -664,7 +674,7 @@ impl Tool for SubMeshEdit {
                     }
                     Err(e) => ctx.error(format!("Sub-mesh pull: {e}")),
                 }
-                let marked = marks.map(|m| m.and_then(|m| ctx.doc.mark_hierarchy(|h| m.mark(h))));
+                let marked = marks.map(|m| ctx.doc.mark_hierarchy(|h| m.mark(h)));
                 if let Some(Err(e)) = marked {
                     self.drag = None;
                     ctx.error(format!("Sub-mesh pull: {e}"));
