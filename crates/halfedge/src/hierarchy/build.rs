@@ -21,11 +21,11 @@ use crate::mesh::Mesh;
 /// # Building
 impl Hierarchy {
     /// Builds the hierarchy of `mesh` with `options` (see [`HierarchyOptions`] and the
-    /// [module docs](self)); the mesh is left at the coarsest level.
+    /// [module docs](crate::hierarchy)); the mesh is left at the coarsest level.
     ///
     /// # Errors
-    /// [`Error::InvalidArgument`] for options out of range,
-    /// [`Error::NonFiniteCoordinate`] for a vertex position that is NaN or infinite.
+    /// [`Error::InvalidArgument`](crate::Error::InvalidArgument) for options out of range,
+    /// [`Error::NonFiniteCoordinate`](crate::Error::NonFiniteCoordinate) for a vertex position that is NaN or infinite.
     pub fn build(mesh: Mesh, options: &HierarchyOptions) -> Result<Self> {
         Self::build_with_progress(mesh, options, &mut |_| {})
     }
@@ -47,13 +47,13 @@ impl Hierarchy {
 
     /// [`build_with_progress`](Self::build_with_progress) whose callback may stop the
     /// build: returning [`ControlFlow::Break`] from a report ends it with
-    /// [`Error::Cancelled`] (the mesh, moved in, is dropped). Reports come at the end of
+    /// [`Error::Cancelled`](crate::Error::Cancelled) (the mesh, moved in, is dropped). Reports come at the end of
     /// every level and every 65,536 collapses, so a build stops within a fraction of a
     /// second of being asked to — what an interactive application needs for a Cancel
     /// button.
     ///
     /// # Errors
-    /// As [`build`](Self::build), and [`Error::Cancelled`].
+    /// As [`build`](Self::build), and [`Error::Cancelled`](crate::Error::Cancelled).
     pub fn build_cancellable(
         mesh: Mesh,
         options: &HierarchyOptions,

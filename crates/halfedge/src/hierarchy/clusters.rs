@@ -6,14 +6,14 @@ use super::Hierarchy;
 use crate::error::Result;
 
 impl Hierarchy {
-    /// For every vertex slot of the input mesh (indexed by [`Mesh::vertex_index`]), the
+    /// For every vertex slot of the input mesh (indexed by [`Mesh::vertex_index`](crate::Mesh::vertex_index)), the
     /// index of its *ancestor* at `level`: the vertex it is collapsed into there (itself
-    /// when it is live at `level`). Refinement with [`DetailMode::LocalFrame`] moves a
+    /// when it is live at `level`). Refinement with [`DetailMode::LocalFrame`](crate::hierarchy::DetailMode::LocalFrame) moves a
     /// fine vertex only when its ancestor at the edited level moved, so this map tells
     /// which fine vertices an edit's region covers.
     ///
     /// # Errors
-    /// [`Error::InvalidArgument`] for a level that does not exist.
+    /// [`Error::InvalidArgument`](crate::Error::InvalidArgument) for a level that does not exist.
     pub fn ancestors(&self, level: usize) -> Result<Vec<u32>> {
         let end = self.check_level(level)?;
         let mut map: Vec<u32> = (0..self.mesh.vertex_slots() as u32).collect();

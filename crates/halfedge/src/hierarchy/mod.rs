@@ -17,7 +17,7 @@
 //! - **Speed**: walking the records is bound by memory latency (each step touches a few
 //!   elements scattered over arrays larger than the caches), so every step prefetches
 //!   what the record a few steps ahead will touch (`crate::prefetch`); while the
-//!   hierarchy trusts its mesh (its [`Binding`](crate::Binding)), collapsing a record again
+//!   hierarchy trusts its mesh (its [`crate::Binding`]), collapsing a record again
 //!   skips the legality test the build already made, and splitting one skips its checks.
 //! - **Walking**: [`coarsen_to`](Hierarchy::coarsen_to) / [`refine_to`](Hierarchy::refine_to)
 //!   / [`go_to_level`](Hierarchy::go_to_level) level by level, or

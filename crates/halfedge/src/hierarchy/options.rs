@@ -6,7 +6,7 @@ use std::ops::ControlFlow;
 use super::detail::DetailMode;
 use crate::error::{Error, Result};
 
-/// The simplification method of a [`Hierarchy`].
+/// The simplification method of a [`Hierarchy`](crate::hierarchy::Hierarchy).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Method {
     /// The seed paper's rounds (section 3): planarity criterion, midpoint placement,
@@ -17,7 +17,7 @@ pub enum Method {
     Qem,
 }
 
-/// How to build a [`Hierarchy`]: the method, its parameters and the stop criteria.
+/// How to build a [`Hierarchy`](crate::hierarchy::Hierarchy): the method, its parameters and the stop criteria.
 ///
 /// Stop criteria (whichever comes first): the face count reaches
 /// [`target_faces`](Self::target_faces) (the last level may then be a partial round), the
@@ -34,7 +34,7 @@ pub enum Method {
 /// again at every stall up to 180° (no planarity test), then the flip bound likewise up
 /// to 90°. Every level above the first stall keeps the paper's criterion, the widened
 /// bounds are kept from the level they were first needed, and
-/// [`Hierarchy::build_outcome`] lists every widening. A build that still cannot reach
+/// [`Hierarchy::build_outcome`](crate::hierarchy::Hierarchy::build_outcome) lists every widening. A build that still cannot reach
 /// the target (every remaining collapse is topologically illegal, for instance separate
 /// small components, or `max_error` forbids it) says why there, with the count of edges
 /// each test refused in the last round. Without a face target the rounds stop at the
@@ -70,11 +70,11 @@ pub struct HierarchyOptions {
     /// Stop after a level that removed less than this fraction of its faces (default 1 %).
     pub min_level_reduction: f64,
     /// How splits place their vertices after an edit at a coarser level (module
-    /// [`detail`]): local frames with exact regions (the default) or the seed paper's
+    /// [`detail`](crate::hierarchy::detail)): local frames with exact regions (the default) or the seed paper's
     /// centroid translations.
     pub detail_mode: DetailMode,
     /// Both methods: when the mesh has sub-mesh labels (the vertex attribute
-    /// [`labels::LABEL_ATTRIBUTE`]), only edges whose two ends carry the same label
+    /// [`labels::LABEL_ATTRIBUTE`](crate::labels::LABEL_ATTRIBUTE)), only edges whose two ends carry the same label
     /// collapse, so no edge ever joins two different sub-meshes at any level and every
     /// fine vertex is collapsed into a vertex of its own sub-mesh (or of the frontier, for
     /// frontier vertices). Default true.
@@ -204,8 +204,8 @@ impl HierarchyOptions {
     }
 }
 
-/// Progress of a [`Hierarchy::build_with_progress`] or
-/// [`Hierarchy::build_cancellable`], reported at the end of every level
+/// Progress of a [`Hierarchy::build_with_progress`](crate::hierarchy::Hierarchy::build_with_progress) or
+/// [`Hierarchy::build_cancellable`](crate::hierarchy::Hierarchy::build_cancellable), reported at the end of every level
 /// and every 65,536 collapses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct BuildProgress {

@@ -67,7 +67,7 @@ impl Hierarchy {
     /// the input's positions now); affine marks are dropped. Call it after labels were
     /// defined or changed at any level; several sub-meshes (labels) can live in the mesh
     /// at once. Later builds of the same mesh respect the labels too
-    /// ([`HierarchyOptions::respect_labels`] is set).
+    /// ([`HierarchyOptions::respect_labels`](crate::hierarchy::HierarchyOptions::respect_labels) is set).
     ///
     /// # Errors
     /// [`Error::InvalidArgument`] when the mesh has no label attribute; the errors of

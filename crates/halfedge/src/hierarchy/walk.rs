@@ -378,7 +378,7 @@ impl Hierarchy {
     }
 
     /// One step finer: splits the last collapsed record, re-inserting `v0` (same handle)
-    /// and placing both endpoints by the detail coefficients (see [`DetailMode`]): at
+    /// and placing both endpoints by the detail coefficients (see [`DetailMode`](crate::hierarchy::DetailMode)): at
     /// their recorded positions when the survivor did not move, at the image of them by
     /// the survivor's affine mark when it has one, else by the local frame. Sub-mesh
     /// labels defined at a finer position are kept; otherwise `v0` is classified by the
