@@ -13,7 +13,8 @@ use std::sync::OnceLock;
 use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion};
-use halfedge::{Hierarchy, HierarchyOptions, Mesh};
+use halfedge::hierarchy::{Hierarchy, HierarchyOptions};
+use halfedge::Mesh;
 
 const TARGET_FACES: usize = 2000;
 
@@ -193,7 +194,7 @@ fn bench(c: &mut Criterion) {
     // The same edit carried by the paper's centroid translations, for comparison.
     let mut paper = Hierarchy::build(
         mesh.clone(),
-        &rounds_options().with_detail_mode(halfedge::DetailMode::Translation),
+        &rounds_options().with_detail_mode(halfedge::hierarchy::DetailMode::Translation),
     )
     .unwrap();
     for p in paper.mesh_mut().positions_mut() {

@@ -28,7 +28,9 @@ use std::hint::black_box;
 use std::time::{Duration, Instant};
 
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion, Throughput};
-use halfedge::{DVec3, Hierarchy, HierarchyOptions, Mesh};
+use glam::DVec3;
+use halfedge::hierarchy::{Hierarchy, HierarchyOptions};
+use halfedge::Mesh;
 
 /// Inputs with more faces than this show progress on every step.
 const PROGRESS_FACES: usize = 1_500_000;

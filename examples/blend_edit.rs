@@ -28,7 +28,8 @@ use edit::bendels_klein::Regions;
 use edit::bendels_klein::ShapeFunction;
 use edit::bendels_klein::{BlendOptions, BlendSession, DistanceKind, RefineOptions};
 use glam::{DMat4, DVec3};
-use halfedge::{Mesh, Selection, VertexId};
+use halfedge::selection::Selection;
+use halfedge::{Mesh, VertexId};
 
 #[derive(Parser, Debug)]
 #[command(

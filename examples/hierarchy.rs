@@ -18,7 +18,8 @@ use clap::{Parser, ValueEnum};
 
 #[path = "support/progress.rs"]
 mod progress;
-use halfedge::{generators, Hierarchy, HierarchyOptions, Mesh};
+use halfedge::hierarchy::{Hierarchy, HierarchyOptions};
+use halfedge::{generators, Mesh};
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
 enum MethodArg {

@@ -26,9 +26,9 @@ pub mod render;
 pub mod prelude {
     pub use glam::{self, DMat3, DMat4, DQuat, DVec2, DVec3};
     pub use halfedge::bvh::{Bvh, Ray};
-    pub use halfedge::{
-        FaceId, HalfedgeId, Hierarchy, HierarchyOptions, Mesh, Selection, VertexData, VertexId,
-    };
+    pub use halfedge::hierarchy::{Hierarchy, HierarchyOptions};
+    pub use halfedge::selection::Selection;
+    pub use halfedge::{FaceId, HalfedgeId, Mesh, VertexData, VertexId};
 
     pub use edit::bendels_klein::{
         BendelsKleinError, BlendOptions, BlendSession, DistanceKind, RefineOptions, Regions, Role,

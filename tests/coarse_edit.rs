@@ -14,7 +14,8 @@ mod common;
 mod measure;
 
 use glam::DVec3;
-use halfedge::{generators, DetailMode, Mesh, Method};
+use halfedge::hierarchy::{DetailMode, Method};
+use halfedge::{generators, Mesh};
 use measure::{EditKind, Options, Report};
 
 /// A smooth bump field on top of a surface point (a few waves).

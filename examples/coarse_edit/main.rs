@@ -124,7 +124,7 @@
 use std::path::PathBuf;
 
 use clap::{Parser, ValueEnum};
-use halfedge::{DetailMode, Method};
+use halfedge::hierarchy::{DetailMode, Method};
 
 mod measure;
 #[path = "../support/progress.rs"]

@@ -20,7 +20,8 @@ use edit::lee::{
 };
 use edit::{HierarchyEdit, HierarchyMarks, Vertices};
 use glam::{DAffine3, DMat3, DQuat, DVec3};
-use halfedge::{DetailMode, Hierarchy, HierarchyOptions, Mesh, Method, VertexData, VertexId};
+use halfedge::hierarchy::{DetailMode, Hierarchy, HierarchyOptions, Method};
+use halfedge::{Mesh, VertexData, VertexId};
 
 /// The edits the example measures.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

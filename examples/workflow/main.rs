@@ -63,7 +63,8 @@ use edit::deform::{Propagation, SubMesh, SubmeshEdit, Variation};
 use edit::lee::{AreaSession, EditingArea, SessionOptions};
 use edit::HierarchyEdit;
 use glam::{DMat4, DVec3};
-use halfedge::{BuildProgress, Hierarchy, HierarchyOptions, Mesh, VertexId};
+use halfedge::hierarchy::{BuildProgress, Hierarchy, HierarchyOptions};
+use halfedge::{Mesh, VertexId};
 use multires::render::{self, Camera, Panel};
 
 /// Command-line options.
@@ -504,7 +505,7 @@ fn skipped(step: &'static str, why: &str) -> Row {
 
 /// The sub-mesh cut off by a plane, with what the table and the notes say about it.
 struct Labelled {
-    attribute: halfedge::Attribute<VertexId, halfedge::Label>,
+    attribute: halfedge::Attribute<VertexId, halfedge::labels::Label>,
     sub: SubMesh,
     detail: String,
     note: Option<String>,

@@ -16,7 +16,8 @@
 //! [`Ffd`](crate::deform::Ffd).
 
 use glam::DAffine3;
-use halfedge::{Binding, DetailMode, Field, Hierarchy, Mesh, VertexId};
+use halfedge::hierarchy::{DetailMode, Field, Hierarchy};
+use halfedge::{Binding, Mesh, VertexId};
 
 use crate::error::Error;
 

@@ -23,7 +23,7 @@ pub enum Vertices<'a> {
     #[default]
     All,
     /// The live vertices whose entry is `true`: per-vertex data of the mesh acted on
-    /// (a [`halfedge::Selection::mask`], or [`VertexData::new`] over a `Vec<bool>`);
+    /// (a [`halfedge::selection::Selection::mask`], or [`VertexData::new`] over a `Vec<bool>`);
     /// data made for another mesh is refused as stale ([`halfedge::Stale`]).
     Mask(&'a VertexData<bool>),
     /// The listed vertices (duplicates are ignored).

@@ -5,7 +5,8 @@
 use edit::bendels_klein::{BlendOptions, BlendSession, RefineOptions, Regions};
 use edit::HierarchyEdit;
 use glam::{DMat4, DVec3};
-use halfedge::{generators, Hierarchy, HierarchyOptions, VertexId};
+use halfedge::hierarchy::{Hierarchy, HierarchyOptions};
+use halfedge::{generators, VertexId};
 
 #[test]
 fn refinement_at_a_coarse_level_composes_with_the_hierarchy() {

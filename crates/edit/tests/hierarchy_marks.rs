@@ -10,7 +10,8 @@ use edit::deform::{
 use edit::lee::{AreaSession, EditingArea, SessionOptions};
 use edit::{HierarchyEdit, HierarchyMarks, Vertices};
 use glam::{DAffine3, DQuat, DVec3};
-use halfedge::{generators, DetailMode, Hierarchy, HierarchyOptions, Mesh, VertexId};
+use halfedge::hierarchy::{DetailMode, Hierarchy, HierarchyOptions};
+use halfedge::{generators, Mesh, VertexId};
 
 const LEVEL: usize = 3;
 

@@ -15,7 +15,9 @@ use edit::bendels_klein::{BlendOptions, BlendSession, RefineOptions};
 use edit::HierarchyEdit;
 use glam::{DMat3, DMat4, DVec2, DVec3};
 use halfedge::bvh::{Bvh, Ray};
-use halfedge::{generators, Hierarchy, HierarchyOptions, Mesh, Selection, VertexId};
+use halfedge::hierarchy::{Hierarchy, HierarchyOptions};
+use halfedge::selection::Selection;
+use halfedge::{generators, Mesh, VertexId};
 
 /// Runs `f`, turning a panic into a failure message naming the case.
 fn survive<T>(name: &str, f: impl FnOnce() -> T) -> T {

@@ -17,7 +17,8 @@ use edit::deform::{
 use edit::lee::{AreaSession, EditingArea, SessionOptions};
 use edit::Vertices;
 use glam::{DMat4, DVec2, DVec3};
-use halfedge::{generators, Hierarchy, HierarchyOptions, Mesh, VertexData, VertexId};
+use halfedge::hierarchy::{Hierarchy, HierarchyOptions};
+use halfedge::{generators, Mesh, VertexData, VertexId};
 
 /// A hierarchy of a subdivided icosphere stretched along x, at level 2.
 fn hierarchy_at_2() -> Hierarchy {

@@ -33,7 +33,7 @@ use crate::mesh::Mesh;
 /// # Plain arrays
 impl Mesh {
     /// The live vertices' positions and the faces as triangles of indices into them
-    /// (see the [module docs](crate::arrays) for the numbering). Faces come in
+    /// (numbered as the file writers number: vertex `k` is the `k`-th live vertex in [`Mesh::vertices`] order). Faces come in
     /// [`faces`](Self::faces) order, each from its [`triangle`](Self::triangle) corner;
     /// isolated vertices are kept. Indices fit `u32` because vertex slots are 32-bit.
     pub fn to_arrays(&self) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {

@@ -1,19 +1,3 @@
-//! Typed per-element attributes that stay in step with the mesh.
-//!
-//! An attribute is a dense array with one value per element slot, created with a
-//! default value and grown with that default whenever the mesh creates elements.
-//! Collapses keep the values of removed elements (tombstones), so a vertex split brings
-//! back a vertex together with its attribute values.
-//!
-//! ```
-//! use halfedge::{generators, Mesh};
-//! let mut mesh = generators::icosphere(1);
-//! let label = mesh.add_vertex_attribute("label", 0u32).unwrap();
-//! let v = mesh.vertices().next().unwrap();
-//! *mesh.attribute_mut(label, v).unwrap() = 7;
-//! assert_eq!(*mesh.attribute(label, v).unwrap(), 7);
-//! ```
-
 use std::marker::PhantomData;
 
 use crate::attribute_store::AttributeStore;
@@ -29,6 +13,22 @@ use crate::mesh::Mesh;
 /// A handle is bound to the attribute it names: the mesh that made it and the clones of
 /// that mesh (which copy its attributes) accept it; another mesh, or the same mesh after
 /// the attribute was removed, refuses it with [`Error::Stale`], whatever the type.
+///
+/// Typed per-element attributes that stay in step with the mesh.
+///
+/// An attribute is a dense array with one value per element slot, created with a
+/// default value and grown with that default whenever the mesh creates elements.
+/// Collapses keep the values of removed elements (tombstones), so a vertex split brings
+/// back a vertex together with its attribute values.
+///
+/// ```
+/// use halfedge::{generators, Mesh};
+/// let mut mesh = generators::icosphere(1);
+/// let label = mesh.add_vertex_attribute("label", 0u32).unwrap();
+/// let v = mesh.vertices().next().unwrap();
+/// *mesh.attribute_mut(label, v).unwrap() = 7;
+/// assert_eq!(*mesh.attribute(label, v).unwrap(), 7);
+/// ```
 pub struct Attribute<K, T> {
     column: usize,
     /// Which attribute that column held when the handle was made: a number no other

@@ -1,23 +1,3 @@
-//! Knowing whether data still fits its mesh: the one way to ask.
-//!
-//! Every mesh (and every other source of derived values, such as a polyline of the `edit`
-//! crate) keeps a [`Provenance`]: its instance number, how often its connectivity and its
-//! positions changed, the instances it was cloned from, and the level its hierarchy put
-//! it at. A value derived from it — an editing area, a session, regions, a sub-mesh,
-//! per-vertex data, an attribute handle, a BVH — keeps the [`Binding`] of the moment it
-//! was made, and checks it on every use with [`Binding::check`] (connectivity) or
-//! [`Binding::check_exactly`] (connectivity and positions). Both refuse with one error,
-//! [`Stale`], which says what was made for which state and what it met; every error enum
-//! of the workspace carries it as its `Stale` variant.
-//!
-//! A binding **fits** a source ([`Binding::fits`]) while the source's connectivity is
-//! unchanged (positions and attributes may change), and, in a hierarchy, whenever the
-//! hierarchy is back at the same position by its own steps (walking to another level and
-//! back). It also fits a clone of the source made since, until the clone's connectivity
-//! changes. Any other change of connectivity, every level change, and any other source
-//! make it stale. It fits **exactly** ([`Binding::fits_exactly`]) when, besides, it is the
-//! same instance and no position was written since: what a BVH or a cached field needs.
-
 use std::fmt;
 
 /// How many ancestors a source remembers: values made on an older ancestor than that are
@@ -33,7 +13,7 @@ fn next_instance() -> u64 {
 }
 
 /// Who a mesh (or another source of derived values) is, and how often it changed (see
-/// the [module docs](self)). A clone is a new instance that remembers the one it was
+/// the [docs above](Self)). A clone is a new instance that remembers the one it was
 /// cloned from.
 #[derive(Debug)]
 pub struct Provenance {
@@ -160,7 +140,27 @@ impl Provenance {
 }
 
 /// What a derived value was made for: a source instance, its connectivity and positions
-/// then, and the hierarchy level it was at (see the [module docs](self)).
+/// then, and the hierarchy level it was at (see the [docs above](Self)).
+///
+/// Knowing whether data still fits its mesh: the one way to ask.
+///
+/// Every mesh (and every other source of derived values, such as a polyline of the `edit`
+/// crate) keeps a [`Provenance`]: its instance number, how often its connectivity and its
+/// positions changed, the instances it was cloned from, and the level its hierarchy put
+/// it at. A value derived from it — an editing area, a session, regions, a sub-mesh,
+/// per-vertex data, an attribute handle, a BVH — keeps the [`Binding`] of the moment it
+/// was made, and checks it on every use with [`Binding::check`] (connectivity) or
+/// [`Binding::check_exactly`] (connectivity and positions). Both refuse with one error,
+/// [`Stale`], which says what was made for which state and what it met; every error enum
+/// of the workspace carries it as its `Stale` variant.
+///
+/// A binding **fits** a source ([`Binding::fits`]) while the source's connectivity is
+/// unchanged (positions and attributes may change), and, in a hierarchy, whenever the
+/// hierarchy is back at the same position by its own steps (walking to another level and
+/// back). It also fits a clone of the source made since, until the clone's connectivity
+/// changes. Any other change of connectivity, every level change, and any other source
+/// make it stale. It fits **exactly** ([`Binding::fits_exactly`]) when, besides, it is the
+/// same instance and no position was written since: what a BVH or a cached field needs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct Binding {
     instance: u64,
@@ -183,7 +183,7 @@ impl Bound for Provenance {
 
 impl Binding {
     /// True when this binding fits `source`: same connectivity (see the
-    /// [module docs](self)); positions may have changed.
+    /// [docs above](Self)); positions may have changed.
     #[inline]
     pub fn fits<S: Bound + ?Sized>(&self, source: &S) -> bool {
         let p = source.provenance();

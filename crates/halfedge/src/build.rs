@@ -1,24 +1,3 @@
-//! Building a mesh from indexed polygons, with OpenMesh's importer policy so that the
-//! topology matches OpenMesh's on every file.
-//!
-//! - Faces are added in input order by the classic add-face algorithm (OpenMesh
-//!   `PolyConnectivity::add_face`, pmp `SurfaceMesh::add_face`), which refuses a
-//!   *complex vertex* (a face vertex not on the boundary), a *complex edge* (a face edge
-//!   whose halfedge already has a face) and a failed patch re-linking.
-//! - A polygon is fan-triangulated from its first vertex and its triangles added in order
-//!   (OpenMesh `TriConnectivity::add_face`).
-//! - A face with fewer than three vertices or a repeated vertex index is dropped.
-//! - When a face cannot be added (for a polygon: when its last fan triangle fails), it is
-//!   added again on fresh copies of its vertices (same positions); the copies are counted.
-//! - Out-of-range indices, non-finite coordinates and empty input are errors, checked
-//!   before anything is built. Unreferenced vertices stay as isolated vertices, and
-//!   vertex `i` of the input is the vertex with [`Mesh::vertex_index`] `i`.
-//!
-//! For speed the faces are added on bare `u32` connectivity arrays, which are then moved
-//! into the [`Mesh`] whole (see `compact_build.rs`). The result is the very mesh that
-//! adding the faces to it one by one gives (same handles, links and order; a unit test
-//! compares both on non-manifold input).
-
 use glam::DVec3;
 
 use crate::add_face::{add_face, Connectivity, Refusal, Scratch};
@@ -28,6 +7,27 @@ use crate::handle::{FaceId, VertexId};
 use crate::mesh::Mesh;
 
 /// What [`Mesh::from_polygons`] had to do to turn the input into a manifold triangle mesh.
+///
+/// Building a mesh from indexed polygons, with OpenMesh's importer policy so that the
+/// topology matches OpenMesh's on every file.
+///
+/// - Faces are added in input order by the classic add-face algorithm (OpenMesh
+///   `PolyConnectivity::add_face`, pmp `SurfaceMesh::add_face`), which refuses a
+///   *complex vertex* (a face vertex not on the boundary), a *complex edge* (a face edge
+///   whose halfedge already has a face) and a failed patch re-linking.
+/// - A polygon is fan-triangulated from its first vertex and its triangles added in order
+///   (OpenMesh `TriConnectivity::add_face`).
+/// - A face with fewer than three vertices or a repeated vertex index is dropped.
+/// - When a face cannot be added (for a polygon: when its last fan triangle fails), it is
+///   added again on fresh copies of its vertices (same positions); the copies are counted.
+/// - Out-of-range indices, non-finite coordinates and empty input are errors, checked
+///   before anything is built. Unreferenced vertices stay as isolated vertices, and
+///   vertex `i` of the input is the vertex with [`Mesh::vertex_index`] `i`.
+///
+/// For speed the faces are added on bare `u32` connectivity arrays, which are then moved
+/// into the [`Mesh`] whole (see `compact_build.rs`). The result is the very mesh that
+/// adding the faces to it one by one gives (same handles, links and order; a unit test
+/// compares both on non-manifold input).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct BuildReport {
     /// Input polygons.
@@ -84,7 +84,7 @@ impl std::error::Error for AddFaceError {}
 /// # Building
 impl Mesh {
     /// Builds a mesh from positions and indexed polygons (0-based indices), with the
-    /// policy of the [module docs](crate::build). Returns the mesh and a report of what was
+    /// policy of the [`BuildReport`](crate::BuildReport) docs. Returns the mesh and a report of what was
     /// duplicated and dropped.
     ///
     /// ```
@@ -342,7 +342,7 @@ impl BuildTarget for Compact {
     }
 }
 
-/// The importer policy of the [module docs](self), on any build target. Indices have
+/// The importer policy of the [docs above](Self), on any build target. Indices have
 /// been checked.
 fn add_polygons<M, I, F>(
     m: &mut M,

@@ -20,7 +20,8 @@
 //!
 //! ```
 //! use halfedge::bvh::{Bvh, Ray};
-//! use halfedge::{generators, DVec3};
+//! use glam::DVec3;
+//! use halfedge::generators;
 //! let mesh = generators::icosphere(3);
 //! let bvh = Bvh::build(&mesh);
 //! let ray = Ray::new(DVec3::new(0.0, 0.0, 5.0), DVec3::NEG_Z).unwrap();

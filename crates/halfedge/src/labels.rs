@@ -36,7 +36,7 @@
 //! attribute persists on the tombstone) and labels defined at a fine level hold at every
 //! coarser level and come back unchanged on refinement. Labels defined at a coarse level
 //! reach the re-inserted vertices through the paper's Fig. 4 rule
-//! ([`classify_split`], applied by [`crate::Hierarchy`] when labels are attached): the new
+//! ([`classify_split`], applied by [`crate::hierarchy::Hierarchy`] when labels are attached): the new
 //! vertex is on the frontier when its neighbours include vertices of two different
 //! sub-meshes, otherwise it takes the label of its non-frontier neighbours (and is on the
 //! frontier when all its neighbours are). The rule never creates an edge between two

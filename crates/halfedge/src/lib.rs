@@ -4,19 +4,23 @@
 //! `multires` workspace (multiresolution editing after Kobbelt-style hierarchies, Lee
 //! 1999, Bendels & Klein 2003 and Feng, Ma & Peng).
 //!
-//! - [`Mesh`]: connectivity, positions ([`glam::DVec3`]), typed [attributes],
+//! - [`Mesh`]: connectivity, positions ([`glam::DVec3`]), typed [`Attribute`]s,
 //!   navigation and [circulators](iter) with pmp / OpenMesh names, [`Mesh::check`].
-//! - [Building](build) from indexed polygons with OpenMesh's importer policy, and
-//!   [`io`] for OBJ (`tobj`) and PLY (`ply-rs-bw`).
-//! - [`generators`]: grid, icosphere, 1-to-4 subdivision.
-//! - [Collapse and vertex split](collapse), the progressive [`Hierarchy`] with centroid
-//!   detail coefficients (rounds or QEM, module [`hierarchy`]) and sub-mesh
-//!   [`labels`] that hold across its levels.
+//! - Building from indexed polygons with OpenMesh's importer policy
+//!   ([`Mesh::from_polygons`], [`BuildReport`]), and [`io`] for OBJ, PLY, OFF and STL
+//!   (gzip-compressed too).
+//! - [`generators`]: grid, icosphere, torus, 1-to-4 subdivision.
+//! - Collapse and vertex split ([`Mesh::collapse`], [`CollapseRecord`]), the progressive
+//!   [`hierarchy::Hierarchy`] with local-frame detail coefficients (rounds or QEM), and
+//!   sub-mesh [`labels`] that hold across its levels.
 //! - [`selection`] (nearest and extreme vertices, Euclidean and edge-path balls,
 //!   components, grow / shrink / select linked) and [`bvh`] (picking along a ray, the
 //!   nearest point of the surface).
-//! - Plain arrays in and out: [`Mesh::from_arrays`] / [`Mesh::to_arrays`]; [`weld`]ing
-//!   vertices at the same place (triangle soups, seams) with [`Mesh::welded`].
+//! - Plain arrays in and out: [`Mesh::from_arrays`] / [`Mesh::to_arrays`]; welding
+//!   vertices at the same place (triangle soups, seams) with [`Mesh::welded`]
+//!   ([`WeldReport`]).
+//! - One way to know data fits its mesh: [`Binding`], checked on every use, refusing with
+//!   [`Stale`].
 //!
 //! ```
 //! use halfedge::generators;
@@ -28,14 +32,14 @@
 //! ```
 
 mod add_face;
-pub mod arrays;
+mod arrays;
 mod attribute_store;
-pub mod attributes;
-pub mod binding;
-pub mod build;
+mod attributes;
+mod binding;
+mod build;
 pub mod bvh;
 mod check;
-pub mod collapse;
+mod collapse;
 mod compact_build;
 mod error;
 pub mod generators;
@@ -53,8 +57,8 @@ mod prefetch;
 pub mod selection;
 mod split;
 mod topology;
-pub mod vertex_data;
-pub mod weld;
+mod vertex_data;
+mod weld;
 
 pub use attributes::{Attribute, AttributeValue, Element};
 pub use binding::{Binding, Bound, Provenance, Stale};
@@ -62,14 +66,7 @@ pub use build::{AddFaceError, BuildReport};
 pub use collapse::{CollapseRecord, CollapseVeto};
 pub use error::{Error, Invariant, Result};
 pub use handle::{FaceId, HalfedgeId, VertexId};
-pub use hierarchy::bookmark::LevelBookmark;
-pub use hierarchy::outcome::BuildOutcome;
-pub use hierarchy::{BuildProgress, DetailMode, Field, Hierarchy, HierarchyOptions, Method};
-pub use labels::{Frontier, Label, SideCounts, FRONTIER};
 pub use mesh::Mesh;
-pub use selection::{Component, Selection};
 pub use topology::TopologyReport;
 pub use vertex_data::VertexData;
 pub use weld::WeldReport;
-
-pub use glam::DVec3;

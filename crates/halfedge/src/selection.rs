@@ -12,7 +12,8 @@
 //! handles or by connectivity keep whatever vertices they are given.
 //!
 //! ```
-//! use halfedge::{generators, DVec3};
+//! use glam::DVec3;
+//! use halfedge::generators;
 //! let mesh = generators::icosphere(3);
 //! let top = mesh.extreme_vertex(DVec3::Z).unwrap().unwrap();
 //! assert!(mesh.position(top).z > 0.99);

@@ -1,25 +1,3 @@
-//! Per-vertex values that know which mesh they belong to.
-//!
-//! A [`VertexData`] is one value per vertex slot (indexed by [`Mesh::vertex_index`], as
-//! pmp's vertex properties are) together with the [`Binding`] of the mesh it was
-//! computed for: distance fields, normals, weights, masks. It reads like a slice
-//! (`data[i]`, `data.iter()`, `&data[..]`) and by handle (`data[v]`), and
-//! [`VertexData::check`] / [`VertexData::get`] refuse it, with the one [`Stale`]
-//! error every derived value uses, on a mesh it was not made for: another mesh, the same
-//! mesh after a change of connectivity, or a hierarchy at another level. The library's
-//! functions that take per-vertex data make that check before they read it.
-//!
-//! ```
-//! use halfedge::{generators, VertexData};
-//! let mut mesh = generators::icosphere(1);
-//! let heights = VertexData::from_fn(&mesh, 0.0, |v| mesh.position(v).z);
-//! let top = mesh.extreme_vertex(glam::DVec3::Z).unwrap().unwrap();
-//! assert_eq!(*heights.get(&mesh, top).unwrap(), mesh.position(top).z);
-//! let h = mesh.halfedges().find(|&h| mesh.is_collapse_ok(h).is_ok()).unwrap();
-//! mesh.collapse(h).unwrap();
-//! assert!(heights.check(&mesh).is_err()); // made before the collapse
-//! ```
-
 use std::ops::{Deref, DerefMut, Index, IndexMut};
 
 use crate::binding::{Binding, Stale};
@@ -29,7 +7,29 @@ use crate::handle::VertexId;
 use crate::mesh::Mesh;
 
 /// One value per vertex slot of one mesh, with that mesh's binding (see the
-/// [module docs](self)).
+/// [docs above](Self)).
+///
+/// Per-vertex values that know which mesh they belong to.
+///
+/// A [`VertexData`] is one value per vertex slot (indexed by [`Mesh::vertex_index`], as
+/// pmp's vertex properties are) together with the [`Binding`] of the mesh it was
+/// computed for: distance fields, normals, weights, masks. It reads like a slice
+/// (`data[i]`, `data.iter()`, `&data[..]`) and by handle (`data[v]`), and
+/// [`VertexData::check`] / [`VertexData::get`] refuse it, with the one [`Stale`]
+/// error every derived value uses, on a mesh it was not made for: another mesh, the same
+/// mesh after a change of connectivity, or a hierarchy at another level. The library's
+/// functions that take per-vertex data make that check before they read it.
+///
+/// ```
+/// use halfedge::{generators, VertexData};
+/// let mut mesh = generators::icosphere(1);
+/// let heights = VertexData::from_fn(&mesh, 0.0, |v| mesh.position(v).z);
+/// let top = mesh.extreme_vertex(glam::DVec3::Z).unwrap().unwrap();
+/// assert_eq!(*heights.get(&mesh, top).unwrap(), mesh.position(top).z);
+/// let h = mesh.halfedges().find(|&h| mesh.is_collapse_ok(h).is_ok()).unwrap();
+/// mesh.collapse(h).unwrap();
+/// assert!(heights.check(&mesh).is_err()); // made before the collapse
+/// ```
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct VertexData<T> {
     values: Vec<T>,

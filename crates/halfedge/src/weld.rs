@@ -1,32 +1,3 @@
-//! Welding: vertices at the same place merged into one.
-//!
-//! Meshes exported as triangle soups (every face on its own three vertices, as STL
-//! files and some converters write them) or with seams (every texture chart on its own
-//! copies of its border vertices) read as many small open pieces: nothing can be
-//! simplified across their cuts, and the editing methods see boundaries everywhere.
-//! [`Mesh::welded`] merges vertices that lie within a tolerance of each other and
-//! builds the mesh again (the policy of [`Mesh::from_polygons`]: a face that would make
-//! an edge or a vertex non-manifold goes onto copies of its vertices).
-//!
-//! ```
-//! use halfedge::{generators, Mesh};
-//! // An icosphere as a soup: every triangle on its own copies of its corners.
-//! let sphere = generators::icosphere(1);
-//! let (corners, triangles) = generators::triangle_soup(&sphere);
-//! let (soup, _) = Mesh::from_arrays(&corners, &triangles).unwrap();
-//! assert_eq!(soup.topology_report().components, 80);
-//!
-//! let (welded, report) = soup.welded(0.0).unwrap();
-//! assert_eq!((welded.n_vertices(), welded.n_faces()), (42, 80));
-//! assert_eq!(report.merged_vertices, 240 - 42);
-//! assert_eq!(welded.topology_report().components, 1);
-//! assert_eq!(welded.topology_report().boundary_loops, 0);
-//!
-//! // What a file loader calls: the welded mesh only when welding closes boundaries.
-//! assert!(soup.welded_seams().unwrap().is_some());
-//! assert!(welded.welded_seams().unwrap().is_none());
-//! ```
-
 use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hash};
 
@@ -39,6 +10,35 @@ use crate::error::{Error, Result};
 use crate::mesh::Mesh;
 
 /// What [`Mesh::welded`] did.
+///
+/// Welding: vertices at the same place merged into one.
+///
+/// Meshes exported as triangle soups (every face on its own three vertices, as STL
+/// files and some converters write them) or with seams (every texture chart on its own
+/// copies of its border vertices) read as many small open pieces: nothing can be
+/// simplified across their cuts, and the editing methods see boundaries everywhere.
+/// [`Mesh::welded`] merges vertices that lie within a tolerance of each other and
+/// builds the mesh again (the policy of [`Mesh::from_polygons`]: a face that would make
+/// an edge or a vertex non-manifold goes onto copies of its vertices).
+///
+/// ```
+/// use halfedge::{generators, Mesh};
+/// // An icosphere as a soup: every triangle on its own copies of its corners.
+/// let sphere = generators::icosphere(1);
+/// let (corners, triangles) = generators::triangle_soup(&sphere);
+/// let (soup, _) = Mesh::from_arrays(&corners, &triangles).unwrap();
+/// assert_eq!(soup.topology_report().components, 80);
+///
+/// let (welded, report) = soup.welded(0.0).unwrap();
+/// assert_eq!((welded.n_vertices(), welded.n_faces()), (42, 80));
+/// assert_eq!(report.merged_vertices, 240 - 42);
+/// assert_eq!(welded.topology_report().components, 1);
+/// assert_eq!(welded.topology_report().boundary_loops, 0);
+///
+/// // What a file loader calls: the welded mesh only when welding closes boundaries.
+/// assert!(soup.welded_seams().unwrap().is_some());
+/// assert!(welded.welded_seams().unwrap().is_none());
+/// ```
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct WeldReport {
     /// For every live vertex of the mesh welded, in [`Mesh::to_arrays`] numbering (its

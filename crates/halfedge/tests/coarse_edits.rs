@@ -7,7 +7,8 @@ mod common;
 
 use common::{bumpy_capsule, crossing_edges};
 use glam::{DAffine3, DQuat, DVec3};
-use halfedge::{DetailMode, Hierarchy, HierarchyOptions, Mesh, VertexId};
+use halfedge::hierarchy::{DetailMode, Hierarchy, HierarchyOptions};
+use halfedge::{Mesh, VertexId};
 
 fn diagonal(mesh: &Mesh) -> f64 {
     let (lo, hi) = mesh.bounding_box().unwrap();

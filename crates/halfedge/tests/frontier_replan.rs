@@ -11,7 +11,8 @@ use common::{bumpy_capsule, crossing_edges};
 use std::collections::HashSet;
 
 use glam::DVec3;
-use halfedge::{Hierarchy, HierarchyOptions, Mesh, VertexId};
+use halfedge::hierarchy::{Hierarchy, HierarchyOptions};
+use halfedge::{Mesh, VertexId};
 
 /// Positions as bits, for exact comparisons.
 fn bits(mesh: &Mesh) -> Vec<[u64; 3]> {

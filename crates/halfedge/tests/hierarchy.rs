@@ -6,7 +6,8 @@ mod common;
 
 use common::{snapshot, Snapshot};
 use glam::DVec3;
-use halfedge::{generators, DetailMode, Error, Hierarchy, HierarchyOptions, Mesh, Method};
+use halfedge::hierarchy::{DetailMode, Hierarchy, HierarchyOptions, Method};
+use halfedge::{generators, Error, Mesh};
 
 const REAL: [&str; 4] = ["spot.obj", "stanford-bunny.obj", "cow.obj", "teapot.obj"];
 

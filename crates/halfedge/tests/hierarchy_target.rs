@@ -5,8 +5,9 @@
 mod common;
 
 use common::{data_dir, snapshot};
-use halfedge::hierarchy::outcome::StopReason;
-use halfedge::{generators, Hierarchy, HierarchyOptions, Mesh};
+use halfedge::hierarchy::StopReason;
+use halfedge::hierarchy::{Hierarchy, HierarchyOptions};
+use halfedge::{generators, Mesh};
 
 /// The bumpy sphere of `data/` (20,480 faces): the paper's rounds stall near 100 faces.
 fn blob() -> Mesh {
@@ -138,12 +139,12 @@ fn an_unreachable_target_is_explained() {
         assert!(!outcome.target_reached(), "{outcome}");
         match &outcome.stop {
             StopReason::Stalled { refusals: Some(r) } => {
-                assert_eq!(options.method, halfedge::Method::Rounds);
+                assert_eq!(options.method, halfedge::hierarchy::Method::Rounds);
                 assert!(r.topology > 0, "{r:?}");
                 assert_eq!(r.planarity, 0, "planarity was widened away: {r:?}");
             }
             StopReason::Stalled { refusals: None } => {
-                assert_eq!(options.method, halfedge::Method::Qem);
+                assert_eq!(options.method, halfedge::hierarchy::Method::Qem);
             }
             other => panic!("{other:?}"),
         }

@@ -7,7 +7,8 @@ use std::ops::ControlFlow;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
 use glam::{DAffine3, DVec3};
-use halfedge::{generators, Error, Hierarchy, HierarchyOptions, Mesh};
+use halfedge::hierarchy::{Hierarchy, HierarchyOptions};
+use halfedge::{generators, Error, Mesh};
 
 fn survive<T>(name: &str, f: impl FnOnce() -> T) -> T {
     catch_unwind(AssertUnwindSafe(f)).unwrap_or_else(|_| panic!("{name}: panicked"))

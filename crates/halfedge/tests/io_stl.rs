@@ -7,9 +7,10 @@ mod common;
 use std::path::Path;
 
 use common::temp_dir;
+use glam::DVec3;
 use halfedge::io::stl::{is_binary_stl, read_stl_soup_from_bytes};
 use halfedge::io::{self, read_stl_from_bytes, write_stl_to, StlFormat};
-use halfedge::{generators, BuildReport, DVec3, Error, Mesh};
+use halfedge::{generators, BuildReport, Error, Mesh};
 
 fn stl(mesh: &Mesh, format: StlFormat) -> Vec<u8> {
     let mut bytes = Vec::new();

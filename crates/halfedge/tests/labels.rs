@@ -8,11 +8,10 @@ use std::collections::HashSet;
 
 use common::{data, load};
 use glam::DVec3;
+use halfedge::hierarchy::{Hierarchy, HierarchyOptions};
 use halfedge::labels::{classify_split, LABEL_ATTRIBUTE};
-use halfedge::{
-    generators, Attribute, Error, FaceId, Frontier, Hierarchy, HierarchyOptions, Label, Mesh,
-    VertexId, FRONTIER,
-};
+use halfedge::labels::{Frontier, Label, FRONTIER};
+use halfedge::{generators, Attribute, Error, FaceId, Mesh, VertexId};
 
 /// A mesh with an ear to cut off by a plane: the plane (a point near the ear, the
 /// normal), how far in x the ear's vertices lie from the point (the other ear is farther),

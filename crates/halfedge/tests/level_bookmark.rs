@@ -4,7 +4,8 @@
 //! bookmarks that no longer fit are refused with nothing changed.
 
 use glam::{DAffine3, DVec3};
-use halfedge::{generators, Hierarchy, HierarchyOptions, Mesh, Method, VertexId};
+use halfedge::hierarchy::{Hierarchy, HierarchyOptions, Method};
+use halfedge::{generators, Mesh, VertexId};
 
 fn bits(positions: &[DVec3]) -> Vec<[u64; 3]> {
     positions

@@ -6,7 +6,8 @@ mod common;
 
 use glam::DVec3;
 use halfedge::bvh::{Bvh, Ray};
-use halfedge::{generators, Error, Mesh, Selection, VertexId};
+use halfedge::selection::Selection;
+use halfedge::{generators, Error, Mesh, VertexId};
 
 /// A unit sphere with an isolated vertex far above it (as scans carry unreferenced
 /// points).

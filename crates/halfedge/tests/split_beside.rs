@@ -5,7 +5,8 @@
 //! levels, and when a field overflows part way.
 
 use glam::{DAffine3, DQuat, DVec3};
-use halfedge::{generators, Hierarchy, HierarchyOptions, Mesh, VertexId};
+use halfedge::hierarchy::{Hierarchy, HierarchyOptions};
+use halfedge::{generators, Mesh, VertexId};
 
 /// An icosphere with bumps: 40,962 vertices, enough records for the threaded walk.
 fn bumpy_sphere() -> Mesh {
@@ -18,11 +19,19 @@ fn bumpy_sphere() -> Mesh {
 }
 
 /// What a walk leaves (see [`state`]).
-type State = (Vec<[u64; 3]>, Vec<[usize; 3]>, Vec<halfedge::Label>, usize);
+type State = (
+    Vec<[u64; 3]>,
+    Vec<[usize; 3]>,
+    Vec<halfedge::labels::Label>,
+    usize,
+);
 
 /// Everything a walk leaves: positions and faces by slot, the label of every vertex
 /// slot, the number of collapsed records.
-fn state(h: &Hierarchy, labels: Option<halfedge::Attribute<VertexId, halfedge::Label>>) -> State {
+fn state(
+    h: &Hierarchy,
+    labels: Option<halfedge::Attribute<VertexId, halfedge::labels::Label>>,
+) -> State {
     let mesh = h.mesh();
     mesh.check().unwrap();
     let positions = mesh
@@ -55,7 +64,10 @@ fn one_by_one(h: &mut Hierarchy, applied: usize) -> halfedge::Result<()> {
 /// An edit at level 3 (a non-rigid wave, a rotated cap marked affine, a twisted band
 /// marked as a field, a region) and, after walking to level 5, a second wave: the walk
 /// back to the input has marks of every kind and two baselines to serve.
-fn edited() -> (Hierarchy, halfedge::Attribute<VertexId, halfedge::Label>) {
+fn edited() -> (
+    Hierarchy,
+    halfedge::Attribute<VertexId, halfedge::labels::Label>,
+) {
     let options = HierarchyOptions::rounds().with_target_faces(500);
     let mut h = Hierarchy::build(bumpy_sphere(), &options).unwrap();
     assert!(h.n_levels() > 6);
@@ -174,7 +186,7 @@ fn a_field_that_overflows_stops_both_walks_at_the_same_record() {
 fn the_paper_translations_refine_alike_on_both_walks() {
     let options = HierarchyOptions::rounds()
         .with_target_faces(500)
-        .with_detail_mode(halfedge::DetailMode::Translation);
+        .with_detail_mode(halfedge::hierarchy::DetailMode::Translation);
     let mut h = Hierarchy::build(bumpy_sphere(), &options).unwrap();
     h.go_to_level(4).unwrap();
     for p in h.mesh_mut().positions_mut() {

@@ -3,7 +3,8 @@
 //! vertices outside every region and vertices moved exactly by a mark stay bit for bit.
 
 use glam::{DAffine3, DVec3};
-use halfedge::{generators, Hierarchy, HierarchyOptions, Mesh, VertexId};
+use halfedge::hierarchy::{Hierarchy, HierarchyOptions};
+use halfedge::{generators, Mesh, VertexId};
 
 fn bits(p: DVec3) -> [u64; 3] {
     p.to_array().map(f64::to_bits)

@@ -19,7 +19,7 @@
 //! (the snapshot becomes the old mesh: exact, since the connectivity had not changed yet).
 //! A connectivity change made by a tool on a hierarchy's mesh leaves a plain mesh (the
 //! hierarchy could not walk it); undo brings the hierarchy back. A change that the
-//! hierarchy can take (new vertices added at its input, `halfedge::Hierarchy::edit_input`,
+//! hierarchy can take (new vertices added at its input, `halfedge::hierarchy::Hierarchy::edit_input`,
 //! as the Bendels–Klein refinement does through
 //! `edit::bendels_klein::BlendSession::refine_in_hierarchy`) goes through
 //! [`Document::edit_hierarchy`] instead: the document keeps the hierarchy at its level,
@@ -32,8 +32,10 @@
 use std::path::PathBuf;
 
 use glam::DVec3;
+use halfedge::hierarchy::{Hierarchy, LevelBookmark};
+use halfedge::labels::Label;
 use halfedge::labels::LABEL_ATTRIBUTE;
-use halfedge::{BuildReport, Hierarchy, Label, LevelBookmark, Mesh, VertexId};
+use halfedge::{BuildReport, Mesh, VertexId};
 
 /// A mesh file read for the viewer: the mesh, how it was built, and how many vertices
 /// were welded onto others at the same position (a triangle soup or a mesh cut along
@@ -648,7 +650,7 @@ mod tests {
         let input = generators::icosphere(3);
         let h = Hierarchy::build(
             input.clone(),
-            &halfedge::HierarchyOptions::rounds().with_target_faces(100),
+            &halfedge::hierarchy::HierarchyOptions::rounds().with_target_faces(100),
         )
         .unwrap();
         let mut d = Document::new(input.clone(), None, None);
@@ -853,7 +855,7 @@ mod tests {
             .mesh()
             .vertices()
             .all(|v| values[d.mesh().vertex_index(v)] <= 1
-                || values[d.mesh().vertex_index(v)] == halfedge::FRONTIER));
+                || values[d.mesh().vertex_index(v)] == halfedge::labels::FRONTIER));
         d.edit_labels(|m| m.remove_attribute(a).unwrap());
         assert!(d.hierarchy().unwrap().label_attribute().is_none());
     }

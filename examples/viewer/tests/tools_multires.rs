@@ -12,7 +12,8 @@ use std::path::Path;
 use std::process::Command;
 
 use glam::DVec3;
-use halfedge::{generators, Hierarchy, HierarchyOptions, Mesh};
+use halfedge::hierarchy::{Hierarchy, HierarchyOptions};
+use halfedge::{generators, Mesh};
 use viewer::camera::{OrbitCamera, UpAxis, Viewport};
 use viewer::pick::Bvh;
 

@@ -1,7 +1,8 @@
 //! The Bendels & Klein editing session on a mesh, with adaptive refinement (Secs. 3–6).
 
 use glam::{DMat4, DVec3};
-use halfedge::{Hierarchy, Mesh, VertexData, VertexId};
+use halfedge::hierarchy::Hierarchy;
+use halfedge::{Mesh, VertexData, VertexId};
 use rayon::prelude::*;
 
 use crate::bendels_klein::blend::{BlendCore, RefineOptions, RefineReport};
@@ -475,7 +476,7 @@ impl BlendSession {
     /// the original positions.
     fn mark_replacing(&self, hierarchy: &mut Hierarchy) -> Result<()> {
         self.check_mesh(hierarchy.mesh())?;
-        if hierarchy.detail_mode() == halfedge::DetailMode::LocalFrame {
+        if hierarchy.detail_mode() == halfedge::hierarchy::DetailMode::LocalFrame {
             self.marks(hierarchy.mesh())?.replace(hierarchy)?;
         }
         Ok(())
@@ -702,7 +703,7 @@ impl HierarchyEdit for BlendSession {
     /// region ([`Hierarchy::mark_region`]), so that refinement interpolates the blend's
     /// motion over them while the fixed region stays exactly where it was. The edit may
     /// have been applied to a copy of the hierarchy's mesh whose positions were copied
-    /// back. With the paper's translations ([`halfedge::DetailMode::Translation`])
+    /// back. With the paper's translations ([`halfedge::hierarchy::DetailMode::Translation`])
     /// nothing is marked.
     ///
     /// # Errors

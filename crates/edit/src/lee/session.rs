@@ -570,7 +570,7 @@ impl AreaSession {
 impl HierarchyEdit for AreaSession {
     /// What the edit as last applied ([`drag`](AreaSession::drag) or
     /// [`apply`](AreaSession::apply) since the rest positions were taken) means for a
-    /// [`Hierarchy`](halfedge::Hierarchy) whose current level `mesh` is: the region is
+    /// [`Hierarchy`](halfedge::hierarchy::Hierarchy) whose current level `mesh` is: the region is
     /// the area's interior (its boundary stays, Lee 1999 §5.3), and every primitive
     /// vertex is translated by its displacement, so that refined back the fine vertices
     /// collapsed into the primitive land on the dragged target exactly. Give the marks

@@ -1,46 +1,3 @@
-//! Halfedge collapse and its exact inverse, the vertex split.
-//!
-//! Collapsing `h = v0v1` (from `v0` to `v1`) removes `v0`, the edge `v0v1`, the faces `fl`
-//! (left of `v0v1`) and `fr` (right of it) and, in each of those triangles, the edge that
-//! touched `v0` (`vl–v0`, `v0–vr`); every other edge of `v0` is moved to `v1`. `v1`
-//! survives (OpenMesh, pmp, CGAL); its position is left unchanged for the caller to set.
-//!
-//! ```text
-//!            vl                         vl
-//!          /  |  \                     / |
-//!         / fl|   \                   /  |
-//!  ... v0 ---h---> v1 ...   =>   ... v1  |   (v1 takes over the edges of v0)
-//!         \ fr|   /                   \  |
-//!          \  |  /                     \ |
-//!            vr                         vr
-//! ```
-//!
-//! Removed elements become tombstones that keep their handles and fields, and the
-//! [`CollapseRecord`] (OpenMesh / Hoppe names: `v0v1, v1v0, v0, v1, vl, vr, fl, fr, p0, p1`)
-//! remembers what the tombstones do not (the outgoing halfedges the collapse re-chose,
-//! how many halfedges moved from `v0` to `v1`, the two positions): every link the collapse
-//! rewrote named a removed halfedge, whose tombstone still has its `next` and `prev`, so
-//! [`Mesh::vertex_split`] restores the same connectivity, orientation and handles, the
-//! very `VertexId` of `v0` included. A hierarchy keeps only that compact part (88 bytes
-//! per collapse, see `Step`). Splits undo collapses in reverse order (as a hierarchy
-//! does): a record of [`Mesh::collapse`] is refused while a later public collapse still
-//! waits for its split (splitting it first could strand the later record), and a record
-//! names one collapse event only (once undone and collapsed again, the old record is
-//! refused); see `collapse::waiting`.
-//!
-//! **A split whose record does not fit the mesh is refused before anything changes**
-//! ([`Error::SplitRefused`], saying why): a record of another mesh instance (a clone made
-//! before the collapse shares its history and accepts it; records made on a clone after
-//! cloning, or on an unrelated mesh, are refused), a record already split (or whose
-//! collapse was undone and made again), a record split out of order, a record
-//! whose removed elements were freed by [`Mesh::garbage_collection`], and a record whose
-//! neighbourhood changed since the collapse (a later collapse or split nearby that was not
-//! undone, [`Mesh::split_edge`], [`Mesh::add_triangle`]). The neighbourhood is compared
-//! exactly where the record remembers it (every link, face and vertex halfedge the collapse
-//! rewrote) and through a 64-bit fingerprint for the rest: the removed elements as the
-//! collapse left them, the halfedges it moved from `v0` to `v1` with their links, and the
-//! record's own handles.
-
 mod prefetch_steps;
 mod record;
 mod split;
@@ -60,6 +17,49 @@ pub(crate) use waiting::WaitingCollapses;
 
 /// Why [`Mesh::is_collapse_ok`] refuses a collapse (OpenMesh's
 /// `TriConnectivity::is_collapse_ok`, check for check, in this order).
+///
+/// Halfedge collapse and its exact inverse, the vertex split.
+///
+/// Collapsing `h = v0v1` (from `v0` to `v1`) removes `v0`, the edge `v0v1`, the faces `fl`
+/// (left of `v0v1`) and `fr` (right of it) and, in each of those triangles, the edge that
+/// touched `v0` (`vl–v0`, `v0–vr`); every other edge of `v0` is moved to `v1`. `v1`
+/// survives (OpenMesh, pmp, CGAL); its position is left unchanged for the caller to set.
+///
+/// ```text
+///            vl                         vl
+///          /  |  \                     / |
+///         / fl|   \                   /  |
+///  ... v0 ---h---> v1 ...   =>   ... v1  |   (v1 takes over the edges of v0)
+///         \ fr|   /                   \  |
+///          \  |  /                     \ |
+///            vr                         vr
+/// ```
+///
+/// Removed elements become tombstones that keep their handles and fields, and the
+/// [`CollapseRecord`] (OpenMesh / Hoppe names: `v0v1, v1v0, v0, v1, vl, vr, fl, fr, p0, p1`)
+/// remembers what the tombstones do not (the outgoing halfedges the collapse re-chose,
+/// how many halfedges moved from `v0` to `v1`, the two positions): every link the collapse
+/// rewrote named a removed halfedge, whose tombstone still has its `next` and `prev`, so
+/// [`Mesh::vertex_split`] restores the same connectivity, orientation and handles, the
+/// very `VertexId` of `v0` included. A hierarchy keeps only that compact part (88 bytes
+/// per collapse, see `Step`). Splits undo collapses in reverse order (as a hierarchy
+/// does): a record of [`Mesh::collapse`] is refused while a later public collapse still
+/// waits for its split (splitting it first could strand the later record), and a record
+/// names one collapse event only (once undone and collapsed again, the old record is
+/// refused); see `collapse::waiting`.
+///
+/// **A split whose record does not fit the mesh is refused before anything changes**
+/// ([`Error::SplitRefused`], saying why): a record of another mesh instance (a clone made
+/// before the collapse shares its history and accepts it; records made on a clone after
+/// cloning, or on an unrelated mesh, are refused), a record already split (or whose
+/// collapse was undone and made again), a record split out of order, a record
+/// whose removed elements were freed by [`Mesh::garbage_collection`], and a record whose
+/// neighbourhood changed since the collapse (a later collapse or split nearby that was not
+/// undone, [`Mesh::split_edge`], [`Mesh::add_triangle`]). The neighbourhood is compared
+/// exactly where the record remembers it (every link, face and vertex halfedge the collapse
+/// rewrote) and through a 64-bit fingerprint for the rest: the removed elements as the
+/// collapse left them, the halfedges it moved from `v0` to `v1` with their links, and the
+/// record's own handles.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum CollapseVeto {
     /// The halfedge is removed (or not of this mesh).

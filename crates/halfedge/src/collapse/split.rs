@@ -20,7 +20,7 @@ impl Mesh {
     ///
     /// # Errors
     /// [`Error::SplitRefused`], saying why, when the record does not fit the mesh (see
-    /// the [module docs](crate::collapse)): made on another mesh, already split, freed by garbage
+    /// the [`CollapseRecord`](crate::CollapseRecord) docs): made on another mesh, already split, freed by garbage
     /// collection, its fields changed, or its neighbourhood changed since the collapse.
     /// Nothing is changed then.
     pub fn vertex_split(&mut self, r: &CollapseRecord) -> Result<()> {

@@ -1,15 +1,3 @@
-//! Going back exactly to where a hierarchy was: an undo of a level change.
-//!
-//! A walk coarser collapses the current mesh *again*: each record is made anew from the
-//! current positions (so an edit made at a finer level is carried to the coarser ones,
-//! as the seed paper wants). That is the wrong thing for an undo. Edit at level 2, walk
-//! to level 0, undo the walk and undo the edit: the records now hold the edited fine
-//! positions, and refining again no longer gives the input. A [`LevelBookmark`] remembers
-//! the level, the positions there and the hierarchy's bookkeeping;
-//! [`Hierarchy::return_to`] walks back with the records as they are (a split changes no
-//! record, so after a walk finer they are still those of the bookmark) and puts the rest
-//! back, bit for bit. Whatever was done at the finer levels in between is dropped.
-
 use glam::DVec3;
 
 use super::marks::Marks;
@@ -19,7 +7,19 @@ use crate::error::Result;
 
 /// Where a hierarchy was: its level, the positions there, its marks and bookkeeping
 /// ([`Hierarchy::bookmark`]), for [`Hierarchy::return_to`] (see the
-/// [module docs](self)).
+/// [docs above](Self)).
+///
+/// Going back exactly to where a hierarchy was: an undo of a level change.
+///
+/// A walk coarser collapses the current mesh *again*: each record is made anew from the
+/// current positions (so an edit made at a finer level is carried to the coarser ones,
+/// as the seed paper wants). That is the wrong thing for an undo. Edit at level 2, walk
+/// to level 0, undo the walk and undo the edit: the records now hold the edited fine
+/// positions, and refining again no longer gives the input. A [`LevelBookmark`] remembers
+/// the level, the positions there and the hierarchy's bookkeeping;
+/// [`Hierarchy::return_to`] walks back with the records as they are (a split changes no
+/// record, so after a walk finer they are still those of the bookmark) and puts the rest
+/// back, bit for bit. Whatever was done at the finer levels in between is dropped.
 #[derive(Clone, Debug)]
 pub struct LevelBookmark {
     hierarchy: u64,
@@ -72,7 +72,7 @@ impl Hierarchy {
     /// Puts the hierarchy back where `bookmark` was taken, bit for bit: at its level, with
     /// the positions, marks and bookkeeping it had then. Whatever was done at finer
     /// levels since is dropped: unlike a walk coarser ([`seek`](Self::seek)), the records
-    /// are not made again from the current mesh (see the [module docs](self)). Walking
+    /// are not made again from the current mesh (see the [docs above](Self)). Walking
     /// back finer than the current level is a plain walk, then the positions are put back.
     ///
     /// # Errors

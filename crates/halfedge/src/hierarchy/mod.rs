@@ -6,10 +6,10 @@
 //! - **Building** ([`Hierarchy::build`]) simplifies the mesh with one of two methods
 //!   ([`Method`]): the paper's *rounds* (every unlocked edge whose star is nearly planar
 //!   collapses to its midpoint, then the edges around the survivor are locked until the
-//!   round ends; a round is a level, module [`rounds`]) or a *QEM* priority decimation
+//!   round ends; a round is a level, module `rounds`) or a *QEM* priority decimation
 //!   (Garland–Heckbert, module [`qem`]) whose levels are cut at fixed face-count ratios so
 //!   that they are comparable with rounds. Both share the legality layer of module
-//!   [`legality`] (OpenMesh's topological rules, no normal flips, no degenerate faces,
+//!   legality layer (OpenMesh's topological rules, no normal flips, no degenerate faces,
 //!   boundary vertices never leave the boundary). The build stops at a target face
 //!   count, a level count or an error bound ([`HierarchyOptions`]). The mesh is left at
 //!   the coarsest level. [`Hierarchy::build_with_progress`] reports progress, and
@@ -23,7 +23,7 @@
 //!   / [`go_to_level`](Hierarchy::go_to_level) level by level, or
 //!   [`collapse_next`](Hierarchy::collapse_next) / [`split_next`](Hierarchy::split_next)
 //!   split by split. Level 0 is the input; higher levels are coarser.
-//! - **Detail coefficients** (module [`detail`], [`DetailMode`]): every split re-inserts
+//! - **Detail coefficients** ([`DetailMode`]): every split re-inserts
 //!   `v0` and places both endpoints at the survivor's current position plus their
 //!   recorded offsets, expressed in a local frame of the collapsed edge's neighbourhood
 //!   (the default), so that edits made at a coarse level ride along to the fine levels
@@ -42,7 +42,8 @@
 //!   [`Hierarchy::constrain_to_labels`] re-plans the hierarchy for labels defined later.
 //!
 //! ```
-//! use halfedge::{generators, Hierarchy, HierarchyOptions};
+//! use halfedge::generators;
+//! use halfedge::hierarchy::{Hierarchy, HierarchyOptions};
 //! let mesh = generators::icosphere(3);
 //! let faces = mesh.n_faces();
 //! let mut h = Hierarchy::build(mesh, &HierarchyOptions::rounds().with_target_faces(100)).unwrap();
@@ -52,24 +53,24 @@
 //! ```
 
 mod ahead;
-pub mod bookmark;
+mod bookmark;
 mod buffers;
 mod build;
 mod clusters;
-pub mod detail;
-pub mod heap;
-pub mod legality;
+mod detail;
+mod heap;
+mod legality;
 mod marks;
-pub mod motion;
+mod motion;
 mod options;
-pub mod outcome;
+mod outcome;
 mod placements;
 mod placer;
 pub mod qem;
 mod records;
 mod replan;
 mod rests;
-pub mod rounds;
+mod rounds;
 mod submesh_labels;
 mod unfold;
 mod walk;
@@ -79,10 +80,12 @@ use crate::collapse::CollapseRecord;
 use crate::error::{Error, Result};
 use crate::mesh::Mesh;
 
+pub use bookmark::LevelBookmark;
 pub use detail::DetailMode;
 use detail::Details;
 pub use motion::Field;
 pub use options::{BuildProgress, HierarchyOptions, Method};
+pub use outcome::{BuildOutcome, Refusals, Relaxation, StopReason};
 
 use marks::Marks;
 use records::Records;

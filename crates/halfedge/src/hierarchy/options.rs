@@ -70,7 +70,7 @@ pub struct HierarchyOptions {
     /// Stop after a level that removed less than this fraction of its faces (default 1 %).
     pub min_level_reduction: f64,
     /// How splits place their vertices after an edit at a coarser level (module
-    /// [`detail`](crate::hierarchy::detail)): local frames with exact regions (the default) or the seed paper's
+    /// [`DetailMode`](crate::hierarchy::DetailMode)): local frames with exact regions (the default) or the seed paper's
     /// centroid translations.
     pub detail_mode: DetailMode,
     /// Both methods: when the mesh has sub-mesh labels (the vertex attribute

@@ -1,9 +1,3 @@
-//! How a hierarchy build ended: whether it reached its face target, and if not, plainly
-//! why — which limit stopped it, and for rounds which tests refused the edges of the last
-//! round — plus the bounds the rounds widened on the way ([`HierarchyOptions::relax_when_stalled`]).
-//!
-//! [`HierarchyOptions::relax_when_stalled`]: super::HierarchyOptions::relax_when_stalled
-
 use std::fmt;
 
 use super::{Hierarchy, HierarchyOptions};
@@ -63,6 +57,12 @@ pub struct Relaxation {
 }
 
 /// How a build ended ([`Hierarchy::build_outcome`]); its `Display` says it in a sentence.
+///
+/// How a hierarchy build ended: whether it reached its face target, and if not, plainly
+/// why — which limit stopped it, and for rounds which tests refused the edges of the last
+/// round — plus the bounds the rounds widened on the way ([`HierarchyOptions::relax_when_stalled`]).
+///
+/// [`HierarchyOptions::relax_when_stalled`]: super::HierarchyOptions::relax_when_stalled
 #[derive(Clone, Debug, PartialEq)]
 pub struct BuildOutcome {
     /// The face target asked for (0: none).

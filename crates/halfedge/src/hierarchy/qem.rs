@@ -7,12 +7,12 @@
 //!   by [`boundary_weight`](super::HierarchyOptions::boundary_weight) × the squared edge
 //!   length; besides, a boundary vertex only moves along boundary edges and an interior
 //!   edge touching the boundary collapses onto its boundary vertex (module
-//!   [`super::legality`]).
+//!   `legality`).
 //! - The survivor goes to the quadric's minimiser (solving the 3×3 system) when the system
 //!   is well conditioned and the minimiser lies within one edge length of the edge's
 //!   midpoint; when there is no such minimiser, or it would flip or flatten a face, to
 //!   the best legal one of the midpoint, `p0` and `p1` (candidates in order of cost).
-//! - Edges wait in a heap keyed by their cost (module [`super::heap`]) with *lazy
+//! - Edges wait in a heap keyed by their cost (module `heap`) with *lazy
 //!   versioning*: every edge has one entry; a collapse marks the entries of the edges
 //!   around the survivor stale instead of re-queuing them, and a stale entry that reaches
 //!   the top is re-evaluated and re-queued unless it is still the cheapest. This is exact
@@ -232,7 +232,7 @@ fn is_boundary_vertex(mesh: &Mesh, v: u32) -> bool {
 /// positions (unsorted, see [`Candidates::sort`]): the quadric's minimiser (when well
 /// conditioned and within one edge length of the midpoint), the midpoint and both
 /// endpoints; only the boundary vertex's position when the edge is interior and exactly
-/// one endpoint is on the boundary (the boundary rule of [`super::legality`]).
+/// one endpoint is on the boundary (the boundary rule of `legality`).
 #[inline]
 fn candidates(mesh: &Mesh, quadrics: &[Quadric], e: u32) -> (Quadric, Candidates) {
     let (r, ro) = (&mesh.he[e as usize], &mesh.he[(e ^ 1) as usize]);

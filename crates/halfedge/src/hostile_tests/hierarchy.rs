@@ -112,7 +112,7 @@ pub(super) fn run_hierarchy(
     let mut h = Hierarchy::build(hierarchy_mesh(kind), &options.with_target_faces(20)).unwrap();
     let n_records = h.records().len() as u32 + 1;
     let n_levels = h.n_levels() as u32;
-    let mut bookmarks: Vec<crate::hierarchy::bookmark::LevelBookmark> = Vec::new();
+    let mut bookmarks: Vec<crate::hierarchy::LevelBookmark> = Vec::new();
     for op in ops {
         let before = raw(h.mesh());
         let single = |r: crate::error::Result<bool>,

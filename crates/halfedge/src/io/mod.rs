@@ -6,7 +6,7 @@
 //! **Reading** keeps every vertex of the file in file order (vertex `i` of the file has
 //! [`Mesh::vertex_index`](crate::Mesh::vertex_index) `i`, unreferenced vertices become
 //! isolated vertices; vertices duplicated by the builder come after the file's) and builds
-//! faces with the policy of [`crate::build`]. Bad files give [`Error::Format`] (naming the
+//! faces with the policy of [`crate::BuildReport`]. Bad files give [`Error::Format`] (naming the
 //! file and what is wrong where) or [`Error::Io`]; reading never panics.
 //!
 //! **Writing** writes the live vertices compacted, in [`Mesh::vertices`] order: vertex `k`

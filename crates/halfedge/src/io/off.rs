@@ -6,7 +6,7 @@
 //! format allows. Then the counts `V F E` (on the keyword's line or after it; `E` is
 //! read and ignored), `V` vertices (`x y z`, then `nx ny nz` for `N`), and `F` faces
 //! `n i0 … in-1` with 0-based indices. Colours, normals and texture coordinates are
-//! ignored. Polygons are fan-triangulated by the builder ([`crate::build`]), and vertex
+//! ignored. Polygons are fan-triangulated by the builder ([`crate::BuildReport`]), and vertex
 //! `i` of the file is [`Mesh::vertex_at`]`(i)`, as for OBJ and PLY.
 //!
 //! **Layout.** Values are separated by any white space (`\n`, `\r\n` or `\r` line ends);

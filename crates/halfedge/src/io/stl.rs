@@ -22,7 +22,7 @@
 //! has; the number of corners merged is [`BuildReport::merged_vertices`], and triangles
 //! that welding gives a repeated vertex (two corners at one place) are counted in
 //! [`BuildReport::dropped_faces`]. Faces that would make the welded mesh non-manifold go
-//! onto copies of their vertices, as for every format ([`crate::build`]). When welding
+//! onto copies of their vertices, as for every format ([`crate::BuildReport`]). When welding
 //! closes nothing (or nothing is at one place), the soup itself is returned:
 //! vertex `3k + j` is corner `j` of triangle `k`. [`read_stl_soup_from_bytes`] never
 //! welds.

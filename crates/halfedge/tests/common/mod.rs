@@ -277,7 +277,7 @@ pub fn crossing_edges(mesh: &Mesh) -> usize {
         .filter(|&e| {
             let l = |v| labels[mesh.vertex_index(v)];
             let (x, y) = (l(mesh.from_vertex(e)), l(mesh.to_vertex(e)));
-            x != y && x != halfedge::FRONTIER && y != halfedge::FRONTIER
+            x != y && x != halfedge::labels::FRONTIER && y != halfedge::labels::FRONTIER
         })
         .count()
 }

@@ -528,7 +528,8 @@ pub(crate) mod fixture {
     use super::{Headless, ToolContext};
     use crate::document::Document;
     use glam::DVec3;
-    use halfedge::{generators, Hierarchy, HierarchyOptions, Mesh};
+    use halfedge::hierarchy::{Hierarchy, HierarchyOptions};
+    use halfedge::{generators, Mesh};
 
     /// A document holding a hierarchy of an icosphere at `level`, and the rest of what a
     /// tool context borrows.

@@ -30,11 +30,10 @@ use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use glam::DVec3;
+use halfedge::hierarchy::{BuildProgress, DetailMode, Hierarchy, HierarchyOptions, Method};
 use halfedge::labels::LABEL_ATTRIBUTE;
-use halfedge::{
-    BuildProgress, DetailMode, FaceId, Hierarchy, HierarchyOptions, Label, Mesh, Method, VertexId,
-    FRONTIER,
-};
+use halfedge::labels::{Label, FRONTIER};
+use halfedge::{FaceId, Mesh, VertexId};
 use three_d::egui;
 
 use super::params::{self, Param, Widget};

@@ -1,6 +1,7 @@
 //! Geodesic balls: the vertices within a surface distance of seeds.
 
-use halfedge::{Mesh, Selection, VertexData, VertexId};
+use halfedge::selection::Selection;
+use halfedge::{Mesh, VertexData, VertexId};
 
 use super::geodesic::{FastMarching, MarchSource};
 use crate::bendels_klein::error::{BendelsKleinError, Result};
@@ -16,7 +17,8 @@ use crate::bendels_klein::error::{BendelsKleinError, Result};
 ///
 /// ```
 /// use edit::bendels_klein::geodesic_ball;
-/// use halfedge::{generators, DVec3};
+/// use glam::DVec3;
+/// use halfedge::generators;
 /// let sphere = generators::icosphere(4);
 /// let top = sphere.extreme_vertex(DVec3::Z).unwrap().unwrap();
 /// let (ball, distance) = geodesic_ball(&sphere, &[top], 1.0).unwrap();

@@ -635,7 +635,7 @@ impl Ffd {
 }
 
 impl HierarchyEdit for Ffd {
-    /// What [`deform`](Ffd::deform) means for a [`Hierarchy`](halfedge::Hierarchy)
+    /// What [`deform`](Ffd::deform) means for a [`Hierarchy`](halfedge::hierarchy::Hierarchy)
     /// whose current level `mesh` is: its region is the attached vertices (the
     /// deformation's footprint), so that refined back only their fine vertices move; the
     /// deformation has no affine part.

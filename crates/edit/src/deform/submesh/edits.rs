@@ -302,7 +302,7 @@ fn check_variation(v: &Variation) -> Result<()> {
 }
 
 /// A sub-mesh edit as [`SubMesh::apply_with_marks`] applied it: the positions it changed
-/// (to undo it exactly) and what it means for a [`Hierarchy`](halfedge::Hierarchy)
+/// (to undo it exactly) and what it means for a [`Hierarchy`](halfedge::hierarchy::Hierarchy)
 /// whose current level the mesh was, given to the hierarchy through [`HierarchyEdit`].
 ///
 /// Paper: *Interactive editing of multiresolution meshes* §4.
@@ -371,7 +371,7 @@ impl SubMesh {
     }
 
     /// [`apply`](Self::apply), keeping what the edit means for a
-    /// [`Hierarchy`](halfedge::Hierarchy) whose current level `mesh` is (worked out on
+    /// [`Hierarchy`](halfedge::hierarchy::Hierarchy) whose current level `mesh` is (worked out on
     /// `mesh` before the edit moves it): give it to the hierarchy with
     /// [`HierarchyEdit::mark`] on the result. The region is the sub-mesh and its `n`
     /// propagation collars (all of them, moved or not: the edit's transition is spread
@@ -381,7 +381,7 @@ impl SubMesh {
     /// about the centre with the re-seating translation, a rotation about the axis, Barr's
     /// taper or twist at its full factor or angle). A taper or twist whose strength ramps
     /// along its axis ([`Variation::Along`]) is a map of space: the whole sub-mesh is
-    /// marked with it ([`Hierarchy::mark_field`](halfedge::Hierarchy::mark_field)), so
+    /// marked with it ([`Hierarchy::mark_field`](halfedge::hierarchy::Hierarchy::mark_field)), so
     /// every fine vertex collapsed into the sub-mesh gets its own strength from its own
     /// input position, ramp and rigid end included, as the same edit made at full
     /// resolution. A bounded rotation's vertices stopped on the frontier plane are not at

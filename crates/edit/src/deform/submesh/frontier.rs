@@ -75,7 +75,7 @@ fn neighbours(mesh: &Mesh, i: usize) -> impl Iterator<Item = usize> + '_ {
 
 impl SubMesh {
     /// The sub-mesh of the live vertices whose `inside` entry is true (per-vertex data
-    /// of `mesh`: a [`halfedge::Selection::mask`], or [`VertexData::new`] over a
+    /// of `mesh`: a [`halfedge::selection::Selection::mask`], or [`VertexData::new`] over a
     /// `Vec<bool>`). This is the one place where a sub-mesh is built; the other
     /// constructors convert to a mask.
     ///

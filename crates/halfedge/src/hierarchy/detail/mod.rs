@@ -1,57 +1,3 @@
-//! Detail coefficients: how a split places the two vertices of its record after the mesh
-//! was edited at a coarser level.
-//!
-//! Two schemes ([`DetailMode`]), chosen when the hierarchy is built:
-//!
-//! - [`DetailMode::LocalFrame`] (the default), after the local-frame details of Kobbelt,
-//!   Campagna, Vorsatz & Seidel (1998) and Guskov, Sweldens & Schröder (1999): at collapse
-//!   time each endpoint's position is stored as an offset from the survivor's placed
-//!   position, in a frame of the collapsed edge's link (the ring of vertices around the
-//!   edge): its first Fourier mode `Σ cos(2πj/n) q_j`, `Σ sin(2πj/n) q_j` gives two
-//!   tangents that follow every affine map of the ring, the third axis is their normal
-//!   scaled by the square root of their area. The centroid of that ring is stored in the
-//!   same frame. At split time the frame is built again from the neighbours' current
-//!   positions. Where the survivor moved *with* its ring (it is where the ring's motion,
-//!   read through the frame, puts it), both endpoints go to the survivor's position plus
-//!   their offsets in the new frame: a neighbourhood translated, rotated, scaled or
-//!   sheared at a coarse level takes its detail along, turned and scaled with it. Where
-//!   it moved *apart* from its ring (a vertex dragged on its own, the edge of a moved
-//!   region, a fast-varying edit), each endpoint is also written in the affine frame of
-//!   the coarse triangle it lies over (survivor and two link vertices, where they were
-//!   before the edit), and the two placements are blended by the survivor's hat function:
-//!   the frame's near the survivor, the triangle's towards the link, where it meets the
-//!   neighbours' own motion. So the fine vertices' motion interpolates the coarse
-//!   vertices' (to second order for smooth edits) instead of stepping between them.
-//! - [`DetailMode::Translation`], the seed paper's centroid translations ("Interactive
-//!   Editing of Multiresolution Meshes", section 3, Fig. 1): each endpoint takes its
-//!   recorded position plus the translation `C_f − C_i` of the centroid of its own
-//!   neighbours. Rotations are not carried (a rotated part comes back with unrotated
-//!   detail) and every split averages moved and unmoved neighbours, so an edit diffuses
-//!   about one ring further at every level. Kept for fidelity with the paper.
-//!
-//! **Regions** (local frames only): a split whose survivor is exactly where the hierarchy
-//! left it (bit for bit) puts both endpoints back at their recorded positions, unless the
-//! survivor is in an edit's region ([`crate::Hierarchy::mark_region`]). So outside the
-//! regions a fine vertex moves only when its *ancestor* at the edited level (the vertex
-//! it was collapsed into) moved: everything an edit left in place stays exact at every
-//! finer level. Inside a region, an unmoved vertex next to moved ones takes its share of
-//! their motion, so the transition between moved and still parts is the edit's own. A
-//! survivor marked with an affine map ([`crate::Hierarchy::mark_affine`]) whose position
-//! is that map's image of where the hierarchy left it places both endpoints at the map's
-//! image of their recorded positions, exactly: rigidly moved handles land where the user
-//! put them.
-//!
-//! Exactness: the frame (and the centroids) are computed by one function over the same
-//! neighbour list in the same order at collapse and at split time, so with no edit they
-//! agree bit for bit; and the hierarchy skips all of this while no position was edited.
-//!
-//! Storage is flat: one `Vec<u32>` of neighbour vertex indices for all records, with two
-//! lists per record (`v0`'s, then `v1`'s) delimited by one offset array, two vectors per
-//! record (the local offsets, or the recorded centroids), and with local frames the
-//! ring's centroid and which ring the frame is built from. The positions before an edit,
-//! which the triangle placement reads, are kept by the hierarchy (one copy of the edited
-//! level's vertices, taken by `Hierarchy::mesh_mut`).
-
 mod frame;
 mod interpolate;
 #[cfg(test)]
@@ -66,7 +12,61 @@ pub(crate) use frame::{centroid, translate_exact, Frame, Lists, Ring};
 use interpolate::{interpolate, moved_together, settle, unfold, Before};
 
 /// How a split places its vertices after an edit at a coarser level (see the
-/// [module docs](self)).
+/// [docs above](Self)).
+///
+/// Detail coefficients: how a split places the two vertices of its record after the mesh
+/// was edited at a coarser level.
+///
+/// Two schemes ([`DetailMode`]), chosen when the hierarchy is built:
+///
+/// - [`DetailMode::LocalFrame`] (the default), after the local-frame details of Kobbelt,
+///   Campagna, Vorsatz & Seidel (1998) and Guskov, Sweldens & Schröder (1999): at collapse
+///   time each endpoint's position is stored as an offset from the survivor's placed
+///   position, in a frame of the collapsed edge's link (the ring of vertices around the
+///   edge): its first Fourier mode `Σ cos(2πj/n) q_j`, `Σ sin(2πj/n) q_j` gives two
+///   tangents that follow every affine map of the ring, the third axis is their normal
+///   scaled by the square root of their area. The centroid of that ring is stored in the
+///   same frame. At split time the frame is built again from the neighbours' current
+///   positions. Where the survivor moved *with* its ring (it is where the ring's motion,
+///   read through the frame, puts it), both endpoints go to the survivor's position plus
+///   their offsets in the new frame: a neighbourhood translated, rotated, scaled or
+///   sheared at a coarse level takes its detail along, turned and scaled with it. Where
+///   it moved *apart* from its ring (a vertex dragged on its own, the edge of a moved
+///   region, a fast-varying edit), each endpoint is also written in the affine frame of
+///   the coarse triangle it lies over (survivor and two link vertices, where they were
+///   before the edit), and the two placements are blended by the survivor's hat function:
+///   the frame's near the survivor, the triangle's towards the link, where it meets the
+///   neighbours' own motion. So the fine vertices' motion interpolates the coarse
+///   vertices' (to second order for smooth edits) instead of stepping between them.
+/// - [`DetailMode::Translation`], the seed paper's centroid translations ("Interactive
+///   Editing of Multiresolution Meshes", section 3, Fig. 1): each endpoint takes its
+///   recorded position plus the translation `C_f − C_i` of the centroid of its own
+///   neighbours. Rotations are not carried (a rotated part comes back with unrotated
+///   detail) and every split averages moved and unmoved neighbours, so an edit diffuses
+///   about one ring further at every level. Kept for fidelity with the paper.
+///
+/// **Regions** (local frames only): a split whose survivor is exactly where the hierarchy
+/// left it (bit for bit) puts both endpoints back at their recorded positions, unless the
+/// survivor is in an edit's region ([`crate::hierarchy::Hierarchy::mark_region`]). So outside the
+/// regions a fine vertex moves only when its *ancestor* at the edited level (the vertex
+/// it was collapsed into) moved: everything an edit left in place stays exact at every
+/// finer level. Inside a region, an unmoved vertex next to moved ones takes its share of
+/// their motion, so the transition between moved and still parts is the edit's own. A
+/// survivor marked with an affine map ([`crate::hierarchy::Hierarchy::mark_affine`]) whose position
+/// is that map's image of where the hierarchy left it places both endpoints at the map's
+/// image of their recorded positions, exactly: rigidly moved handles land where the user
+/// put them.
+///
+/// Exactness: the frame (and the centroids) are computed by one function over the same
+/// neighbour list in the same order at collapse and at split time, so with no edit they
+/// agree bit for bit; and the hierarchy skips all of this while no position was edited.
+///
+/// Storage is flat: one `Vec<u32>` of neighbour vertex indices for all records, with two
+/// lists per record (`v0`'s, then `v1`'s) delimited by one offset array, two vectors per
+/// record (the local offsets, or the recorded centroids), and with local frames the
+/// ring's centroid and which ring the frame is built from. The positions before an edit,
+/// which the triangle placement reads, are kept by the hierarchy (one copy of the edited
+/// level's vertices, taken by `Hierarchy::mesh_mut`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum DetailMode {
     /// Offsets in a local frame of the neighbourhood, anchored at the survivor; regions
@@ -360,7 +360,7 @@ impl Details {
 
     /// Where splitting record `r` puts `v0` and `v1`, with the survivor now at `anchor`,
     /// the neighbours at `positions`, and the collapse as recorded in `at`. `in_region`:
-    /// the survivor is in an edit's region ([`crate::Hierarchy::mark_region`]), so it is
+    /// the survivor is in an edit's region ([`crate::hierarchy::Hierarchy::mark_region`]), so it is
     /// placed by its neighbourhood's motion even when it did not move itself.
     #[inline]
     #[allow(clippy::too_many_arguments)]
