@@ -1,0 +1,160 @@
+//! The frame of a hierarchy file: the header (magic, format version, section table, the
+//! header's CRC-32) and the sections, each followed by its own CRC-32.
+
+use std::path::Path;
+
+use super::bytes::{format_error, get_u32, get_u64};
+use super::FORMAT_VERSION;
+use crate::error::Result;
+
+/// The first eight bytes of every hierarchy file (after PNG's: a high byte, the name,
+/// and the line endings and end-of-file character that text-mode transfers mangle).
+pub(super) const MAGIC: [u8; 8] = *b"\x89MRH\r\n\x1a\n";
+
+/// The sections of a file of this version, in file order.
+pub(super) const SECTIONS: [&str; 8] = ["META", "MESH", "LABL", "RECS", "PLAC", "DETL", "MARK", "REST"];
+
+/// Bytes of one entry of the section table: tag, flags, offset, length.
+const ENTRY: usize = 4 + 4 + 8 + 8;
+
+/// Bytes before the table: magic, version, section count.
+const PREAMBLE: usize = 8 + 4 + 4;
+
+/// Bytes of the header: preamble, table, CRC-32.
+pub(super) const HEADER: usize = PREAMBLE + SECTIONS.len() * ENTRY + 4;
+
+/// The header of a file whose sections have these lengths (in [`SECTIONS`] order).
+pub(super) fn header(lengths: &[u64; SECTIONS.len()]) -> Vec<u8> {
+    let mut out = Vec::with_capacity(HEADER);
+    out.extend_from_slice(&MAGIC);
+    out.extend_from_slice(&FORMAT_VERSION.to_le_bytes());
+    out.extend_from_slice(&(SECTIONS.len() as u32).to_le_bytes());
+    let mut offset = HEADER as u64;
+    for (tag, &length) in SECTIONS.iter().zip(lengths) {
+        out.extend_from_slice(tag.as_bytes());
+        out.extend_from_slice(&0u32.to_le_bytes());
+        out.extend_from_slice(&offset.to_le_bytes());
+        out.extend_from_slice(&length.to_le_bytes());
+        offset += length + 4;
+    }
+    let crc = crc32fast::hash(&out);
+    out.extend_from_slice(&crc.to_le_bytes());
+    out
+}
+
+/// A section found in a file: its tag, where its payload starts and its bytes (CRC
+/// checked).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Section<'a> {
+    pub(super) tag: &'static str,
+    pub(super) offset: usize,
+    pub(super) bytes: &'a [u8],
+}
+
+/// The sections of `file` in [`SECTIONS`] order, after checking the magic, the format
+/// version, the section table (every section of this version, in order, end to end,
+/// the last ending where the file ends), the header's CRC and every section's CRC.
+///
+/// # Errors
+/// [`crate::Error::Format`] naming `path` and what is wrong.
+pub(super) fn sections<'a>(file: &'a [u8], path: &Path) -> Result<[Section<'a>; SECTIONS.len()]> {
+    let fail = |message: String| Err(format_error(path, message));
+    if file.len() < PREAMBLE {
+        return fail(format!(
+            "{} bytes: too short for a hierarchy file header ({HEADER} bytes)",
+            file.len()
+        ));
+    }
+    if file[..8] != MAGIC {
+        return fail("not a hierarchy file (.mrh): the first 8 bytes are not its magic".into());
+    }
+    let version = get_u32(&file[8..]);
+    if version != FORMAT_VERSION {
+        return fail(format!(
+            "hierarchy file format version {version}; this library reads version \
+             {FORMAT_VERSION} only (see docs/guide/hierarchy-file.md: save it again with the \
+             library that wrote it, or rebuild the hierarchy)"
+        ));
+    }
+    let count = get_u32(&file[12..]);
+    if count as usize != SECTIONS.len() {
+        return fail(format!(
+            "header: {count} sections announced, version {FORMAT_VERSION} has {}",
+            SECTIONS.len()
+        ));
+    }
+    if file.len() < HEADER {
+        return fail(format!(
+            "{} bytes: truncated in the header ({HEADER} bytes)",
+            file.len()
+        ));
+    }
+    let stored = get_u32(&file[HEADER - 4..]);
+    let computed = crc32fast::hash(&file[..HEADER - 4]);
+    if stored != computed {
+        return fail(format!(
+            "header: CRC-32 {stored:08x} stored, {computed:08x} computed (the header is corrupt)"
+        ));
+    }
+    let mut expected = HEADER as u64;
+    let mut out = [Section {
+        tag: "",
+        offset: 0,
+        bytes: &[],
+    }; SECTIONS.len()];
+    for (k, tag) in SECTIONS.iter().enumerate() {
+        let entry = &file[PREAMBLE + k * ENTRY..PREAMBLE + (k + 1) * ENTRY];
+        let found = &entry[..4];
+        if found != tag.as_bytes() {
+            return fail(format!(
+                "section table entry {k}: tag {:?}, expected {tag}",
+                String::from_utf8_lossy(found)
+            ));
+        }
+        let flags = get_u32(&entry[4..]);
+        let offset = get_u64(&entry[8..]);
+        let length = get_u64(&entry[16..]);
+        if flags != 0 {
+            return fail(format!("section {tag}: unknown flags {flags:#x}"));
+        }
+        if offset != expected {
+            return fail(format!(
+                "section {tag}: starts at byte {offset}, expected {expected}"
+            ));
+        }
+        let end = offset
+            .checked_add(length)
+            .and_then(|e| e.checked_add(4))
+            .filter(|&e| e <= file.len() as u64);
+        let Some(end) = end else {
+            return fail(format!(
+                "section {tag}: {length} bytes at byte {offset} run past the end of the \
+                 file ({} bytes): the file is truncated",
+                file.len()
+            ));
+        };
+        let (start, stop) = (offset as usize, (end - 4) as usize);
+        let bytes = &file[start..stop];
+        let stored = get_u32(&file[stop..]);
+        let computed = crc32fast::hash(bytes);
+        if stored != computed {
+            return fail(format!(
+                "section {tag}: CRC-32 {stored:08x} stored, {computed:08x} computed (the \
+                 section is corrupt)"
+            ));
+        }
+        out[k] = Section {
+            tag,
+            offset: start,
+            bytes,
+        };
+        expected = end;
+    }
+    if expected != file.len() as u64 {
+        return fail(format!(
+            "{} bytes after the last section",
+            file.len() as u64 - expected
+        ));
+    }
+    Ok(out)
+}
