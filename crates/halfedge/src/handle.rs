@@ -309,10 +309,7 @@ impl Slots {
             }
         }
         if !generations.is_empty() && generations.len() != len {
-            return Err(format!(
-                "{} generations for {len} slots",
-                generations.len()
-            ));
+            return Err(format!("{} generations for {len} slots", generations.len()));
         }
         if generations.is_empty() {
             // No slot was ever freed: every slot is live or a tombstone (what the
@@ -346,7 +343,9 @@ impl Slots {
                 ));
             }
             if pairs && (i % 2 != 0 || i + 1 >= len || slots.state(i + 1) != VACANT) {
-                return Err(format!("free halfedge slot {i} does not start a vacant pair"));
+                return Err(format!(
+                    "free halfedge slot {i} does not start a vacant pair"
+                ));
             }
             listed[i] = true;
         }

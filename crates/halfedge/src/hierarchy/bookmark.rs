@@ -207,7 +207,10 @@ impl Refreshes {
         forgotten_before: u64,
     ) -> Result<Self, String> {
         if runs.len() > MAX_RUNS {
-            return Err(format!("{} runs of records made again (at most {MAX_RUNS})", runs.len()));
+            return Err(format!(
+                "{} runs of records made again (at most {MAX_RUNS})",
+                runs.len()
+            ));
         }
         if count > 1 << 62 {
             return Err(format!("{count} records made again"));
@@ -215,8 +218,11 @@ impl Refreshes {
         let mut next = forgotten_before.max(1);
         for &(first, record, len) in &runs {
             let end = (len as u64).checked_add(first);
-            if len == 0 || first < next || end.is_none_or(|e| e > count + 1)
-                 || record.checked_add(len).is_none() {
+            if len == 0
+                || first < next
+                || end.is_none_or(|e| e > count + 1)
+                || record.checked_add(len).is_none()
+            {
                 return Err(format!(
                     "a run of records made again ({first}, {record}, {len}) is out of order or range"
                 ));

@@ -310,7 +310,11 @@ impl Details {
                 coefficients.len()
             ));
         }
-        let framed_len = if mode == DetailMode::LocalFrame { records } else { 0 };
+        let framed_len = if mode == DetailMode::LocalFrame {
+            records
+        } else {
+            0
+        };
         if framed.len() != framed_len || centres.len() != framed_len {
             return Err(format!(
                 "{} frame rings and {} centres for {records} records in {mode:?}",

@@ -180,7 +180,10 @@ impl<W: Write> Out for Stream<'_, W> {
             }
             let start = self.buffer.len();
             self.buffer.resize(start + batch.len() * size, 0);
-            for (item, out) in batch.iter().zip(self.buffer[start..].chunks_exact_mut(size)) {
+            for (item, out) in batch
+                .iter()
+                .zip(self.buffer[start..].chunks_exact_mut(size))
+            {
                 encode(item, out);
             }
         }
@@ -232,9 +235,7 @@ impl<'a> In<'a> {
     pub(super) fn take(&mut self, n: usize) -> Result<&'a [u8]> {
         let rest = self.bytes.len() - self.pos;
         if n > rest {
-            return Err(self.error(format!(
-                "{n} bytes needed, {rest} left in the section"
-            )));
+            return Err(self.error(format!("{n} bytes needed, {rest} left in the section")));
         }
         let out = &self.bytes[self.pos..self.pos + n];
         self.pos += n;

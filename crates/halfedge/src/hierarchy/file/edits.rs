@@ -83,7 +83,10 @@ pub(super) fn read_rests(
     records: usize,
     vertex_slots: usize,
 ) -> Result<Vec<Rest>> {
-    let n = input.usize_at_most(MAX_RESTS, "the number of copies of positions before an edit")?;
+    let n = input.usize_at_most(
+        MAX_RESTS,
+        "the number of copies of positions before an edit",
+    )?;
     let mut rests = Vec::with_capacity(n);
     for k in 0..n {
         let floor = input.usize("a copy's first record")?;

@@ -12,7 +12,9 @@ use crate::error::Result;
 pub(super) const MAGIC: [u8; 8] = *b"\x89MRH\r\n\x1a\n";
 
 /// The sections of a file of this version, in file order.
-pub(super) const SECTIONS: [&str; 8] = ["META", "MESH", "LABL", "RECS", "PLAC", "DETL", "MARK", "REST"];
+pub(super) const SECTIONS: [&str; 8] = [
+    "META", "MESH", "LABL", "RECS", "PLAC", "DETL", "MARK", "REST",
+];
 
 /// Bytes of one entry of the section table: tag, flags, offset, length.
 const ENTRY: usize = 4 + 4 + 8 + 8;

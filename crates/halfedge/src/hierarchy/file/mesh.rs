@@ -20,7 +20,10 @@ fn write_slots(slots: &Slots, out: &mut impl Out) {
 
 /// Reads a slot table (`what`: the element kind, for messages).
 fn read_slots(input: &mut In<'_>, pairs: bool, what: &str) -> Result<Slots> {
-    let len = input.usize_at_most(u32::MAX as usize - 1, &format!("the number of {what} slots"))?;
+    let len = input.usize_at_most(
+        u32::MAX as usize - 1,
+        &format!("the number of {what} slots"),
+    )?;
     let states = input.array(8, &format!("{what} slot states"), get_u64)?;
     let generations = input.array(4, &format!("{what} generations"), get_u32)?;
     let free = input.array(4, &format!("free {what} slots"), get_u32)?;
@@ -79,7 +82,11 @@ pub(super) fn read(input: &mut In<'_>) -> Result<Mesh> {
     let n_halfedges = input.usize("the halfedge count")?;
     let n_faces = input.usize("the face count")?;
     input.end()?;
-    let (nv, nh, nf) = (vertex_slots_.len(), halfedge_slots_.len(), face_slots_.len());
+    let (nv, nh, nf) = (
+        vertex_slots_.len(),
+        halfedge_slots_.len(),
+        face_slots_.len(),
+    );
     if vertex_conn.len() != nv || positions.len() != nv {
         return Err(input.error(format!(
             "{} vertex halfedges and {} positions for {nv} vertex slots",
@@ -103,9 +110,10 @@ pub(super) fn read(input: &mut In<'_>) -> Result<Mesh> {
     if let Some(v) = vertex_conn.iter().position(|&h| !ok(h, nh)) {
         return Err(input.error(format!("vertex slot {v} names a halfedge out of range")));
     }
-    if let Some(h) = he.iter().position(|r| {
-        !(ok(r.to, nv) && ok(r.next, nh) && ok(r.prev, nh) && ok(r.face, nf))
-    }) {
+    if let Some(h) = he
+        .iter()
+        .position(|r| !(ok(r.to, nv) && ok(r.next, nh) && ok(r.prev, nh) && ok(r.face, nf)))
+    {
         return Err(input.error(format!("halfedge slot {h} has a link out of range")));
     }
     if let Some(f) = face_conn.iter().position(|&h| !ok(h, nh)) {

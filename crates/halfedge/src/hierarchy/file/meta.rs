@@ -169,9 +169,9 @@ pub(super) fn read(input: &mut In<'_>) -> Result<Meta> {
     let level_ends = to_usize(level_ends, "level end")?;
     let level_faces = to_usize(level_faces, "level face count")?;
     if level_ends.first() != Some(&0) || level_ends.windows(2).any(|w| w[0] >= w[1]) {
-        return Err(input.error(
-            "the level table does not start at record 0 or is not strictly increasing",
-        ));
+        return Err(
+            input.error("the level table does not start at record 0 or is not strictly increasing")
+        );
     }
     if level_faces.len() != level_ends.len() {
         return Err(input.error(format!(

@@ -181,7 +181,8 @@ impl Hierarchy {
     pub fn read_from(bytes: &[u8], path: impl AsRef<Path>) -> Result<Self> {
         let path = path.as_ref();
         let sections = layout::sections(bytes, path)?;
-        let input = |k: usize| In::new(sections[k].bytes, sections[k].offset, sections[k].tag, path);
+        let input =
+            |k: usize| In::new(sections[k].bytes, sections[k].offset, sections[k].tag, path);
         let meta = meta::read(&mut input(0))?;
         let mut mesh = mesh::read(&mut input(1))?;
         let (nv, nh) = (mesh.vertex_slots(), mesh.halfedge_slots());
@@ -238,7 +239,8 @@ impl Hierarchy {
             let attribute = mesh
                 .add_vertex_attribute::<Label>(&name, 0)
                 .map_err(|e| format_error(path, format!("section LABL: {e}")))?;
-            mesh.attribute_values_mut(attribute)?.copy_from_slice(&values);
+            mesh.attribute_values_mut(attribute)?
+                .copy_from_slice(&values);
             if k == 0 && labels.attached {
                 attached = Some(attribute);
             }
@@ -286,7 +288,9 @@ fn check_records_against_level(
     for (r, s) in records.steps.iter().enumerate() {
         let i0 = s.v0 as usize;
         if std::mem::replace(&mut removed[i0], true) {
-            return Err(format!("record {r} removes vertex {i0}, which an earlier record removed"));
+            return Err(format!(
+                "record {r} removes vertex {i0}, which an earlier record removed"
+            ));
         }
         let fits = if r < applied {
             mesh.is_deleted_vertex(vertex(s.v0))

@@ -18,9 +18,11 @@ pub(super) fn write(records: &Records, out: &mut impl Out) {
         put_vec3(b, s.p0);
         put_vec3(&mut b[24..], s.p1);
         let (before, moved, changed) = s.split_fields();
-        for (k, x) in [s.v0v1, s.v0, s.v1, s.vl, s.vr, before[0], before[1], before[2], moved]
-            .into_iter()
-            .enumerate()
+        for (k, x) in [
+            s.v0v1, s.v0, s.v1, s.vl, s.vr, before[0], before[1], before[2], moved,
+        ]
+        .into_iter()
+        .enumerate()
         {
             put_u32(&mut b[48 + 4 * k..], x);
         }
