@@ -270,6 +270,86 @@ fn an_edit_made_before_saving_refines_after_loading_as_in_one_process() {
     }
 }
 
+/// One scenario run twice, in one process and through a file at the point `save_at`
+/// of its steps: both must end with the same positions, bit for bit.
+fn same_after_loading(name: &str, steps: &[&dyn Fn(&mut Hierarchy)], save_at: usize) {
+    let options = HierarchyOptions::rounds()
+        .with_max_normal_deviation(90f64.to_radians())
+        .with_target_faces(150);
+    let mut one = Hierarchy::build(generators::icosphere(4), &options).unwrap();
+    let mut two = Hierarchy::build(generators::icosphere(4), &options).unwrap();
+    for (k, step) in steps.iter().enumerate() {
+        if k == save_at {
+            two = reload(&two);
+        }
+        step(&mut one);
+        step(&mut two);
+    }
+    one.refine_to(0).unwrap();
+    two.refine_to(0).unwrap();
+    two.mesh().check().unwrap();
+    assert_eq!(snapshot(two.mesh()), snapshot(one.mesh()), "{name}");
+    assert_eq!(
+        position_bits(two.mesh()),
+        position_bits(one.mesh()),
+        "{name}"
+    );
+}
+
+/// A translation of the cap of the current level, told as an affine mark.
+fn lift_cap(h: &mut Hierarchy) {
+    let lift = DAffine3::from_translation(DVec3::new(0.02, 0.0, 0.1));
+    let m = h.mesh();
+    let cap: Vec<VertexId> = m.vertices().filter(|&v| m.position(v).z > 0.5).collect();
+    let mesh = h.mesh_mut();
+    for &v in &cap {
+        let p = mesh.position(v);
+        mesh.set_position(v, lift.transform_point3(p));
+    }
+    h.mark_affine(&cap, lift).unwrap();
+}
+
+/// A bump of the vertices near the equator, unmarked (refinement interpolates).
+fn bump(h: &mut Hierarchy) {
+    let mesh = h.mesh_mut();
+    let vs: Vec<VertexId> = mesh
+        .vertices()
+        .filter(|&v| mesh.position(v).z.abs() < 0.2)
+        .collect();
+    for &v in &vs {
+        let p = mesh.position(v);
+        mesh.set_position(v, p * 1.05);
+    }
+}
+
+#[test]
+fn walks_and_edits_after_loading_are_those_of_one_process() {
+    let top = |h: &mut Hierarchy| h.go_to_level(h.coarsest_level()).unwrap();
+    let level = |l: usize| move |h: &mut Hierarchy| h.go_to_level(l).unwrap();
+    let touch = |h: &mut Hierarchy| {
+        let _ = h.mesh_mut();
+    };
+    // Walked to the input and back to the coarsest level after loading (the records made
+    // again by the loaded hierarchy's checked collapses), then edited.
+    same_after_loading("walk, then edit", &[&level(0), &top, &lift_cap, &bump], 0);
+    // Edited, refined part way, saved, walked coarser and edited again.
+    same_after_loading(
+        "edit, refine, save, coarsen, edit",
+        &[&lift_cap, &level(1), &level(3), &bump],
+        2,
+    );
+    // The mesh handed out without a change at the coarsest level, refined, saved: the
+    // hierarchy's positions are still clean, and the next edit's copy of the positions
+    // serves every record below (the clean flag is saved).
+    same_after_loading("clean, then edit", &[&touch, &level(2), &bump], 2);
+    // Saved between two edits at two levels.
+    same_after_loading(
+        "edit, save, refine, edit",
+        &[&bump, &level(2), &lift_cap, &level(1), &bump],
+        1,
+    );
+}
+
 #[test]
 fn the_same_hierarchy_gives_the_same_bytes() {
     let options = HierarchyOptions::rounds()
