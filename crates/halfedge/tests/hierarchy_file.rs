@@ -636,3 +636,93 @@ fn shared_meshes_round_trip_through_files() {
     }
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// The figures of `benches/README.md` for the bench mesh (nefertiti subdivided twice,
+/// 1.6 M faces, rounds to 2,000 faces): build, save, load, the mesh section's decode,
+/// the file's size, and what distrusting the loaded mesh costs a refinement.
+#[test]
+#[ignore = "real-mesh tier, timings: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -p halfedge --test hierarchy_file -- --ignored --nocapture bench_mesh"]
+fn bench_mesh_save_load_figures() {
+    use std::time::Instant;
+    let mut mesh = common::load("nefertiti.obj");
+    for _ in 0..2 {
+        mesh = generators::subdivide(&mesh);
+    }
+    let faces = mesh.n_faces() as f64;
+    let options = HierarchyOptions::rounds()
+        .with_max_normal_deviation(90f64.to_radians())
+        .with_target_faces(2000);
+    let best = |runs: usize, f: &mut dyn FnMut()| -> f64 {
+        (0..runs)
+            .map(|_| {
+                let t = Instant::now();
+                f();
+                t.elapsed().as_secs_f64()
+            })
+            .fold(f64::INFINITY, f64::min)
+    };
+    let mut built = None;
+    let build = best(2, &mut || built = Some(Hierarchy::build(mesh.clone(), &options).unwrap()));
+    let built = built.unwrap();
+    let dir = temp_dir("hierarchy_file_bench");
+    let path = dir.join("nefertiti.mrh");
+    let save = best(3, &mut || built.save(&path).unwrap());
+    let bytes = std::fs::read(&path).unwrap();
+    let mut loaded = None;
+    let load = best(5, &mut || loaded = Some(Hierarchy::load(&path).unwrap()));
+    let read_from = best(5, &mut || {
+        Hierarchy::read_from(&bytes, &path).unwrap();
+    });
+    let mesh_section = best(5, &mut || {
+        halfedge::hierarchy::file::read_mesh(&bytes, &path).unwrap();
+    });
+    let refine_trusted = best(3, &mut || {
+        let mut h = built.clone();
+        h.refine_to(0).unwrap();
+    });
+    let loaded = loaded.unwrap();
+    let refine_loaded = best(3, &mut || {
+        let mut h = Hierarchy::read_from(&bytes, &path).unwrap();
+        let t = Instant::now();
+        h.refine_to(0).unwrap();
+        let _ = t;
+    }) - read_from;
+    let mut again = loaded.clone();
+    again.refine_to(0).unwrap();
+    assert_eq!(snapshot(again.mesh()), snapshot(&mesh));
+    let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::fast());
+    std::io::Write::write_all(&mut gz, &bytes).unwrap();
+    let gz = gz.finish().unwrap().len();
+    println!(
+        "bench mesh: {} faces, {} records, {} levels",
+        mesh.n_faces(),
+        built.n_records(),
+        built.n_levels()
+    );
+    println!("build (rounds to 2,000 faces): {:.3} s", build);
+    println!("save to a file: {:.1} ms", save * 1e3);
+    println!(
+        "load from a file: {:.1} ms = {:.3} × the build; from bytes in memory {:.1} ms",
+        load * 1e3,
+        load / build,
+        read_from * 1e3
+    );
+    println!(
+        "mesh section alone (CRC, decode, checks): {:.1} ms = {:.1} ns per face",
+        mesh_section * 1e3,
+        mesh_section * 1e9 / faces
+    );
+    println!(
+        "file: {} bytes = {:.1} bytes per face ({:.1} per record); gzip fast {:.1} per face",
+        bytes.len(),
+        bytes.len() as f64 / faces,
+        bytes.len() as f64 / built.n_records() as f64,
+        gz as f64 / faces
+    );
+    println!(
+        "refine to level 0: {:.1} ms as built (trusted), {:.1} ms after loading (checked)",
+        refine_trusted * 1e3,
+        refine_loaded * 1e3
+    );
+    std::fs::remove_dir_all(dir).unwrap();
+}

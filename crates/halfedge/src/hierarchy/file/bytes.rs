@@ -293,6 +293,12 @@ impl<'a> In<'a> {
         Ok(bytes.chunks_exact(size).map(decode).collect())
     }
 
+    /// Skips an array of elements of `size` bytes (its count checked as by
+    /// [`array`](Self::array)).
+    pub(super) fn skip_array(&mut self, size: usize, what: &str) -> Result<()> {
+        self.array(size, what, |_| ()).map(drop)
+    }
+
     /// Fails unless every byte of the section was read.
     pub(super) fn end(&self) -> Result<()> {
         let rest = self.bytes.len() - self.pos;

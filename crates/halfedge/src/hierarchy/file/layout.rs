@@ -44,18 +44,41 @@ pub(super) fn header(lengths: &[u64; SECTIONS.len()]) -> Vec<u8> {
     out
 }
 
-/// A section found in a file: its tag, where its payload starts and its bytes (CRC
-/// checked).
+/// A section found in a file: its tag, where its payload starts, its bytes and the
+/// CRC-32 stored after them.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Section<'a> {
     pub(super) tag: &'static str,
     pub(super) offset: usize,
     pub(super) bytes: &'a [u8],
+    crc: u32,
+}
+
+impl Section<'_> {
+    /// Checks the section's bytes against its CRC-32.
+    ///
+    /// # Errors
+    /// [`crate::Error::Format`] naming `path` and the section.
+    pub(super) fn verify(&self, path: &Path) -> Result<()> {
+        let computed = crc32fast::hash(self.bytes);
+        if self.crc != computed {
+            return Err(format_error(
+                path,
+                format!(
+                    "section {}: CRC-32 {:08x} stored, {computed:08x} computed (the section \
+                     is corrupt)",
+                    self.tag, self.crc
+                ),
+            ));
+        }
+        Ok(())
+    }
 }
 
 /// The sections of `file` in [`SECTIONS`] order, after checking the magic, the format
 /// version, the section table (every section of this version, in order, end to end,
-/// the last ending where the file ends), the header's CRC and every section's CRC.
+/// the last ending where the file ends) and the header's CRC; each section's own CRC is
+/// checked by [`Section::verify`].
 ///
 /// # Errors
 /// [`crate::Error::Format`] naming `path` and what is wrong.
@@ -103,6 +126,7 @@ pub(super) fn sections<'a>(file: &'a [u8], path: &Path) -> Result<[Section<'a>; 
         tag: "",
         offset: 0,
         bytes: &[],
+        crc: 0,
     }; SECTIONS.len()];
     for (k, tag) in SECTIONS.iter().enumerate() {
         let entry = &file[PREAMBLE + k * ENTRY..PREAMBLE + (k + 1) * ENTRY];
@@ -136,19 +160,11 @@ pub(super) fn sections<'a>(file: &'a [u8], path: &Path) -> Result<[Section<'a>; 
             ));
         };
         let (start, stop) = (offset as usize, (end - 4) as usize);
-        let bytes = &file[start..stop];
-        let stored = get_u32(&file[stop..]);
-        let computed = crc32fast::hash(bytes);
-        if stored != computed {
-            return fail(format!(
-                "section {tag}: CRC-32 {stored:08x} stored, {computed:08x} computed (the \
-                 section is corrupt)"
-            ));
-        }
         out[k] = Section {
             tag,
             offset: start,
-            bytes,
+            bytes: &file[start..stop],
+            crc: get_u32(&file[stop..]),
         };
         expected = end;
     }

@@ -43,6 +43,18 @@ fn prefix(e: Error, what: &str) -> Error {
     }
 }
 
+/// The numbers of vertex and halfedge slots of section `MESH`, read ahead of the rest
+/// (the records' indices are checked against them while the mesh is read).
+pub(super) fn slot_counts(input: &mut In<'_>) -> Result<(usize, usize)> {
+    let limit = u32::MAX as usize - 1;
+    let nv = input.usize_at_most(limit, "the number of vertex slots")?;
+    for (size, what) in [(8, "vertex slot states"), (4, "vertex generations"), (4, "free vertex slots")] {
+        input.skip_array(size, what)?;
+    }
+    let nh = input.usize_at_most(limit, "the number of halfedge slots")?;
+    Ok((nv, nh))
+}
+
 /// Writes section `MESH` of `mesh`.
 pub(super) fn write(mesh: &Mesh, out: &mut impl Out) {
     write_slots(&mesh.vertex_slots_, out);

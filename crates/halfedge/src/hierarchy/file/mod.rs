@@ -181,20 +181,41 @@ impl Hierarchy {
     pub fn read_from(bytes: &[u8], path: impl AsRef<Path>) -> Result<Self> {
         let path = path.as_ref();
         let sections = layout::sections(bytes, path)?;
+        {
+            use rayon::prelude::*;
+            // The CRC-32s of the large sections on all cores; the first bad one in
+            // file order is reported.
+            let checked: Vec<Result<()>> =
+                sections.par_iter().map(|s| s.verify(path)).collect();
+            checked.into_iter().collect::<Result<()>>()?;
+        }
         let input =
             |k: usize| In::new(sections[k].bytes, sections[k].offset, sections[k].tag, path);
-        let meta = meta::read(&mut input(0))?;
-        let mut mesh = mesh::read(&mut input(1))?;
-        let (nv, nh) = (mesh.vertex_slots(), mesh.halfedge_slots());
-        let labels = mesh::read_labels(&mut input(2), nv)?;
-        let mut records_in = input(3);
-        let records = records::read(&mut records_in, (nv, nh))?;
+        // The mesh on one core, the records and everything indexed by them on the other
+        // (their indices are checked against the slot counts read ahead).
+        let (nv, nh) = mesh::slot_counts(&mut input(1))?;
+        let (mesh_side, records_side) = rayon::join(
+            || -> Result<_> {
+                let meta = meta::read(&mut input(0))?;
+                let mesh = mesh::read(&mut input(1))?;
+                let labels = mesh::read_labels(&mut input(2), nv)?;
+                Ok((meta, mesh, labels))
+            },
+            || -> Result<_> {
+                let records = records::read(&mut input(3), (nv, nh))?;
+                let n = records.len();
+                let placements = records::read_placements(&mut input(4), n)?;
+                let details = details::read(&mut input(5), n, nv)?;
+                let marks = edits::read_marks(&mut input(6))?;
+                let rests = edits::read_rests(&mut input(7), n, nv)?;
+                Ok((records, placements, details, marks, rests))
+            },
+        );
+        let (meta, mut mesh, labels) = mesh_side?;
+        let (records, placements, details, marks, rests) = records_side?;
+        debug_assert_eq!((nv, nh), (mesh.vertex_slots(), mesh.halfedge_slots()));
         let n = records.len();
-        let placements = records::read_placements(&mut input(4), n)?;
-        let details = details::read(&mut input(5), n, nv)?;
-        let mut marks_in = input(6);
-        let marks = edits::read_marks(&mut marks_in)?;
-        let rests = edits::read_rests(&mut input(7), n, nv)?;
+        let (records_in, marks_in) = (input(3), input(6));
 
         let fail = |section: &str, what: String| {
             Err(format_error(path, format!("section {section}: {what}")))
@@ -273,6 +294,24 @@ impl Hierarchy {
             refreshes: meta.refreshes,
         })
     }
+}
+
+/// Reads only the mesh of a `.mrh` file (at the level the hierarchy was saved at, its
+/// collapsed elements kept as removed ones), without the records: for showing a saved
+/// hierarchy, or telling what it holds, at a fraction of the cost of
+/// [`Hierarchy::read_from`]. The header and the mesh section are checked as
+/// `read_from` checks them (its CRC-32, every count and link, [`Mesh::check`]); no
+/// label or other attribute is attached.
+///
+/// # Errors
+/// [`Error::Format`] naming `path`, as [`Hierarchy::read_from`].
+///
+/// [`Mesh::check`]: crate::Mesh::check
+pub fn read_mesh(bytes: &[u8], path: impl AsRef<Path>) -> Result<crate::mesh::Mesh> {
+    let path = path.as_ref();
+    let section = layout::sections(bytes, path)?[1];
+    section.verify(path)?;
+    mesh::read(&mut In::new(section.bytes, section.offset, section.tag, path))
 }
 
 /// Checks the records against the mesh at the saved level, `applied` of them collapsed:
