@@ -662,7 +662,9 @@ fn bench_mesh_save_load_figures() {
             .fold(f64::INFINITY, f64::min)
     };
     let mut built = None;
-    let build = best(2, &mut || built = Some(Hierarchy::build(mesh.clone(), &options).unwrap()));
+    let build = best(2, &mut || {
+        built = Some(Hierarchy::build(mesh.clone(), &options).unwrap())
+    });
     let built = built.unwrap();
     let dir = temp_dir("hierarchy_file_bench");
     let path = dir.join("nefertiti.mrh");

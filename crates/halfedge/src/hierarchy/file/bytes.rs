@@ -190,24 +190,67 @@ impl<W: Write> Out for Stream<'_, W> {
     }
 }
 
-/// A reader of one section's bytes: every read is bounds-checked, every array count is
-/// checked against the bytes that remain before its memory is allocated, and every error
-/// is an [`Error::Format`] naming the file, the section and the byte.
+/// A reader of one section's bytes, from a slice holding them or streamed from a file
+/// (hashed as they come, the CRC-32 compared at the section's end): every read is
+/// bounds-checked, every array count is checked against the bytes that remain in the
+/// section before its memory is allocated, and every error is an [`Error::Format`]
+/// naming the file, the section and the byte.
 pub(super) struct In<'a> {
-    bytes: &'a [u8],
+    source: Source<'a>,
+    /// Bytes of the section read so far.
     pos: usize,
+    /// Bytes of the section.
+    len: usize,
     /// Where the section starts in the file (for messages).
     base: usize,
     section: &'static str,
     path: &'a Path,
 }
 
+/// Where an [`In`] reads from.
+enum Source<'a> {
+    /// The section's bytes, their CRC-32 checked already.
+    Slice(&'a [u8]),
+    /// A reader positioned at the section's first byte, with a buffer for what is being
+    /// decoded and the hash of what was read.
+    Stream {
+        reader: &'a mut dyn std::io::Read,
+        scratch: Vec<u8>,
+        hasher: crc32fast::Hasher,
+    },
+}
+
 impl<'a> In<'a> {
     /// A reader of `bytes`, section `section` of `path` starting at file offset `base`.
     pub(super) fn new(bytes: &'a [u8], base: usize, section: &'static str, path: &'a Path) -> Self {
         Self {
-            bytes,
+            source: Source::Slice(bytes),
             pos: 0,
+            len: bytes.len(),
+            base,
+            section,
+            path,
+        }
+    }
+
+    /// A reader of the `len` bytes of section `section` of `path` (at file offset `base`)
+    /// that `reader` gives next, followed by their CRC-32 (read and compared by
+    /// [`end`](Self::end)).
+    pub(super) fn stream(
+        reader: &'a mut dyn std::io::Read,
+        len: usize,
+        base: usize,
+        section: &'static str,
+        path: &'a Path,
+    ) -> Self {
+        Self {
+            source: Source::Stream {
+                reader,
+                scratch: Vec::new(),
+                hasher: crc32fast::Hasher::new(),
+            },
+            pos: 0,
+            len,
             base,
             section,
             path,
@@ -232,14 +275,31 @@ impl<'a> In<'a> {
     }
 
     /// The next `n` bytes.
-    pub(super) fn take(&mut self, n: usize) -> Result<&'a [u8]> {
-        let rest = self.bytes.len() - self.pos;
+    pub(super) fn take(&mut self, n: usize) -> Result<&[u8]> {
+        let rest = self.len - self.pos;
         if n > rest {
             return Err(self.error(format!("{n} bytes needed, {rest} left in the section")));
         }
-        let out = &self.bytes[self.pos..self.pos + n];
+        let start = self.pos;
         self.pos += n;
-        Ok(out)
+        match &mut self.source {
+            Source::Slice(bytes) => Ok(&bytes[start..start + n]),
+            Source::Stream {
+                reader,
+                scratch,
+                hasher,
+            } => {
+                scratch.resize(n, 0);
+                if let Err(source) = reader.read_exact(scratch) {
+                    return Err(Error::Io {
+                        path: self.path.to_path_buf(),
+                        source,
+                    });
+                }
+                hasher.update(scratch);
+                Ok(scratch)
+            }
+        }
     }
     /// A byte.
     pub(super) fn u8(&mut self) -> Result<u8> {
@@ -274,7 +334,8 @@ impl<'a> In<'a> {
         }
     }
     /// An array of elements of `size` bytes, each made by `decode`: the count is checked
-    /// against the bytes left before anything is allocated.
+    /// against the bytes left before anything is allocated (a stream is decoded a chunk
+    /// at a time).
     pub(super) fn array<T>(
         &mut self,
         size: usize,
@@ -282,15 +343,26 @@ impl<'a> In<'a> {
         decode: impl Fn(&[u8]) -> T,
     ) -> Result<Vec<T>> {
         let n = self.u64()?;
-        let rest = (self.bytes.len() - self.pos) as u64;
+        let rest = (self.len - self.pos) as u64;
         if n.checked_mul(size as u64).is_none_or(|bytes| bytes > rest) {
             self.pos -= 8;
             return Err(self.error(format!(
                 "{what}: {n} elements of {size} bytes announced, {rest} bytes left in the section"
             )));
         }
-        let bytes = self.take(n as usize * size)?;
-        Ok(bytes.chunks_exact(size).map(decode).collect())
+        let n = n as usize;
+        if let Source::Slice(_) = self.source {
+            let bytes = self.take(n * size)?;
+            return Ok(bytes.chunks_exact(size).map(decode).collect());
+        }
+        let mut out = Vec::with_capacity(n);
+        let per_chunk = (CHUNK * 16 / size.max(1)).max(1);
+        while out.len() < n {
+            let k = (n - out.len()).min(per_chunk);
+            let bytes = self.take(k * size)?;
+            out.extend(bytes.chunks_exact(size).map(&decode));
+        }
+        Ok(out)
     }
 
     /// Skips an array of elements of `size` bytes (its count checked as by
@@ -299,14 +371,35 @@ impl<'a> In<'a> {
         self.array(size, what, |_| ()).map(drop)
     }
 
-    /// Fails unless every byte of the section was read.
-    pub(super) fn end(&self) -> Result<()> {
-        let rest = self.bytes.len() - self.pos;
-        if rest == 0 {
-            Ok(())
-        } else {
-            Err(self.error(format!("{rest} bytes past the section's end")))
+    /// Fails unless every byte of the section was read; for a stream, reads the CRC-32
+    /// that follows and compares it with the hash of the section.
+    pub(super) fn end(&mut self) -> Result<()> {
+        let rest = self.len - self.pos;
+        if rest != 0 {
+            return Err(self.error(format!("{rest} bytes past the section's end")));
         }
+        if let Source::Stream { reader, hasher, .. } = &mut self.source {
+            let mut stored = [0u8; 4];
+            if let Err(source) = reader.read_exact(&mut stored) {
+                return Err(Error::Io {
+                    path: self.path.to_path_buf(),
+                    source,
+                });
+            }
+            let stored = u32::from_le_bytes(stored);
+            let computed = std::mem::replace(hasher, crc32fast::Hasher::new()).finalize();
+            if stored != computed {
+                return Err(format_error(
+                    self.path,
+                    format!(
+                        "section {}: CRC-32 {stored:08x} stored, {computed:08x} computed (the \
+                         section is corrupt)",
+                        self.section
+                    ),
+                ));
+            }
+        }
+        Ok(())
     }
 }
 

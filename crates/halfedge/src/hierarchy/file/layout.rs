@@ -83,11 +83,35 @@ impl Section<'_> {
 /// # Errors
 /// [`crate::Error::Format`] naming `path` and what is wrong.
 pub(super) fn sections<'a>(file: &'a [u8], path: &Path) -> Result<[Section<'a>; SECTIONS.len()]> {
+    let entries = table(file, file.len() as u64, path)?;
+    Ok(entries.map(|e| Section {
+        tag: e.tag,
+        offset: e.offset,
+        bytes: &file[e.offset..e.offset + e.length],
+        crc: get_u32(&file[e.offset + e.length..]),
+    }))
+}
+
+/// An entry of the section table: the section's tag, where its payload starts and its
+/// length (its CRC-32 follows it).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Entry {
+    pub(super) tag: &'static str,
+    pub(super) offset: usize,
+    pub(super) length: usize,
+}
+
+/// The section table of a file of `file_len` bytes whose first bytes are `head` (all of
+/// the header, or the whole file when it is shorter), checked as [`sections`] says.
+///
+/// # Errors
+/// [`crate::Error::Format`] naming `path` and what is wrong.
+pub(super) fn table(head: &[u8], file_len: u64, path: &Path) -> Result<[Entry; SECTIONS.len()]> {
+    let file = head;
     let fail = |message: String| Err(format_error(path, message));
     if file.len() < PREAMBLE {
         return fail(format!(
-            "{} bytes: too short for a hierarchy file header ({HEADER} bytes)",
-            file.len()
+            "{file_len} bytes: too short for a hierarchy file header ({HEADER} bytes)"
         ));
     }
     if file[..8] != MAGIC {
@@ -110,8 +134,7 @@ pub(super) fn sections<'a>(file: &'a [u8], path: &Path) -> Result<[Section<'a>; 
     }
     if file.len() < HEADER {
         return fail(format!(
-            "{} bytes: truncated in the header ({HEADER} bytes)",
-            file.len()
+            "{file_len} bytes: truncated in the header ({HEADER} bytes)"
         ));
     }
     let stored = get_u32(&file[HEADER - 4..]);
@@ -122,11 +145,10 @@ pub(super) fn sections<'a>(file: &'a [u8], path: &Path) -> Result<[Section<'a>; 
         ));
     }
     let mut expected = HEADER as u64;
-    let mut out = [Section {
+    let mut out = [Entry {
         tag: "",
         offset: 0,
-        bytes: &[],
-        crc: 0,
+        length: 0,
     }; SECTIONS.len()];
     for (k, tag) in SECTIONS.iter().enumerate() {
         let entry = &file[PREAMBLE + k * ENTRY..PREAMBLE + (k + 1) * ENTRY];
@@ -151,27 +173,24 @@ pub(super) fn sections<'a>(file: &'a [u8], path: &Path) -> Result<[Section<'a>; 
         let end = offset
             .checked_add(length)
             .and_then(|e| e.checked_add(4))
-            .filter(|&e| e <= file.len() as u64);
+            .filter(|&e| e <= file_len);
         let Some(end) = end else {
             return fail(format!(
                 "section {tag}: {length} bytes at byte {offset} run past the end of the \
-                 file ({} bytes): the file is truncated",
-                file.len()
+                 file ({file_len} bytes): the file is truncated"
             ));
         };
-        let (start, stop) = (offset as usize, (end - 4) as usize);
-        out[k] = Section {
+        out[k] = Entry {
             tag,
-            offset: start,
-            bytes: &file[start..stop],
-            crc: get_u32(&file[stop..]),
+            offset: offset as usize,
+            length: length as usize,
         };
         expected = end;
     }
-    if expected != file.len() as u64 {
+    if expected != file_len {
         return fail(format!(
             "{} bytes after the last section",
-            file.len() as u64 - expected
+            file_len - expected
         ));
     }
     Ok(out)

@@ -48,7 +48,11 @@ fn prefix(e: Error, what: &str) -> Error {
 pub(super) fn slot_counts(input: &mut In<'_>) -> Result<(usize, usize)> {
     let limit = u32::MAX as usize - 1;
     let nv = input.usize_at_most(limit, "the number of vertex slots")?;
-    for (size, what) in [(8, "vertex slot states"), (4, "vertex generations"), (4, "free vertex slots")] {
+    for (size, what) in [
+        (8, "vertex slot states"),
+        (4, "vertex generations"),
+        (4, "free vertex slots"),
+    ] {
         input.skip_array(size, what)?;
     }
     let nh = input.usize_at_most(limit, "the number of halfedge slots")?;

@@ -152,12 +152,44 @@ impl Hierarchy {
     /// [`Error::Io`] when the file cannot be read; the errors of
     /// [`read_from`](Self::read_from).
     pub fn load(path: impl AsRef<Path>) -> Result<Self> {
+        use std::io::{BufReader, Read, Seek, SeekFrom};
         let path = path.as_ref();
-        let bytes = std::fs::read(path).map_err(|source| Error::Io {
+        let io = |source| Error::Io {
             path: path.to_path_buf(),
             source,
-        })?;
-        Self::read_from(&bytes, path)
+        };
+        // Streamed: each section is read a chunk at a time and decoded as it comes (no
+        // copy of the whole file in memory), the mesh on one core and the records on
+        // the other, each from its own handle on the file.
+        let open_at = |offset: usize| -> Result<BufReader<std::fs::File>> {
+            let mut file = std::fs::File::open(path).map_err(io)?;
+            file.seek(SeekFrom::Start(offset as u64)).map_err(io)?;
+            Ok(BufReader::with_capacity(1 << 16, file))
+        };
+        let mut file = std::fs::File::open(path).map_err(io)?;
+        let len = file.metadata().map_err(io)?.len();
+        let mut head = vec![0u8; (layout::HEADER as u64).min(len) as usize];
+        file.read_exact(&mut head).map_err(io)?;
+        let entries = layout::table(&head, len, path)?;
+        let mesh_at = entries[1];
+        let counts = mesh::slot_counts(&mut In::stream(
+            &mut open_at(mesh_at.offset)?,
+            mesh_at.length,
+            mesh_at.offset,
+            "MESH",
+            path,
+        ))?;
+        let (mesh_side, records_side) = rayon::join(
+            || {
+                let mut reader = BufReader::with_capacity(1 << 16, file);
+                read_mesh_side(&mut Sections::Stream(&mut reader, &entries), path, counts)
+            },
+            || {
+                let mut reader = open_at(entries[3].offset)?;
+                read_records_side(&mut Sections::Stream(&mut reader, &entries), path, counts)
+            },
+        );
+        Self::assemble(path, counts, mesh_side?, records_side?)
     }
 
     /// Reads a hierarchy from the bytes of a `.mrh` file (`path` names it in errors). The
@@ -185,38 +217,36 @@ impl Hierarchy {
             use rayon::prelude::*;
             // The CRC-32s of the large sections on all cores; the first bad one in
             // file order is reported.
-            let checked: Vec<Result<()>> =
-                sections.par_iter().map(|s| s.verify(path)).collect();
+            let checked: Vec<Result<()>> = sections.par_iter().map(|s| s.verify(path)).collect();
             checked.into_iter().collect::<Result<()>>()?;
         }
-        let input =
-            |k: usize| In::new(sections[k].bytes, sections[k].offset, sections[k].tag, path);
+        let mesh_at = sections[1];
+        let counts = mesh::slot_counts(&mut In::new(mesh_at.bytes, mesh_at.offset, "MESH", path))?;
         // The mesh on one core, the records and everything indexed by them on the other
         // (their indices are checked against the slot counts read ahead).
-        let (nv, nh) = mesh::slot_counts(&mut input(1))?;
         let (mesh_side, records_side) = rayon::join(
-            || -> Result<_> {
-                let meta = meta::read(&mut input(0))?;
-                let mesh = mesh::read(&mut input(1))?;
-                let labels = mesh::read_labels(&mut input(2), nv)?;
-                Ok((meta, mesh, labels))
-            },
-            || -> Result<_> {
-                let records = records::read(&mut input(3), (nv, nh))?;
-                let n = records.len();
-                let placements = records::read_placements(&mut input(4), n)?;
-                let details = details::read(&mut input(5), n, nv)?;
-                let marks = edits::read_marks(&mut input(6))?;
-                let rests = edits::read_rests(&mut input(7), n, nv)?;
-                Ok((records, placements, details, marks, rests))
-            },
+            || read_mesh_side(&mut Sections::Slices(&sections), path, counts),
+            || read_records_side(&mut Sections::Slices(&sections), path, counts),
         );
-        let (meta, mut mesh, labels) = mesh_side?;
-        let (records, placements, details, marks, rests) = records_side?;
-        debug_assert_eq!((nv, nh), (mesh.vertex_slots(), mesh.halfedge_slots()));
-        let n = records.len();
-        let (records_in, marks_in) = (input(3), input(6));
+        Self::assemble(path, counts, mesh_side?, records_side?)
+    }
 
+    /// Makes the hierarchy of what the two sides read, after checking them against each
+    /// other.
+    fn assemble(
+        path: &Path,
+        counts: (usize, usize),
+        (meta, mut mesh, labels): (meta::Meta, crate::mesh::Mesh, mesh::Labels),
+        (records, placements, details, marks, rests): RecordSide,
+    ) -> Result<Self> {
+        let (nv, n) = (mesh.vertex_slots(), records.len());
+        if (nv, mesh.halfedge_slots()) != counts {
+            // Only a file changed while it was read (the counts are read twice).
+            return Err(format_error(
+                path,
+                "section MESH: the slot counts changed while the file was read".into(),
+            ));
+        }
         let fail = |section: &str, what: String| {
             Err(format_error(path, format!("section {section}: {what}")))
         };
@@ -247,13 +277,17 @@ impl Hierarchy {
             );
         }
         if marks.of_vertex.len() > nv {
-            return Err(marks_in.error(format!(
-                "{} vertex marks for {nv} vertex slots",
-                marks.of_vertex.len()
-            )));
+            return fail(
+                "MARK",
+                format!(
+                    "{} vertex marks for {nv} vertex slots",
+                    marks.of_vertex.len()
+                ),
+            );
         }
-        check_records_against_level(&records, &mesh, meta.applied)
-            .map_err(|what| records_in.error(what))?;
+        if let Err(what) = check_records_against_level(&records, &mesh, meta.applied) {
+            return fail("RECS", what);
+        }
 
         let mut attached = None;
         for (k, (name, values)) in labels.attributes.into_iter().enumerate() {
@@ -309,9 +343,71 @@ impl Hierarchy {
 /// [`Mesh::check`]: crate::Mesh::check
 pub fn read_mesh(bytes: &[u8], path: impl AsRef<Path>) -> Result<crate::mesh::Mesh> {
     let path = path.as_ref();
+    // Section 1 is the mesh.
     let section = layout::sections(bytes, path)?[1];
     section.verify(path)?;
-    mesh::read(&mut In::new(section.bytes, section.offset, section.tag, path))
+    mesh::read(&mut In::new(
+        section.bytes,
+        section.offset,
+        section.tag,
+        path,
+    ))
+}
+
+/// Where the sections are read from: slices of the file in memory, or a reader at the
+/// first of the sections about to be read (read in file order).
+enum Sections<'a> {
+    Slices(&'a [layout::Section<'a>]),
+    Stream(&'a mut dyn std::io::Read, &'a [layout::Entry]),
+}
+
+impl Sections<'_> {
+    /// A reader of section `k` (the next one, for a stream).
+    fn open<'s>(&'s mut self, k: usize, path: &'s Path) -> In<'s> {
+        match self {
+            Sections::Slices(s) => In::new(s[k].bytes, s[k].offset, s[k].tag, path),
+            Sections::Stream(reader, e) => {
+                In::stream(&mut **reader, e[k].length, e[k].offset, e[k].tag, path)
+            }
+        }
+    }
+}
+
+/// Sections `META`, `MESH` and `LABL`.
+fn read_mesh_side(
+    s: &mut Sections<'_>,
+    path: &Path,
+    (nv, _): (usize, usize),
+) -> Result<(meta::Meta, crate::mesh::Mesh, mesh::Labels)> {
+    let meta = meta::read(&mut s.open(0, path))?;
+    let mesh = mesh::read(&mut s.open(1, path))?;
+    let labels = mesh::read_labels(&mut s.open(2, path), nv)?;
+    Ok((meta, mesh, labels))
+}
+
+/// What sections `RECS` to `REST` hold.
+type RecordSide = (
+    super::records::Records,
+    super::placements::Placements,
+    super::detail::Details,
+    super::marks::Marks,
+    Vec<super::rests::Rest>,
+);
+
+/// Sections `RECS`, `PLAC`, `DETL`, `MARK` and `REST`, their indices checked against the
+/// mesh's slot counts `(nv, nh)`.
+fn read_records_side(
+    s: &mut Sections<'_>,
+    path: &Path,
+    (nv, nh): (usize, usize),
+) -> Result<RecordSide> {
+    let records = records::read(&mut s.open(3, path), (nv, nh))?;
+    let n = records.len();
+    let placements = records::read_placements(&mut s.open(4, path), n)?;
+    let details = details::read(&mut s.open(5, path), n, nv)?;
+    let marks = edits::read_marks(&mut s.open(6, path))?;
+    let rests = edits::read_rests(&mut s.open(7, path), n, nv)?;
+    Ok((records, placements, details, marks, rests))
 }
 
 /// Checks the records against the mesh at the saved level, `applied` of them collapsed:
