@@ -121,7 +121,25 @@ fn fix_crcs(bytes: &mut [u8]) {
 /// check and that walks to level 0 and back (typed errors allowed), its mesh checked
 /// after each walk. Returns whether the file was accepted.
 fn exercise(bytes: &[u8]) -> Result<bool, TestCaseError> {
-    let mut h = match Hierarchy::read_from(bytes, "fuzz.mrh") {
+    // The streaming reader of files decides as the reader of bytes does.
+    let dir = std::env::temp_dir().join(format!("halfedge-mrh-fuzz-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join(format!("{:?}.mrh", std::thread::current().id()));
+    std::fs::write(&file, bytes).unwrap();
+    let streamed = Hierarchy::load(&file);
+    std::fs::remove_file(&file).unwrap();
+    let read = Hierarchy::read_from(bytes, "fuzz.mrh");
+    prop_assert_eq!(
+        streamed.is_ok(),
+        read.is_ok(),
+        "load and read_from disagree: {:?} / {:?}",
+        streamed.as_ref().err(),
+        read.as_ref().err()
+    );
+    if let Err(e) = &streamed {
+        prop_assert!(matches!(e, Error::Format { .. }), "{e}");
+    }
+    let mut h = match read {
         Err(Error::Format { path, message }) => {
             prop_assert_eq!(path.to_str(), Some("fuzz.mrh"));
             prop_assert!(
