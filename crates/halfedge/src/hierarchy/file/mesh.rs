@@ -160,12 +160,15 @@ pub(super) fn read(input: &mut In<'_>) -> Result<Mesh> {
     Ok(mesh)
 }
 
+/// A label attribute's name and values, by vertex slot.
+pub(super) type LabelColumn<'a> = (&'a str, &'a [Label]);
+
 /// The label attributes section `LABL` keeps: the attached one (first) and the mesh's
 /// [`LABEL_ATTRIBUTE`] when it is another, each with its name and values.
 ///
 /// # Errors
 /// [`Error::InvalidArgument`] when the attached attribute was removed from the mesh.
-pub(super) fn label_attributes(h: &Hierarchy) -> Result<(Vec<(&str, &[Label])>, bool)> {
+pub(super) fn label_attributes(h: &Hierarchy) -> Result<(Vec<LabelColumn<'_>>, bool)> {
     let mesh = &h.mesh;
     let mut out = Vec::new();
     if let Some(binding) = h.labels {
@@ -193,7 +196,7 @@ pub(super) fn label_attributes(h: &Hierarchy) -> Result<(Vec<(&str, &[Label])>, 
 
 /// Writes section `LABL`: the attributes of [`label_attributes`] and whether the first
 /// is attached.
-pub(super) fn write_labels(attributes: &[(&str, &[Label])], attached: bool, out: &mut impl Out) {
+pub(super) fn write_labels(attributes: &[LabelColumn<'_>], attached: bool, out: &mut impl Out) {
     out.usize(attributes.len());
     for (name, values) in attributes {
         out.array(name.as_bytes(), 1, |&c, b| b[0] = c);

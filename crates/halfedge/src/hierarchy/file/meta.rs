@@ -159,8 +159,8 @@ pub(super) fn read(input: &mut In<'_>) -> Result<Meta> {
     let applied = input.usize("the records collapsed")?;
     let consistent_from = input.usize("consistent_from")?;
     let clean = input.bool("the clean-positions flag")?;
-    let level_ends = input.array(8, "level ends", |b| super::bytes::get_u64(b))?;
-    let level_faces = input.array(8, "level face counts", |b| super::bytes::get_u64(b))?;
+    let level_ends = input.array(8, "level ends", super::bytes::get_u64)?;
+    let level_faces = input.array(8, "level face counts", super::bytes::get_u64)?;
     let to_usize = |v: Vec<u64>, what: &str| -> Result<Vec<usize>> {
         v.into_iter()
             .map(|x| usize::try_from(x).map_err(|_| input.error(format!("{what} {x} too large"))))

@@ -56,7 +56,7 @@ pub const FORMAT_VERSION: u32 = 1;
 
 /// What the sections need besides the hierarchy: the label attributes to keep.
 struct Plan<'h> {
-    labels: Vec<(&'h str, &'h [Label])>,
+    labels: Vec<mesh::LabelColumn<'h>>,
     attached: bool,
 }
 
