@@ -3,7 +3,8 @@
 //! coarsening and refining all the way back (as built, and after an edit of the
 //! coarsest mesh, which makes every split compute its centroid translations), walking
 //! back down to the coarsest level again, against meshoptimizer's `simplify` to 2,000
-//! faces on the same mesh, in one group.
+//! faces on the same mesh, in one group; saving the built hierarchy to a `.mrh` file and
+//! loading it back (issue 30), against the build in the same group.
 //!
 //! Run: `cargo bench --bench hierarchy`.
 
@@ -85,6 +86,20 @@ fn bench(c: &mut Criterion) {
                 |m| Hierarchy::build(m, &options).unwrap(),
                 BatchSize::LargeInput,
             )
+        });
+        // Issue 30: the hierarchy in a `.mrh` file and back, against the build above in
+        // this group (load target ≤ 0.2 × the build).
+        let file = std::env::temp_dir().join(format!("multires-bench-{name}.mrh"));
+        group.bench_function(format!("{name}_save"), |b| {
+            b.iter(|| built.save(&file).unwrap())
+        });
+        eprintln!(
+            "{name}: .mrh file {} bytes ({:.1} per input face)",
+            std::fs::metadata(&file).map_or(0, |m| m.len()),
+            std::fs::metadata(&file).map_or(0, |m| m.len()) as f64 / mesh.n_faces() as f64
+        );
+        group.bench_function(format!("{name}_load"), |b| {
+            b.iter_with_large_drop(|| Hierarchy::load(&file).unwrap())
         });
         group.bench_function(format!("{name}_refine_all"), |b| {
             b.iter_batched(

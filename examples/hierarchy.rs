@@ -29,7 +29,7 @@ enum MethodArg {
 
 /// Build a mesh's progressive hierarchy and report its levels and timings as JSON.
 #[derive(Parser, Debug)]
-#[command(version, about)]
+#[command(version = version(), about)]
 struct Args {
     /// Mesh file (.obj, .ply).
     file: PathBuf,
@@ -61,6 +61,18 @@ struct Args {
     /// Show progress bars on stderr (on by default for meshes over 200k faces).
     #[arg(long)]
     progress: bool,
+}
+
+/// The program's version and the hierarchy file format it reads and writes.
+fn version() -> &'static str {
+    Box::leak(
+        format!(
+            "{} (hierarchy files: .mrh format {})",
+            env!("CARGO_PKG_VERSION"),
+            halfedge::hierarchy::file::FORMAT_VERSION
+        )
+        .into_boxed_str(),
+    )
 }
 
 /// Connectivity and position bits of every live element, handle for handle (by index).

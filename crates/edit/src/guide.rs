@@ -23,6 +23,8 @@
 //! - [`workflow`]: simplify → edit → refine, the job of the `workflow` example.
 //! - [`coarse_edits`]: how coarse edits come back at full resolution (detail modes, exact
 //!   regions, affine marks) and the `coarse_edit` example that measures it.
+//! - [`hierarchy_file`]: saving and loading a hierarchy (`.mrh`): the layout, the checks
+//!   and the version policy.
 
 #[doc = include_str!("../../../docs/guide/hierarchy.md")]
 pub mod hierarchy {}
@@ -47,3 +49,6 @@ pub mod workflow {}
 
 #[doc = include_str!("../../../docs/guide/coarse-edits.md")]
 pub mod coarse_edits {}
+
+#[doc = include_str!("../../../docs/guide/hierarchy-file.md")]
+pub mod hierarchy_file {}

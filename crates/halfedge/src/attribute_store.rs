@@ -127,6 +127,10 @@ impl AttributeStore {
                 .map(|c| (i, c.generation))
         })
     }
+    pub(crate) fn name(&self, column: usize, generation: u64) -> Option<&str> {
+        let c = self.columns.get(column)?.as_ref()?;
+        (c.generation == generation).then_some(c.name.as_str())
+    }
     pub(crate) fn data<T: AttributeValue>(
         &self,
         column: usize,

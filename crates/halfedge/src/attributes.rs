@@ -173,6 +173,16 @@ impl Mesh {
     pub fn has_attribute<K: Element, T: AttributeValue>(&self, attribute: Attribute<K, T>) -> bool {
         K::store(self).has::<T>(attribute.column, attribute.generation)
     }
+    /// The name of `attribute`, when it is an attribute of this mesh.
+    pub(crate) fn attribute_name<K: Element, T: AttributeValue>(
+        &self,
+        attribute: Attribute<K, T>,
+    ) -> Option<&str> {
+        if !self.has_attribute(attribute) {
+            return None;
+        }
+        K::store(self).name(attribute.column, attribute.generation)
+    }
     /// [`Error::Stale`] for a handle that is not an attribute of this mesh.
     fn stale<K, T>(&self, attribute: Attribute<K, T>) -> Error {
         Stale::new(

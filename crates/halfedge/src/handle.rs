@@ -274,6 +274,88 @@ impl Slots {
                 }
             });
     }
+    /// The table as it is stored: the packed states, the number of slots, the
+    /// generations (empty while no slot was freed) and the free list (for the hierarchy
+    /// file, `crate::hierarchy::file`).
+    pub(crate) fn raw_parts(&self) -> (&[u64], usize, &[u32], &[u32]) {
+        (&self.states, self.len, &self.generations, &self.free)
+    }
+    /// A table from [`raw_parts`](Self::raw_parts) read back from a file, checked: as
+    /// many state words as `len` needs, no state bits past `len`, no unknown state,
+    /// generations for every slot or none, every free slot vacant, in range, listed once
+    /// and (with `pairs`, for halfedges) even with a vacant partner. Says what is wrong
+    /// otherwise.
+    pub(crate) fn from_raw_parts(
+        states: Vec<u64>,
+        len: usize,
+        generations: Vec<u32>,
+        free: Vec<u32>,
+        pairs: bool,
+    ) -> Result<Self, String> {
+        if states.len() != len.div_ceil(PER_WORD) {
+            return Err(format!(
+                "{} state words for {len} slots (expected {})",
+                states.len(),
+                len.div_ceil(PER_WORD)
+            ));
+        }
+        if let Some(k) = states.iter().position(|&w| (w & (w >> 1) & ALL_SLOTS) != 0) {
+            return Err(format!("state word {k} holds an unknown slot state"));
+        }
+        if len % PER_WORD != 0 {
+            let last = states.last().copied().unwrap_or(0);
+            if last >> (2 * (len % PER_WORD)) != 0 {
+                return Err(format!("state bits set past the last of {len} slots"));
+            }
+        }
+        if !generations.is_empty() && generations.len() != len {
+            return Err(format!("{} generations for {len} slots", generations.len()));
+        }
+        if generations.is_empty() {
+            // No slot was ever freed: every slot is live or a tombstone (what the
+            // accessors' checks rely on, see `collected`).
+            for (k, &w) in states.iter().enumerate() {
+                let in_word = (len - k * PER_WORD).min(PER_WORD);
+                let mask = if in_word == PER_WORD {
+                    ALL_SLOTS
+                } else {
+                    ALL_SLOTS & ((1u64 << (2 * in_word)) - 1)
+                };
+                if (w | (w >> 1)) & mask != mask {
+                    return Err(format!(
+                        "a slot of state word {k} is vacant, but no slot was ever freed"
+                    ));
+                }
+            }
+        }
+        let slots = Self {
+            states,
+            len,
+            generations,
+            free: Vec::new(),
+        };
+        let mut listed = vec![false; if free.is_empty() { 0 } else { len }];
+        for &i in &free {
+            let i = i as usize;
+            if i >= len || slots.state(i) != VACANT || listed[i] {
+                return Err(format!(
+                    "free slot {i} is out of range, not vacant or listed twice"
+                ));
+            }
+            if pairs && (i % 2 != 0 || i + 1 >= len || slots.state(i + 1) != VACANT) {
+                return Err(format!(
+                    "free halfedge slot {i} does not start a vacant pair"
+                ));
+            }
+            listed[i] = true;
+        }
+        Ok(Self { free, ..slots })
+    }
+    /// Number of slots.
+    #[inline]
+    pub(crate) fn len(&self) -> usize {
+        self.len
+    }
     /// Number of live slots.
     pub(crate) fn live_count(&self) -> usize {
         self.states

@@ -132,6 +132,37 @@ pub(super) const FACE_LEFT: u8 = 1 << 3;
 pub(super) const FACE_RIGHT: u8 = 1 << 4;
 
 impl Step {
+    /// The fields only the split reads: the outgoing halfedges of `v1`, `vl`, `vr`
+    /// before the collapse, the number of halfedges moved and the changed bits (for the
+    /// hierarchy file).
+    pub(crate) fn split_fields(&self) -> ([u32; 3], u32, u8) {
+        (self.before, self.moved, self.changed)
+    }
+
+    /// A record from its fields, as [`split_fields`](Self::split_fields) and the public
+    /// fields give them (a record read back from a file; the caller checks its indices).
+    pub(crate) fn from_fields(
+        [p0, p1]: [DVec3; 2],
+        [v0v1, v0, v1, vl, vr]: [u32; 5],
+        (before, moved, changed): ([u32; 3], u32, u8),
+    ) -> Self {
+        Self {
+            p0,
+            p1,
+            v0v1,
+            v0,
+            v1,
+            vl,
+            vr,
+            before,
+            moved,
+            changed,
+        }
+    }
+
+    /// The largest value of the changed bits: three vertices and two faces.
+    pub(crate) const CHANGED_BITS: u8 = (1 << 5) - 1;
+
     /// `v1`, `vl`, `vr`, as far as they exist, with their outgoing halfedges before the
     /// collapse and whether the collapse changed them.
     #[inline]

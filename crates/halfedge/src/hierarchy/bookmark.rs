@@ -193,6 +193,52 @@ impl Refreshes {
         }
     }
 
+    /// The count, the runs and where the runs kept start (for the hierarchy file).
+    pub(crate) fn raw_parts(&self) -> (u64, &[(u64, usize, usize)], u64) {
+        (self.count, &self.runs, self.forgotten_before)
+    }
+
+    /// The bookkeeping from [`raw_parts`](Self::raw_parts) read back from a file,
+    /// checked: at most [`MAX_RUNS`] runs, each non-empty, in order, within `count`
+    /// events and starting at or after `forgotten_before`. Says what is wrong otherwise.
+    pub(crate) fn from_raw_parts(
+        count: u64,
+        runs: Vec<(u64, usize, usize)>,
+        forgotten_before: u64,
+    ) -> Result<Self, String> {
+        if runs.len() > MAX_RUNS {
+            return Err(format!(
+                "{} runs of records made again (at most {MAX_RUNS})",
+                runs.len()
+            ));
+        }
+        if count > 1 << 62 {
+            return Err(format!("{count} records made again"));
+        }
+        let mut next = forgotten_before.max(1);
+        for &(first, record, len) in &runs {
+            let end = (len as u64).checked_add(first);
+            if len == 0
+                || first < next
+                || end.is_none_or(|e| e > count + 1)
+                || record.checked_add(len).is_none()
+            {
+                return Err(format!(
+                    "a run of records made again ({first}, {record}, {len}) is out of order or range"
+                ));
+            }
+            next = first + len as u64;
+        }
+        if forgotten_before > count + 1 {
+            return Err(format!("{forgotten_before} events forgotten of {count}"));
+        }
+        Ok(Self {
+            count,
+            runs,
+            forgotten_before,
+        })
+    }
+
     /// True when no record below `applied` was made again after the first `seen`
     /// events.
     fn kept_below(&self, seen: u64, applied: usize) -> bool {

@@ -47,6 +47,33 @@ impl Marks {
             *self = Self::default();
         }
     }
+    /// The maps kept after the last compaction (for the hierarchy file).
+    pub(super) fn compacted(&self) -> usize {
+        self.compacted
+    }
+    /// Marks read back from a file, checked: every vertex's mark is none, the region, or
+    /// one of `maps`. Says what is wrong otherwise.
+    pub(super) fn from_raw_parts(
+        of_vertex: Vec<u32>,
+        maps: Vec<Motion>,
+        compacted: usize,
+    ) -> Result<Self, String> {
+        if let Some(i) = of_vertex
+            .iter()
+            .position(|&m| m < IN_REGION && m as usize >= maps.len())
+        {
+            return Err(format!(
+                "vertex slot {i} is marked with map {} of {}",
+                of_vertex[i],
+                maps.len()
+            ));
+        }
+        Ok(Self {
+            of_vertex,
+            maps,
+            compacted,
+        })
+    }
     /// Drops the maps no vertex uses any more (an interactive drag replaces its handle's
     /// map at every step), renumbering the others; amortised over the marks made.
     pub(super) fn compact(&mut self) {

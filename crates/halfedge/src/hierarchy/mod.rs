@@ -40,6 +40,9 @@
 //!   when the hierarchy is built hold at every level (only edges within one sub-mesh
 //!   collapse, [`HierarchyOptions::respect_labels`]), and
 //!   [`Hierarchy::constrain_to_labels`] re-plans the hierarchy for labels defined later.
+//! - **Files**: [`Hierarchy::save`] and [`Hierarchy::load`] keep a hierarchy in a `.mrh`
+//!   file, everything it holds included, to walk and edit it another day (module
+//!   [`file`]).
 //!
 //! ```
 //! use halfedge::generators;
@@ -58,6 +61,7 @@ mod buffers;
 mod build;
 mod clusters;
 mod detail;
+pub mod file;
 mod heap;
 mod legality;
 mod marks;

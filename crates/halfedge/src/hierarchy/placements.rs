@@ -131,6 +131,42 @@ impl Placements {
         crate::prefetch::prefetch(&self.stored, r);
     }
 
+    /// The rules and the stored placements as they are kept (for the hierarchy file).
+    pub(crate) fn raw_parts(&self) -> (&[u8], &[(DVec3, f64)]) {
+        (&self.rules, &self.stored)
+    }
+
+    /// Placements from [`raw_parts`](Self::raw_parts) read back from a file for
+    /// `records` records, checked: one known rule per record, and a stored placement for
+    /// every record whose rule says so. Says what is wrong otherwise.
+    pub(crate) fn from_raw_parts(
+        rules: Vec<u8>,
+        stored: Vec<(DVec3, f64)>,
+        records: usize,
+    ) -> Result<Self, String> {
+        if rules.len() != records {
+            return Err(format!("{} rules for {records} records", rules.len()));
+        }
+        if stored.len() > records {
+            return Err(format!(
+                "{} stored placements for {records} records",
+                stored.len()
+            ));
+        }
+        if let Some(r) = rules.iter().position(|&rule| rule > STORED) {
+            return Err(format!("record {r} has the unknown rule {}", rules[r]));
+        }
+        if let Some(r) = rules.iter().rposition(|&rule| rule == STORED) {
+            if r >= stored.len() {
+                return Err(format!(
+                    "record {r} has a stored placement, but only {} are stored",
+                    stored.len()
+                ));
+            }
+        }
+        Ok(Self { rules, stored })
+    }
+
     /// Empties the placements, keeping their memory, with room for `n` rules and, when
     /// `stored`, `n` stored placements.
     pub(crate) fn recycle(&mut self, n: usize, stored: bool) {

@@ -129,6 +129,24 @@ pub(crate) struct DetailBuffers {
     centres: Vec<DVec3>,
 }
 
+/// The arrays of [`Details`], borrowed (see [`Details::raw_parts`]).
+pub(crate) struct DetailParts<'a> {
+    pub(crate) neighbours: &'a [u32],
+    pub(crate) offsets: &'a [u32],
+    pub(crate) coefficients: &'a [[DVec3; 2]],
+    pub(crate) framed: &'a [Ring],
+    pub(crate) centres: &'a [DVec3],
+}
+
+/// The arrays of [`Details`], owned (see [`Details::from_raw_parts`]).
+pub(crate) struct DetailVecs {
+    pub(crate) neighbours: Vec<u32>,
+    pub(crate) offsets: Vec<u32>,
+    pub(crate) coefficients: Vec<[DVec3; 2]>,
+    pub(crate) framed: Vec<Ring>,
+    pub(crate) centres: Vec<DVec3>,
+}
+
 /// The coefficients of a range of records ([`Details::save`]).
 pub(crate) struct SavedRange {
     coefficients: Vec<[DVec3; 2]>,
@@ -232,6 +250,89 @@ impl Details {
         super::buffers::adopt(&mut self.coefficients, coefficients);
         super::buffers::adopt(&mut self.framed, framed);
         super::buffers::adopt(&mut self.centres, centres);
+    }
+
+    /// The arrays as they are kept (for the hierarchy file).
+    pub(crate) fn raw_parts(&self) -> DetailParts<'_> {
+        DetailParts {
+            neighbours: &self.neighbours,
+            offsets: &self.offsets,
+            coefficients: &self.coefficients,
+            framed: &self.framed,
+            centres: &self.centres,
+        }
+    }
+
+    /// Details from [`raw_parts`](Self::raw_parts) read back from a file for `records`
+    /// records of a mesh with `vertex_slots` vertex slots, checked: two lists per record
+    /// delimited by non-decreasing offsets from 0 to the end of the neighbours, every
+    /// neighbour a vertex slot, one pair of coefficients per record, and with local
+    /// frames one known ring and one centre per record (none with translations). Says
+    /// what is wrong otherwise.
+    pub(crate) fn from_raw_parts(
+        mode: DetailMode,
+        parts: DetailVecs,
+        records: usize,
+        vertex_slots: usize,
+    ) -> Result<Self, String> {
+        let DetailVecs {
+            neighbours,
+            offsets,
+            coefficients,
+            framed,
+            centres,
+        } = parts;
+        if offsets.len() != 2 * records + 1 {
+            return Err(format!(
+                "{} list offsets for {records} records (expected {})",
+                offsets.len(),
+                2 * records + 1
+            ));
+        }
+        if offsets[0] != 0 || offsets[offsets.len() - 1] as usize != neighbours.len() {
+            return Err(format!(
+                "the neighbour lists do not span the {} neighbours",
+                neighbours.len()
+            ));
+        }
+        if let Some(k) = offsets.windows(2).position(|w| w[0] > w[1]) {
+            return Err(format!("list offset {k} is past the next one"));
+        }
+        if let Some(k) = neighbours.iter().position(|&i| i as usize >= vertex_slots) {
+            return Err(format!(
+                "neighbour {k} is vertex slot {}, of {vertex_slots}",
+                neighbours[k]
+            ));
+        }
+        if coefficients.len() != records {
+            return Err(format!(
+                "{} coefficient pairs for {records} records",
+                coefficients.len()
+            ));
+        }
+        let framed_len = if mode == DetailMode::LocalFrame {
+            records
+        } else {
+            0
+        };
+        if framed.len() != framed_len || centres.len() != framed_len {
+            return Err(format!(
+                "{} frame rings and {} centres for {records} records in {mode:?}",
+                framed.len(),
+                centres.len()
+            ));
+        }
+        if let Some(r) = framed.iter().position(|&ring| ring > frame::LINK) {
+            return Err(format!("record {r} names the unknown ring {}", framed[r]));
+        }
+        Ok(Self {
+            mode,
+            neighbours,
+            offsets,
+            coefficients,
+            framed,
+            centres,
+        })
     }
 
     /// The scheme.
