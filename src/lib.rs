@@ -11,7 +11,17 @@
 //! and, with the `render` feature (default), offers [`render`]: PNG pictures of meshes
 //! side by side from a software renderer.
 
+#[cfg(feature = "render")]
+pub mod batch;
+pub mod error;
+pub mod load;
+pub mod progress;
+pub mod recipe;
+#[cfg(feature = "render")]
+pub mod workflow;
+
 pub use edit;
+pub use error::{Error, Result};
 /// The vector and matrix types of every API here (`DVec3` positions, `DMat4` affine
 /// transforms for Bendels & Klein), re-exported so that users need not match the version.
 pub use glam;
