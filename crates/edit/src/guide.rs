@@ -3,7 +3,7 @@
 //! One guide per method: what it does, the paper and section it implements, its
 //! parameters and sensible defaults, the errors a user can hit, and a runnable example on
 //! a generated mesh. The text lives in `docs/guide/*.md` at the workspace root (readable
-//! on its own) and is included here, so `cargo test --doc -p edit` compiles and runs every
+//! on its own) and is included here, so `cargo test --doc -p multires-edit` compiles and runs every
 //! example.
 //!
 //! - [`hierarchy`]: the kernel, collapse / split, the progressive hierarchy (rounds or
