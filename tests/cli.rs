@@ -857,3 +857,38 @@ fn check_agrees_with_openmesh() {
         }
     }
 }
+
+/// The hierarchy file is the same bytes whatever the thread count (`RAYON_NUM_THREADS`
+/// 1, 2 and 5), for both methods, and so is the batch output.
+#[test]
+fn files_do_not_depend_on_the_thread_count() {
+    let dir = temp("threads");
+    let torus = torus_file(&dir, "t.ply", 60, 30);
+    for method in ["rounds", "qem"] {
+        let mut files = Vec::new();
+        for threads in ["1", "2", "5"] {
+            let h = dir.join(format!("{method}-{threads}.mrh"));
+            let o = multires()
+                .env("RAYON_NUM_THREADS", threads)
+                .args([
+                    "simplify",
+                    "--method",
+                    method,
+                    "--target-faces",
+                    "100",
+                    "-q",
+                    "-o",
+                ])
+                .arg(&h)
+                .arg(&torus)
+                .output()
+                .unwrap();
+            assert_exit(&o, 0);
+            files.push(std::fs::read(&h).unwrap());
+        }
+        assert!(
+            files.windows(2).all(|w| w[0] == w[1]),
+            "{method}: the same bytes on 1, 2 and 5 threads"
+        );
+    }
+}
