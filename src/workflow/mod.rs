@@ -55,7 +55,7 @@
 //! # fn main() -> multires::Result<()> {
 //! let path = std::path::Path::new("data/blob.obj");
 //! let loaded = load::load(path, Weld::Auto, &mut Silent)?;
-//! let done = workflow::run(loaded, path, &WorkflowOptions::default(), &mut Silent)?;
+//! let mut done = workflow::run(loaded, path, &WorkflowOptions::default(), &mut Silent)?;
 //! done.write(std::path::Path::new("out"), "ply", 640, &mut Silent)?;
 //! print!("{}", done.table());
 //! # Ok(())
