@@ -168,6 +168,9 @@ pub struct AxisSpec {
 }
 
 /// One editing step: a method, the level it is made at, its region and parameters.
+// A recipe holds a handful of steps, read once: boxing the larger variants would only
+// make them harder to build and match.
+#[allow(clippy::large_enum_variant)]
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "method", rename_all = "snake_case")]
 pub enum Step {
