@@ -21,9 +21,6 @@
 
 mod common;
 
-#[path = "../examples/support/progress.rs"]
-mod progress;
-
 use std::hint::black_box;
 use std::time::{Duration, Instant};
 
@@ -31,6 +28,7 @@ use criterion::{criterion_group, criterion_main, BatchSize, Criterion, Throughpu
 use glam::DVec3;
 use halfedge::hierarchy::{Hierarchy, HierarchyOptions};
 use halfedge::Mesh;
+use multires::progress::{Bars, Progress};
 
 /// Inputs with more faces than this show progress on every step.
 const PROGRESS_FACES: usize = 1_500_000;
@@ -69,44 +67,45 @@ fn rss() -> (u64, u64) {
     (field("VmRSS:"), field("VmHWM:"))
 }
 
+/// Runs `f` under a spinner saying `what` when `show`.
+fn step<T>(show: bool, what: &str, f: impl FnOnce() -> T) -> T {
+    multires::progress::step(&mut Bars::new(show), what, f)
+}
+
 /// Builds the rounds hierarchy of `mesh` with a bar of the faces removed.
 fn build(mesh: Mesh, show: bool) -> Hierarchy {
-    let bar = progress::bar(
-        show,
-        mesh.n_faces() as u64,
-        "  hierarchy [{bar:30}] {pos}/{len} faces removed, {msg}",
-    );
+    let mut bar = Bars::new(show);
+    bar.start("  hierarchy: faces removed", Some(mesh.n_faces() as u64));
     let h = Hierarchy::build_with_progress(mesh, &rounds_to_2000(), &mut |p| {
-        bar.set_position((p.input_faces - p.faces) as u64);
-        bar.set_message(format!("{} levels", p.levels));
+        bar.advance(
+            (p.input_faces - p.faces) as u64,
+            &format!("  hierarchy: faces removed, {} levels", p.levels),
+        );
     })
     .unwrap();
-    bar.finish_and_clear();
+    bar.finish();
     h
 }
 
 /// Refines `h` to the input a level at a time, with a bar of the levels.
 fn refine_all(h: &mut Hierarchy, show: bool) {
     let coarsest = h.level_at_or_finer();
-    let bar = progress::bar(
-        show,
-        coarsest as u64,
-        "  refining [{bar:30}] level {pos}/{len}",
-    );
-    for level in (0..coarsest).rev() {
+    let mut bar = Bars::new(show);
+    bar.start("  refining: levels", Some(coarsest as u64));
+    for (done, level) in (0..coarsest).rev().enumerate() {
         h.refine_to(level).unwrap();
-        bar.inc(1);
+        bar.advance(done as u64 + 1, "");
     }
-    bar.finish_and_clear();
+    bar.finish();
 }
 
 fn large(c: &mut Criterion) {
     for input in sizes() {
         let show = input.faces > PROGRESS_FACES;
-        let path = progress::step(show, format!("preparing {}", input.name()), || {
+        let path = step(show, &format!("preparing {}", input.name()), || {
             input.cached()
         });
-        let mesh = progress::step(show, format!("loading {}", input.name()), || input.load());
+        let mesh = step(show, &format!("loading {}", input.name()), || input.load());
         eprintln!(
             "{}: {} vertices, {} faces ({})",
             input.label,
@@ -122,14 +121,14 @@ fn large(c: &mut Criterion) {
 
         group.bench_function("load binary PLY", |b| {
             b.iter_with_large_drop(|| {
-                progress::step(show, "  loading", || {
+                step(show, "  loading", || {
                     halfedge::io::read(black_box(&path)).unwrap()
                 })
             })
         });
         group.bench_function("vertex normals", |b| {
             b.iter_with_large_drop(|| {
-                progress::step(show, "  vertex normals", || {
+                step(show, "  vertex normals", || {
                     black_box(&mesh).vertex_normals()
                 })
             })
@@ -151,7 +150,7 @@ fn large(c: &mut Criterion) {
         // The paper's use on one built hierarchy: walk back to the coarsest level
         // (untimed), translate the coarse mesh, refine to the input, which carries the
         // edit down through every split's centroid translation.
-        let mut h = progress::step(show, "building the hierarchy for the edit", || {
+        let mut h = step(show, "building the hierarchy for the edit", || {
             let mut h = build(mesh.clone(), show);
             refine_all(&mut h, show);
             h
@@ -160,7 +159,7 @@ fn large(c: &mut Criterion) {
             b.iter_custom(|iterations| {
                 let mut total = Duration::ZERO;
                 for _ in 0..iterations {
-                    progress::step(show, "  back to the coarsest level (untimed)", || {
+                    step(show, "  back to the coarsest level (untimed)", || {
                         h.go_to_level(h.coarsest_level()).unwrap()
                     });
                     let clock = Instant::now();
