@@ -9,7 +9,6 @@
 //! flat) and asserts all four targets there. The real-mesh tier (`--include-ignored`)
 //! asserts them on the shared meshes at level 3 with both methods.
 
-mod common;
 #[path = "../examples/coarse_edit/measure.rs"]
 mod measure;
 
@@ -360,7 +359,7 @@ fn region_options_are_checked() {
 
 /// Every edit at level 3 with both methods on every shared mesh.
 fn shared_reports() -> Vec<(String, Report)> {
-    let dir = common::shared_meshes();
+    let dir = testkit::shared_meshes();
     let mut reports = Vec::new();
     for file in [
         "beast.obj",
@@ -431,7 +430,7 @@ fn bk_refine_at_a_coarse_level_keeps_every_level_reachable_on_generated_meshes()
 #[test]
 #[ignore = "real-mesh tier: needs ../shared/meshes; cargo test --release -- --include-ignored"]
 fn bk_refine_at_a_coarse_level_keeps_every_level_reachable_on_the_shared_meshes() {
-    let dir = common::shared_meshes();
+    let dir = testkit::shared_meshes();
     let mut reports = Vec::new();
     for file in [
         "beast.obj",

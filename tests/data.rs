@@ -2,14 +2,8 @@
 //! byte, and each has the shape the default test tier relies on (closed, open, several
 //! components, genus 1, quads, dirty input).
 
-mod common;
-
-use std::path::PathBuf;
 use std::process::Command;
-
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
+use testkit::data_dir;
 
 const FILES: [&str; 8] = [
     "blob.obj",
@@ -25,14 +19,14 @@ const FILES: [&str; 8] = [
 #[test]
 fn make_data_writes_the_data_folder_again() {
     let out = std::env::temp_dir().join(format!("multires-make-data-{}", std::process::id()));
-    let status = Command::new(common::example_binary("make_data"))
+    let status = Command::new(testkit::example_binary("make_data"))
         .arg(&out)
         .status()
         .unwrap();
     assert!(status.success());
     for name in FILES {
         let made = std::fs::read(out.join(name)).unwrap();
-        let shipped = std::fs::read(root().join("data").join(name)).unwrap();
+        let shipped = std::fs::read(data_dir().join(name)).unwrap();
         assert!(
             made == shipped,
             "data/{name} differs from what make_data writes: run `cargo run --release --example make_data`"
@@ -44,7 +38,7 @@ fn make_data_writes_the_data_folder_again() {
 #[test]
 fn each_data_mesh_has_the_shape_the_tests_rely_on() {
     // (file, components, boundary loops, Euler characteristic of the faces' surface)
-    let read = |name: &str| halfedge::io::read(root().join("data").join(name)).unwrap();
+    let read = |name: &str| halfedge::io::read(data_dir().join(name)).unwrap();
     for (name, components, loops, euler) in [
         ("blob.obj", 1, 0, 2),
         ("creature.obj", 3, 0, 6),

@@ -4,8 +4,6 @@
 //! folder's open and dirty meshes. Each adapts (smaller area, other vertex, smaller loops,
 //! edge-path balls), says so in a note, and writes a valid mesh.
 
-mod common;
-
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -56,7 +54,7 @@ fn run(example: &str, input: &Path, output_flag: &str, tag: &str) -> (String, Me
         "multires-{example}-{tag}-{}.obj",
         std::process::id()
     ));
-    let result = Command::new(common::example_binary(example))
+    let result = Command::new(testkit::example_binary(example))
         .arg(input)
         .arg(output_flag)
         .arg(&out)
@@ -86,7 +84,7 @@ fn write_temp(mesh: &Mesh, tag: &str) -> PathBuf {
 fn area_and_blend_edits_adapt_to_flat_open_and_loose_meshes() {
     let flat = write_temp(&flat_with_tongue(), "flat");
     let loose = write_temp(&body_and_loose_part(), "loose");
-    let data = common::root().join("data");
+    let data = testkit::data_dir();
     let inputs = [
         (flat.clone(), "flat"),
         (loose.clone(), "loose"),
@@ -112,7 +110,7 @@ fn area_and_blend_edits_adapt_to_flat_open_and_loose_meshes() {
     assert!(stdout.contains("note:"), "{stdout}");
     let (stdout, _) = run("blend_edit", &flat, "--out", "flat-note");
     assert!(stdout.contains("note:"), "{stdout}");
-    let refused = Command::new(common::example_binary("area_edit"))
+    let refused = Command::new(testkit::example_binary("area_edit"))
         .arg(data.join("quads_hole.obj"))
         .output()
         .unwrap();
@@ -148,7 +146,7 @@ fn single_method_examples_weld_a_triangle_soup() {
         );
         assert_eq!(after.topology_report().boundary_loops, 0, "{example}");
     }
-    let refused = Command::new(common::example_binary("blend_edit"))
+    let refused = Command::new(testkit::example_binary("blend_edit"))
         .arg(&input)
         .args(["--weld", "off", "--out"])
         .arg(std::env::temp_dir().join(format!("multires-soup-off-{}.obj", std::process::id())))

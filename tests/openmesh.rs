@@ -15,15 +15,14 @@
 //! beside the workspace (`.ci/run` sets both up); without them they fail and say what to
 //! install.
 
-mod common;
-
-use common::{root, shared_meshes, KEYS};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
 use halfedge::io::{self, PlyFormat};
 use halfedge::{generators, Mesh};
 use serde_json::Value;
+use testkit::openmesh::KEYS;
+use testkit::{shared_meshes, workspace_root as root};
 
 fn mesh_files(dir: &Path) -> Vec<PathBuf> {
     let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
@@ -86,7 +85,7 @@ fn has_tristrips(path: &Path) -> bool {
 #[test]
 #[ignore = "OpenMesh tier: needs python3 with openmesh==1.2.1 and numpy (pip; builds with cmake and a C++ compiler) and ../shared/meshes; run with cargo test --release -- --include-ignored (.ci/run installs them)"]
 fn topology_matches_openmesh_on_every_mesh() {
-    common::require_openmesh();
+    testkit::openmesh::require_openmesh();
     let mut files = mesh_files(&shared_meshes());
     assert!(
         files.len() >= 9,
@@ -134,7 +133,7 @@ fn topology_matches_openmesh_on_every_mesh() {
 #[test]
 #[ignore = "OpenMesh tier: needs python3 with openmesh==1.2.1 and numpy (pip; builds with cmake and a C++ compiler) and ../shared/meshes; run with cargo test --release -- --include-ignored (.ci/run installs them)"]
 fn openmesh_reads_what_we_write() {
-    common::require_openmesh();
+    testkit::openmesh::require_openmesh();
     let shared = shared_meshes();
     let mut meshes: Vec<(String, Mesh)> = ["suzanne.obj", "stanford-bunny.obj", "horse.ply"]
         .iter()

@@ -19,9 +19,6 @@
 //! beside the workspace (`.ci/run` sets both up); without them they fail and say what to
 //! install.
 
-mod common;
-
-use common::{root, shared_meshes, KEYS};
 use std::collections::HashMap;
 use std::io::Write;
 use std::path::PathBuf;
@@ -32,6 +29,8 @@ use rand::seq::IndexedRandom;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde_json::Value;
+use testkit::openmesh::KEYS;
+use testkit::{shared_meshes, workspace_root as root};
 
 /// The shared meshes this kernel reads (every OBJ and PLY file), loaded.
 fn meshes() -> Vec<(PathBuf, Mesh)> {
@@ -90,7 +89,7 @@ fn differences(what: &str, ours: &Value, theirs: &Value) -> Vec<String> {
 #[test]
 #[ignore = "OpenMesh tier: needs python3 with openmesh==1.2.1 and numpy (pip; builds with cmake and a C++ compiler) and ../shared/meshes; run with cargo test --release -- --include-ignored (.ci/run installs them)"]
 fn is_collapse_ok_agrees_with_openmesh_on_every_halfedge() {
-    common::require_openmesh();
+    testkit::openmesh::require_openmesh();
     let mut problems = Vec::new();
     for (file, mesh) in meshes() {
         let name = file.file_name().unwrap().to_string_lossy().into_owned();
@@ -184,7 +183,7 @@ fn random_collapses(mesh: &mut Mesh, seed: u64) -> Vec<CollapseRecord> {
 #[test]
 #[ignore = "OpenMesh tier: needs python3 with openmesh==1.2.1 and numpy (pip; builds with cmake and a C++ compiler) and ../shared/meshes; run with cargo test --release -- --include-ignored (.ci/run installs them)"]
 fn collapses_and_splits_match_openmesh() {
-    common::require_openmesh();
+    testkit::openmesh::require_openmesh();
     let dir = std::env::temp_dir().join(format!("multires-collapse-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let mut problems = Vec::new();

@@ -5,8 +5,6 @@
 //! components, genus 1, quads, dirty input) with its defaults, and — in the real-mesh
 //! tier — on every shared mesh: it must finish, and say why when it leaves a step out.
 
-mod common;
-
 use std::path::PathBuf;
 use std::process::Command;
 
@@ -29,7 +27,7 @@ fn png_pixel_spread(path: &PathBuf) -> f64 {
 /// folder and the printed table.
 fn run_workflow(input: &std::path::Path, tag: &str) -> (PathBuf, String) {
     let out = std::env::temp_dir().join(format!("multires-workflow-{tag}-{}", std::process::id()));
-    let output = Command::new(common::example_binary("workflow"))
+    let output = Command::new(testkit::example_binary("workflow"))
         .arg(input)
         .arg("--out")
         .arg(&out)
@@ -93,7 +91,7 @@ fn check_run(input: &std::path::Path, out: &std::path::Path, stdout: &str) -> us
 
 #[test]
 fn workflow_runs_with_its_defaults_on_every_data_mesh() {
-    let data = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("data");
+    let data = testkit::data_dir();
     let mut edited = 0;
     for name in [
         "blob.obj",
@@ -132,7 +130,7 @@ fn workflow_runs_with_its_defaults_on_every_data_mesh() {
 #[test]
 #[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
 fn workflow_runs_with_its_defaults_on_every_shared_mesh() {
-    let dir = common::shared_meshes();
+    let dir = testkit::shared_meshes();
     let mut names: Vec<PathBuf> = std::fs::read_dir(&dir)
         .unwrap()
         .map(|e| e.unwrap().path())
@@ -154,7 +152,7 @@ fn workflow_runs_on_the_data_mesh() {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
     let input = root.join("data/blob.obj");
     let out = std::env::temp_dir().join(format!("multires-workflow-{}", std::process::id()));
-    let output = Command::new(common::example_binary("workflow"))
+    let output = Command::new(testkit::example_binary("workflow"))
         .arg(&input)
         .arg("--out")
         .arg(&out)
@@ -263,7 +261,7 @@ fn workflow_welds_a_triangle_soup_and_edits_it() {
     // A data mesh written as a soup (every face on its own copies of its corners, as
     // STL exports are): nothing could be simplified or edited across its cuts. The job
     // welds it back, says so, and makes every edit; with --weld off it keeps the soup.
-    let data = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("data/blob.obj");
+    let data = testkit::data_dir().join("blob.obj");
     let (mesh, _) = halfedge::io::read(&data).unwrap();
     let (corners, faces) = halfedge::generators::triangle_soup(&mesh);
     let (soup, _) = halfedge::Mesh::from_arrays(&corners, &faces).unwrap();
@@ -284,7 +282,7 @@ fn workflow_welds_a_triangle_soup_and_edits_it() {
         assert!(!row.contains("skipped"), "{row}\n{stdout}");
     }
     std::fs::remove_dir_all(&out).ok();
-    let kept = Command::new(common::example_binary("workflow"))
+    let kept = Command::new(testkit::example_binary("workflow"))
         .arg(&input)
         .args(["--weld", "off", "--out"])
         .arg(&out)

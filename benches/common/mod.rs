@@ -26,24 +26,15 @@ use std::time::SystemTime;
 use halfedge::io::{self, PlyFormat};
 use halfedge::{generators, Mesh};
 
-// The workspace root and the shared meshes folder, as the integration tests find them.
-#[path = "../../tests/common/mod.rs"]
-mod tests_common;
-pub use tests_common::{root, shared_meshes as meshes_dir};
-
-/// A shared mesh by file name (`"spot.obj"`).
-pub fn load_shared(name: &str) -> Mesh {
-    let path = meshes_dir().join(name);
-    io::read(&path)
-        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
-        .0
-}
+// The shared meshes, found as the integration tests find them (`MULTIRES_MESHES`, else
+// `shared/meshes` above the workspace).
+pub use testkit::{load_shared, shared_meshes as meshes_dir};
 
 /// The cache folder: `MULTIRES_BENCH_CACHE`, else `bench-cache/` at the workspace root.
 pub fn cache_dir() -> PathBuf {
     std::env::var_os("MULTIRES_BENCH_CACHE")
         .map(PathBuf::from)
-        .unwrap_or_else(|| root().join("bench-cache"))
+        .unwrap_or_else(|| testkit::workspace_root().join("bench-cache"))
 }
 
 /// A large bench input: a shared mesh subdivided 1-to-4 a number of times.

@@ -1,9 +1,6 @@
 //! Editing areas (Lee 1999 §3.2) and their embedding (§4) on real meshes: picks joined
 //! by shortest paths, disk checks with typed errors, the harmonic and mean-value maps.
 
-mod area_common;
-
-use area_common::{nose, vertex};
 use edit::lee::LeeError;
 use edit::lee::{
     AreaSide, BoundaryMapping, EditingArea, Embedding, EmbeddingOptions, EmbeddingSolver,
@@ -11,6 +8,7 @@ use edit::lee::{
 };
 use glam::{DVec2, DVec3};
 use halfedge::{FaceId, Mesh, VertexId};
+use testkit::regions::{nose, vertex};
 
 /// Ring distance (breadth-first) of every vertex slot from `seed`.
 fn rings(mesh: &Mesh, seed: VertexId) -> Vec<u32> {
@@ -29,39 +27,15 @@ fn rings(mesh: &Mesh, seed: VertexId) -> Vec<u32> {
     ring
 }
 
-/// A torus of `nu × nv` quads split in triangles.
-fn torus(nu: usize, nv: usize) -> Mesh {
-    let mut positions = Vec::new();
-    for j in 0..nv {
-        for i in 0..nu {
-            let (a, b) = (
-                i as f64 / nu as f64 * std::f64::consts::TAU,
-                j as f64 / nv as f64 * std::f64::consts::TAU,
-            );
-            let r = 2.0 + b.cos();
-            positions.push(DVec3::new(r * a.cos(), r * a.sin(), b.sin()));
-        }
-    }
-    let id = |i: usize, j: usize| ((i % nu) + (j % nv) * nu) as u32;
-    let mut triangles = Vec::new();
-    for j in 0..nv {
-        for i in 0..nu {
-            triangles.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
-            triangles.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
-        }
-    }
-    Mesh::from_triangles(&positions, &triangles).unwrap().0
-}
-
 #[test]
 fn four_picks_around_spots_snout_become_the_rectangle_corners() {
-    four_picks_around_spots_snout_become_the_rectangle_corners_with(&area_common::stand_in);
+    four_picks_around_spots_snout_become_the_rectangle_corners_with(&testkit::stand_in::by_shape);
 }
 
 #[test]
 #[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
 fn four_picks_around_spots_snout_become_the_rectangle_corners_on_real_meshes() {
-    four_picks_around_spots_snout_become_the_rectangle_corners_with(&area_common::load);
+    four_picks_around_spots_snout_become_the_rectangle_corners_with(&testkit::load_shared);
 }
 
 fn four_picks_around_spots_snout_become_the_rectangle_corners_with(load: &dyn Fn(&str) -> Mesh) {
@@ -119,13 +93,13 @@ fn four_picks_around_spots_snout_become_the_rectangle_corners_with(load: &dyn Fn
 
 #[test]
 fn an_annulus_is_not_a_disk() {
-    an_annulus_is_not_a_disk_with(&area_common::stand_in);
+    an_annulus_is_not_a_disk_with(&testkit::stand_in::by_shape);
 }
 
 #[test]
 #[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
 fn an_annulus_is_not_a_disk_on_real_meshes() {
-    an_annulus_is_not_a_disk_with(&area_common::load);
+    an_annulus_is_not_a_disk_with(&testkit::load_shared);
 }
 
 fn an_annulus_is_not_a_disk_with(load: &dyn Fn(&str) -> Mesh) {
@@ -151,13 +125,14 @@ fn an_annulus_is_not_a_disk_with(load: &dyn Fn(&str) -> Mesh) {
 
 #[test]
 fn an_area_touching_the_bunnys_holes_is_refused() {
-    an_area_touching_the_bunnys_holes_is_refused_with(&area_common::stand_in);
+    // The bunny's holes matter here, not its shape: the stand-in with holes.
+    an_area_touching_the_bunnys_holes_is_refused_with(&testkit::stand_in::by_topology);
 }
 
 #[test]
 #[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
 fn an_area_touching_the_bunnys_holes_is_refused_on_real_meshes() {
-    an_area_touching_the_bunnys_holes_is_refused_with(&area_common::load);
+    an_area_touching_the_bunnys_holes_is_refused_with(&testkit::load_shared);
 }
 
 fn an_area_touching_the_bunnys_holes_is_refused_with(load: &dyn Fn(&str) -> Mesh) {
@@ -175,7 +150,7 @@ fn an_area_touching_the_bunnys_holes_is_refused_with(load: &dyn Fn(&str) -> Mesh
 
 #[test]
 fn a_handle_and_a_non_separating_loop_are_refused() {
-    let mesh = torus(24, 12);
+    let mesh = halfedge::generators::torus(2.0, 1.0, 24, 12).unwrap();
     // the torus minus a small disk: one boundary loop but a handle
     let ring = rings(&mesh, mesh.vertex_at(0).unwrap());
     let with_handle: Vec<FaceId> = mesh
@@ -208,7 +183,7 @@ fn a_handle_and_a_non_separating_loop_are_refused() {
 #[test]
 fn mean_value_map_of_a_disk_has_no_flipped_triangles() {
     // 3,000 vertices of the bumpy blob around its +x side.
-    let mesh = area_common::data("blob.obj");
+    let mesh = testkit::data("blob.obj");
     let seed = mesh.extreme_vertex(DVec3::X).unwrap().unwrap();
     mean_value_map_has_no_flipped_triangles(&mesh, seed);
 }
@@ -216,7 +191,7 @@ fn mean_value_map_of_a_disk_has_no_flipped_triangles() {
 #[test]
 #[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
 fn mean_value_map_of_a_bunny_disk_has_no_flipped_triangles() {
-    let mesh = area_common::load("stanford-bunny.obj");
+    let mesh = testkit::load_shared("stanford-bunny.obj");
     // the back of the bunny, away from its holes
     let seed = vertex(&mesh, 3284);
     mean_value_map_has_no_flipped_triangles(&mesh, seed);
@@ -266,13 +241,13 @@ fn mean_value_map_has_no_flipped_triangles(mesh: &Mesh, seed: VertexId) {
 
 #[test]
 fn corners_must_be_distinct_boundary_vertices() {
-    corners_must_be_distinct_boundary_vertices_with(&area_common::stand_in);
+    corners_must_be_distinct_boundary_vertices_with(&testkit::stand_in::by_shape);
 }
 
 #[test]
 #[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
 fn corners_must_be_distinct_boundary_vertices_on_real_meshes() {
-    corners_must_be_distinct_boundary_vertices_with(&area_common::load);
+    corners_must_be_distinct_boundary_vertices_with(&testkit::load_shared);
 }
 
 fn corners_must_be_distinct_boundary_vertices_with(load: &dyn Fn(&str) -> Mesh) {

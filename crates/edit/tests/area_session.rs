@@ -2,13 +2,11 @@
 //! effect on the moved region, the primitive reaching its targets, the paper's nose edit
 //! (Fig. 7), and bad input.
 
-mod area_common;
-
-use area_common::nose;
 use edit::lee::LeeError;
 use edit::lee::{AreaSession, EditingArea, FrameKind, SessionOptions};
 use glam::DVec3;
 use halfedge::{Mesh, VertexId};
+use testkit::regions::nose;
 
 const PULL: DVec3 = DVec3::new(0.03, -0.02, 0.12);
 
@@ -50,13 +48,13 @@ fn nose_and_ring(mesh: &Mesh) -> Vec<VertexId> {
 
 #[test]
 fn boundary_and_outside_never_move_for_any_scale() {
-    boundary_and_outside_never_move_for_any_scale_with(&area_common::stand_in);
+    boundary_and_outside_never_move_for_any_scale_with(&testkit::stand_in::by_shape);
 }
 
 #[test]
 #[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
 fn boundary_and_outside_never_move_for_any_scale_on_real_meshes() {
-    boundary_and_outside_never_move_for_any_scale_with(&area_common::load);
+    boundary_and_outside_never_move_for_any_scale_with(&testkit::load_shared);
 }
 
 fn boundary_and_outside_never_move_for_any_scale_with(load: &dyn Fn(&str) -> Mesh) {
@@ -93,13 +91,15 @@ fn boundary_and_outside_never_move_for_any_scale_with(load: &dyn Fn(&str) -> Mes
 
 #[test]
 fn scale_zero_moves_only_the_primitive_and_scale_one_the_whole_area() {
-    scale_zero_moves_only_the_primitive_and_scale_one_the_whole_area_with(&area_common::stand_in);
+    scale_zero_moves_only_the_primitive_and_scale_one_the_whole_area_with(
+        &testkit::stand_in::by_shape,
+    );
 }
 
 #[test]
 #[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
 fn scale_zero_moves_only_the_primitive_and_scale_one_the_whole_area_on_real_meshes() {
-    scale_zero_moves_only_the_primitive_and_scale_one_the_whole_area_with(&area_common::load);
+    scale_zero_moves_only_the_primitive_and_scale_one_the_whole_area_with(&testkit::load_shared);
 }
 
 fn scale_zero_moves_only_the_primitive_and_scale_one_the_whole_area_with(
@@ -132,13 +132,13 @@ fn scale_zero_moves_only_the_primitive_and_scale_one_the_whole_area_with(
 
 #[test]
 fn moved_region_grows_monotonically_with_scale() {
-    moved_region_grows_monotonically_with_scale_with(&area_common::stand_in);
+    moved_region_grows_monotonically_with_scale_with(&testkit::stand_in::by_shape);
 }
 
 #[test]
 #[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
 fn moved_region_grows_monotonically_with_scale_on_real_meshes() {
-    moved_region_grows_monotonically_with_scale_with(&area_common::load);
+    moved_region_grows_monotonically_with_scale_with(&testkit::load_shared);
 }
 
 fn moved_region_grows_monotonically_with_scale_with(load: &dyn Fn(&str) -> Mesh) {
@@ -170,13 +170,13 @@ fn moved_region_grows_monotonically_with_scale_with(load: &dyn Fn(&str) -> Mesh)
 
 #[test]
 fn primitive_reaches_its_targets_away_from_the_boundary() {
-    primitive_reaches_its_targets_away_from_the_boundary_with(&area_common::stand_in);
+    primitive_reaches_its_targets_away_from_the_boundary_with(&testkit::stand_in::by_shape);
 }
 
 #[test]
 #[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
 fn primitive_reaches_its_targets_away_from_the_boundary_on_real_meshes() {
-    primitive_reaches_its_targets_away_from_the_boundary_with(&area_common::load);
+    primitive_reaches_its_targets_away_from_the_boundary_with(&testkit::load_shared);
 }
 
 fn primitive_reaches_its_targets_away_from_the_boundary_with(load: &dyn Fn(&str) -> Mesh) {
@@ -237,13 +237,15 @@ fn primitive_reaches_its_targets_away_from_the_boundary_with(load: &dyn Fn(&str)
 
 #[test]
 fn holding_adjacent_vertices_reaches_every_target_at_any_level_count() {
-    holding_adjacent_vertices_reaches_every_target_at_any_level_count_with(&area_common::stand_in);
+    holding_adjacent_vertices_reaches_every_target_at_any_level_count_with(
+        &testkit::stand_in::by_shape,
+    );
 }
 
 #[test]
 #[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
 fn holding_adjacent_vertices_reaches_every_target_at_any_level_count_on_real_meshes() {
-    holding_adjacent_vertices_reaches_every_target_at_any_level_count_with(&area_common::load);
+    holding_adjacent_vertices_reaches_every_target_at_any_level_count_with(&testkit::load_shared);
 }
 
 fn holding_adjacent_vertices_reaches_every_target_at_any_level_count_with(
@@ -282,13 +284,13 @@ fn holding_adjacent_vertices_reaches_every_target_at_any_level_count_with(
 
 #[test]
 fn pulling_the_nose_makes_a_narrower_bump_at_a_smaller_scale() {
-    pulling_the_nose_makes_a_narrower_bump_at_a_smaller_scale_with(&area_common::stand_in);
+    pulling_the_nose_makes_a_narrower_bump_at_a_smaller_scale_with(&testkit::stand_in::by_shape);
 }
 
 #[test]
 #[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
 fn pulling_the_nose_makes_a_narrower_bump_at_a_smaller_scale_on_real_meshes() {
-    pulling_the_nose_makes_a_narrower_bump_at_a_smaller_scale_with(&area_common::load);
+    pulling_the_nose_makes_a_narrower_bump_at_a_smaller_scale_with(&testkit::load_shared);
 }
 
 fn pulling_the_nose_makes_a_narrower_bump_at_a_smaller_scale_with(load: &dyn Fn(&str) -> Mesh) {
@@ -321,13 +323,13 @@ fn pulling_the_nose_makes_a_narrower_bump_at_a_smaller_scale_with(load: &dyn Fn(
 
 #[test]
 fn normal_frames_move_vertices_along_their_normals() {
-    normal_frames_move_vertices_along_their_normals_with(&area_common::stand_in);
+    normal_frames_move_vertices_along_their_normals_with(&testkit::stand_in::by_shape);
 }
 
 #[test]
 #[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
 fn normal_frames_move_vertices_along_their_normals_on_real_meshes() {
-    normal_frames_move_vertices_along_their_normals_with(&area_common::load);
+    normal_frames_move_vertices_along_their_normals_with(&testkit::load_shared);
 }
 
 fn normal_frames_move_vertices_along_their_normals_with(load: &dyn Fn(&str) -> Mesh) {
@@ -377,13 +379,13 @@ fn normal_frames_move_vertices_along_their_normals_with(load: &dyn Fn(&str) -> M
 
 #[test]
 fn bad_input_is_refused_and_leaves_the_mesh_unchanged() {
-    bad_input_is_refused_and_leaves_the_mesh_unchanged_with(&area_common::stand_in);
+    bad_input_is_refused_and_leaves_the_mesh_unchanged_with(&testkit::stand_in::by_shape);
 }
 
 #[test]
 #[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
 fn bad_input_is_refused_and_leaves_the_mesh_unchanged_on_real_meshes() {
-    bad_input_is_refused_and_leaves_the_mesh_unchanged_with(&area_common::load);
+    bad_input_is_refused_and_leaves_the_mesh_unchanged_with(&testkit::load_shared);
 }
 
 fn bad_input_is_refused_and_leaves_the_mesh_unchanged_with(load: &dyn Fn(&str) -> Mesh) {
@@ -464,13 +466,13 @@ fn bad_input_is_refused_and_leaves_the_mesh_unchanged_with(load: &dyn Fn(&str) -
 
 #[test]
 fn parallel_evaluation_matches_the_sequential_one() {
-    parallel_evaluation_matches_the_sequential_one_with(&area_common::stand_in);
+    parallel_evaluation_matches_the_sequential_one_with(&testkit::stand_in::by_shape);
 }
 
 #[test]
 #[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
 fn parallel_evaluation_matches_the_sequential_one_on_real_meshes() {
-    parallel_evaluation_matches_the_sequential_one_with(&area_common::load);
+    parallel_evaluation_matches_the_sequential_one_with(&testkit::load_shared);
 }
 
 fn parallel_evaluation_matches_the_sequential_one_with(load: &dyn Fn(&str) -> Mesh) {
@@ -499,7 +501,7 @@ fn spots_snout_areas_fall_off_smoothly_to_the_border() {
     // moved 70-86 % of the pull at s = 1): the first ring moves at most d/D of the pull
     // (d its embedded distance to the border, D the nose's), no face next to the border
     // turns over under a pull with a sideways part, and the nose with its ring lands.
-    let spot = area_common::load("spot.obj");
+    let spot = testkit::load_shared("spot.obj");
     let nose = nose(&spot);
     for n in [150, 500] {
         let mut mesh = spot.clone();

@@ -4,8 +4,6 @@
 //! and pose: `data/creature.obj` subdivided twice, turned to look along −x and scaled
 //! to the bunny's bounding box; the bunny itself is the real-mesh tier.
 
-use std::path::PathBuf;
-
 use edit::bendels_klein::FastMarching;
 use edit::bendels_klein::ShapeFunction;
 use edit::bendels_klein::{BlendOptions, BlendSession, DistanceKind, RefineOptions};
@@ -13,42 +11,14 @@ use edit::bendels_klein::{Regions, Role};
 use glam::{DMat4, DQuat, DVec3};
 use halfedge::{Mesh, VertexId};
 
-/// `shared/meshes` found by walking up from the crate (or `MULTIRES_MESHES`); real-mesh
-/// tier only.
-fn meshes_dir() -> PathBuf {
-    if let Ok(dir) = std::env::var("MULTIRES_MESHES") {
-        return PathBuf::from(dir);
-    }
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .ancestors()
-        .map(|a| a.join("shared/meshes"))
-        .find(|d| d.is_dir())
-        .expect(
-            "the real-mesh tier needs the shared test meshes: a `shared/meshes` folder above \
-             the workspace, or MULTIRES_MESHES=DIR",
-        )
-}
-
-/// The bunny's stand-in: the creature of `data/` (ears up, snout along +z) subdivided
-/// twice (92,160 faces, the bunny's density), turned to look along −x as the bunny does,
-/// and scaled a little below the bunny's size (bounding-box diagonal 0.225, the bunny's is
-/// 0.25: the creature's snout is slimmer than the bunny's nose).
+/// The bunny's stand-in (the default tier): see [`testkit::stand_in::bunny_at_origin`].
 fn creature() -> Mesh {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data/creature.obj");
-    let (mesh, _) = halfedge::io::read(path).expect("data/creature.obj loads");
-    let mut mesh = halfedge::generators::subdivide(&halfedge::generators::subdivide(&mesh));
-    let (lo, hi) = mesh.bounding_box().unwrap();
-    let scale = 0.225 / lo.distance(hi);
-    for p in mesh.positions_mut() {
-        *p = scale * DVec3::new(-p.z, p.y, p.x);
-    }
-    mesh
+    testkit::stand_in::bunny_at_origin()
 }
 
+/// The Stanford bunny (the real-mesh tier).
 fn bunny() -> Mesh {
-    halfedge::io::read(meshes_dir().join("stanford-bunny.obj"))
-        .expect("the bunny loads")
-        .0
+    testkit::load_shared("stanford-bunny.obj")
 }
 
 /// The bunny faces −x: the nose tip is its leftmost vertex, an ear tip its highest.
@@ -228,7 +198,7 @@ fn rotate_the_ear_of_the_bunny() {
 }
 
 fn rotate_the_ear_with(bunny: &dyn Fn() -> Mesh) {
-    let mut mesh = bunny();
+    let mesh = bunny();
     let tip = extreme(&mesh, |p| p.y);
     let marching = FastMarching::new(&mesh);
     let d = marching.distances_from_points(&mesh, &[tip], None).unwrap();
@@ -259,6 +229,7 @@ fn rotate_the_ear_with(bunny: &dyn Fn() -> Mesh) {
     let a = DMat4::from_translation(base)
         * DMat4::from_axis_angle(axis, theta)
         * DMat4::from_translation(-base);
+    let before = testkit::check::snapshot(&mesh);
     for kind in [DistanceKind::Euclidean, DistanceKind::Geodesic] {
         let mut mesh = mesh.clone();
         let mut session = BlendSession::new(
@@ -286,7 +257,8 @@ fn rotate_the_ear_with(bunny: &dyn Fn() -> Mesh) {
         mesh.check().unwrap();
         assert_edit(&mesh, &session, a);
     }
-    // The original mesh is untouched by the clones' edits.
+    // The original mesh is untouched by the clones' edits: the same positions bit for bit
+    // and the same connectivity, handle for handle.
     mesh.check().unwrap();
-    let _ = &mut mesh;
+    assert_eq!(testkit::check::snapshot(&mesh), before);
 }

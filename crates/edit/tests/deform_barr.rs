@@ -1,13 +1,12 @@
 //! Barr's taper, twist and bend (Barr 1984) as standalone deformers on meshes.
 
-mod deform_common;
-
-use deform_common::{bit_identical, closed_box, max_distance};
 use edit::deform::DeformError;
 use edit::deform::{apply_deformer, Bend, Deformer, Profile, Taper, Twist};
 use edit::Vertices;
 use glam::DVec3;
 use halfedge::generators;
+use testkit::check::{bit_identical, max_distance};
+use testkit::meshes::closed_box;
 
 fn deformers() -> (Taper, Twist, Bend) {
     let axis = DVec3::new(0.2, 1.0, -0.1);
@@ -59,13 +58,13 @@ fn identity_parameters_leave_positions_bit_identical() {
 
 #[test]
 fn twist_then_inverse_restores_to_1e12() {
-    twist_then_inverse_restores_to_1e12_with(&deform_common::stand_in);
+    twist_then_inverse_restores_to_1e12_with(&testkit::stand_in::by_shape);
 }
 
 #[test]
 #[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
 fn twist_then_inverse_restores_to_1e12_on_real_meshes() {
-    twist_then_inverse_restores_to_1e12_with(&deform_common::load);
+    twist_then_inverse_restores_to_1e12_with(&testkit::load_shared);
 }
 
 fn twist_then_inverse_restores_to_1e12_with(load: &dyn Fn(&str) -> halfedge::Mesh) {
@@ -90,13 +89,13 @@ fn twist_then_inverse_restores_to_1e12_with(load: &dyn Fn(&str) -> halfedge::Mes
 
 #[test]
 fn taper_and_bend_inverses_restore_to_1e12() {
-    taper_and_bend_inverses_restore_to_1e12_with(&deform_common::stand_in);
+    taper_and_bend_inverses_restore_to_1e12_with(&testkit::stand_in::by_shape);
 }
 
 #[test]
 #[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
 fn taper_and_bend_inverses_restore_to_1e12_on_real_meshes() {
-    taper_and_bend_inverses_restore_to_1e12_with(&deform_common::load);
+    taper_and_bend_inverses_restore_to_1e12_with(&testkit::load_shared);
 }
 
 fn taper_and_bend_inverses_restore_to_1e12_with(load: &dyn Fn(&str) -> halfedge::Mesh) {

@@ -1,16 +1,15 @@
 //! Shape- and height-surface FFD (Feng, Ma & Peng).
 
-mod deform_common;
-
 use std::collections::HashMap;
 
-use deform_common::{closed_box, max_distance};
 use edit::deform::DeformError;
 use edit::deform::{AttachOptions, BSplineSurface, Ffd, FfdReach, LatticeFrame};
 use edit::deform::{Deformer, Twist};
 use edit::Vertices;
 use glam::DVec3;
 use halfedge::Mesh;
+use testkit::check::max_distance;
+use testkit::meshes::closed_box;
 
 /// Degrees and control-grid sizes of a B-spline surface.
 type Grid = ([usize; 2], [usize; 2]);
@@ -39,13 +38,13 @@ fn box_mesh() -> Mesh {
 
 #[test]
 fn undisplaced_surfaces_reproduce_the_bunny_to_1e9() {
-    undisplaced_surfaces_reproduce_the_bunny_to_1e9_with(&deform_common::stand_in);
+    undisplaced_surfaces_reproduce_the_bunny_to_1e9_with(&testkit::stand_in::by_shape);
 }
 
 #[test]
 #[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
 fn undisplaced_surfaces_reproduce_the_bunny_to_1e9_on_real_meshes() {
-    undisplaced_surfaces_reproduce_the_bunny_to_1e9_with(&deform_common::load);
+    undisplaced_surfaces_reproduce_the_bunny_to_1e9_with(&testkit::load_shared);
 }
 
 fn undisplaced_surfaces_reproduce_the_bunny_to_1e9_with(load: &dyn Fn(&str) -> Mesh) {
@@ -103,13 +102,13 @@ fn undisplaced_surfaces_reproduce_the_bunny_to_1e9_with(load: &dyn Fn(&str) -> M
 
 #[test]
 fn translating_the_shape_surface_translates_the_object() {
-    translating_the_shape_surface_translates_the_object_with(&deform_common::stand_in);
+    translating_the_shape_surface_translates_the_object_with(&testkit::stand_in::by_shape);
 }
 
 #[test]
 #[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
 fn translating_the_shape_surface_translates_the_object_on_real_meshes() {
-    translating_the_shape_surface_translates_the_object_with(&deform_common::load);
+    translating_the_shape_surface_translates_the_object_with(&testkit::load_shared);
 }
 
 fn translating_the_shape_surface_translates_the_object_with(load: &dyn Fn(&str) -> Mesh) {
@@ -126,13 +125,13 @@ fn translating_the_shape_surface_translates_the_object_with(load: &dyn Fn(&str) 
 
 #[test]
 fn scaling_the_height_surface_scales_every_height() {
-    scaling_the_height_surface_scales_every_height_with(&deform_common::stand_in);
+    scaling_the_height_surface_scales_every_height_with(&testkit::stand_in::by_shape);
 }
 
 #[test]
 #[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
 fn scaling_the_height_surface_scales_every_height_on_real_meshes() {
-    scaling_the_height_surface_scales_every_height_with(&deform_common::load);
+    scaling_the_height_surface_scales_every_height_with(&testkit::load_shared);
 }
 
 fn scaling_the_height_surface_scales_every_height_with(load: &dyn Fn(&str) -> Mesh) {
@@ -293,14 +292,14 @@ fn twist_is_barr_twist_of_the_shape_surface() {
 #[test]
 fn local_mode_pins_the_crossed_border_and_keeps_the_object_continuous() {
     local_mode_pins_the_crossed_border_and_keeps_the_object_continuous_with(
-        &deform_common::stand_in,
+        &testkit::stand_in::by_shape,
     );
 }
 
 #[test]
 #[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
 fn local_mode_pins_the_crossed_border_and_keeps_the_object_continuous_on_real_meshes() {
-    local_mode_pins_the_crossed_border_and_keeps_the_object_continuous_with(&deform_common::load);
+    local_mode_pins_the_crossed_border_and_keeps_the_object_continuous_with(&testkit::load_shared);
 }
 
 fn local_mode_pins_the_crossed_border_and_keeps_the_object_continuous_with(
@@ -409,13 +408,13 @@ fn local_mode_pins_the_crossed_border_and_keeps_the_object_continuous_with(
 
 #[test]
 fn errors_are_typed_and_change_nothing() {
-    errors_are_typed_and_change_nothing_with(&deform_common::stand_in);
+    errors_are_typed_and_change_nothing_with(&testkit::stand_in::by_shape);
 }
 
 #[test]
 #[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
 fn errors_are_typed_and_change_nothing_on_real_meshes() {
-    errors_are_typed_and_change_nothing_with(&deform_common::load);
+    errors_are_typed_and_change_nothing_with(&testkit::load_shared);
 }
 
 fn errors_are_typed_and_change_nothing_with(load: &dyn Fn(&str) -> Mesh) {

@@ -1,9 +1,6 @@
 //! Taubin λ|μ smoothing (Taubin 1995) as used by *Interactive editing of
 //! multiresolution meshes* §4.2.
 
-mod deform_common;
-
-use deform_common::{bit_identical, volume};
 use edit::deform::SubMesh;
 use edit::deform::{taubin, Smoother, SmoothingWeights, TaubinOptions};
 use edit::Vertices;
@@ -11,6 +8,7 @@ use glam::DVec3;
 use halfedge::generators;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+use testkit::check::{bit_identical, volume};
 
 /// A unit icosphere with radial noise.
 fn noisy_sphere(level: usize, noise: f64) -> halfedge::Mesh {
@@ -67,13 +65,13 @@ fn taubin_keeps_sphere_volume_where_laplacian_shrinks_it() {
 
 #[test]
 fn identity_parameters_leave_positions_bit_identical() {
-    identity_parameters_leave_positions_bit_identical_with(&deform_common::stand_in);
+    identity_parameters_leave_positions_bit_identical_with(&testkit::stand_in::by_shape);
 }
 
 #[test]
 #[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
 fn identity_parameters_leave_positions_bit_identical_on_real_meshes() {
-    identity_parameters_leave_positions_bit_identical_with(&deform_common::load);
+    identity_parameters_leave_positions_bit_identical_with(&testkit::load_shared);
 }
 
 fn identity_parameters_leave_positions_bit_identical_with(load: &dyn Fn(&str) -> halfedge::Mesh) {
@@ -87,13 +85,13 @@ fn identity_parameters_leave_positions_bit_identical_with(load: &dyn Fn(&str) ->
 
 #[test]
 fn submesh_smoothing_moves_only_the_submesh_and_its_collar() {
-    submesh_smoothing_moves_only_the_submesh_and_its_collar_with(&deform_common::stand_in);
+    submesh_smoothing_moves_only_the_submesh_and_its_collar_with(&testkit::stand_in::by_shape);
 }
 
 #[test]
 #[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
 fn submesh_smoothing_moves_only_the_submesh_and_its_collar_on_real_meshes() {
-    submesh_smoothing_moves_only_the_submesh_and_its_collar_with(&deform_common::load);
+    submesh_smoothing_moves_only_the_submesh_and_its_collar_with(&testkit::load_shared);
 }
 
 fn submesh_smoothing_moves_only_the_submesh_and_its_collar_with(
@@ -101,7 +99,7 @@ fn submesh_smoothing_moves_only_the_submesh_and_its_collar_with(
 ) {
     let mut mesh = load("stanford-bunny.obj");
     let before = mesh.positions().to_vec();
-    let ear = deform_common::bunny_ear(&mesh);
+    let ear = testkit::regions::bunny_ear(&mesh);
     let sub = SubMesh::from_mask(
         &mesh,
         &halfedge::VertexData::new(&mesh, (ear).to_vec()).unwrap(),

@@ -1,12 +1,11 @@
 //! Sub-mesh edits with propagation levels (*Interactive editing of multiresolution
 //! meshes* §4), on generated meshes and on the paper's bunny examples.
 
-mod deform_common;
-
-use deform_common::{bit_identical, bunny_ear, bunny_head, max_distance};
 use edit::deform::{Axis, Propagation, SubMesh, SubmeshEdit, Variation};
 use glam::DVec3;
 use halfedge::{generators, Mesh};
+use testkit::check::{bit_identical, max_distance};
+use testkit::regions::{bunny_ear, bunny_head};
 
 /// A 30×30 grid (bumped so it is not planar) with a disk of radius 4 around the centre
 /// inside.
@@ -62,13 +61,13 @@ fn all_edits(mesh: &Mesh, sub: &SubMesh) -> Vec<SubmeshEdit> {
 
 #[test]
 fn identity_edits_leave_positions_bit_identical() {
-    identity_edits_leave_positions_bit_identical_with(&deform_common::stand_in);
+    identity_edits_leave_positions_bit_identical_with(&testkit::stand_in::by_shape);
 }
 
 #[test]
 #[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
 fn identity_edits_leave_positions_bit_identical_on_real_meshes() {
-    identity_edits_leave_positions_bit_identical_with(&deform_common::load);
+    identity_edits_leave_positions_bit_identical_with(&testkit::load_shared);
 }
 
 fn identity_edits_leave_positions_bit_identical_with(load: &dyn Fn(&str) -> Mesh) {
@@ -261,13 +260,13 @@ fn inverse_edits_restore_and_snapshots_undo_exactly() {
 
 #[test]
 fn bunny_ear_scaled_with_and_without_propagation() {
-    bunny_ear_scaled_with_and_without_propagation_with(&deform_common::stand_in);
+    bunny_ear_scaled_with_and_without_propagation_with(&testkit::stand_in::by_shape);
 }
 
 #[test]
 #[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
 fn bunny_ear_scaled_with_and_without_propagation_on_real_meshes() {
-    bunny_ear_scaled_with_and_without_propagation_with(&deform_common::load);
+    bunny_ear_scaled_with_and_without_propagation_with(&testkit::load_shared);
 }
 
 fn bunny_ear_scaled_with_and_without_propagation_with(load: &dyn Fn(&str) -> Mesh) {
@@ -339,7 +338,7 @@ fn bunny_ear_scaled_with_and_without_propagation_with(load: &dyn Fn(&str) -> Mes
 #[test]
 fn bunny_ear_rotated_about_a_vertex_normal_and_bounded_by_the_frontier_plane() {
     bunny_ear_rotated_about_a_vertex_normal_and_bounded_by_the_frontier_plane_with(
-        &deform_common::stand_in,
+        &testkit::stand_in::by_shape,
     );
 }
 
@@ -347,7 +346,7 @@ fn bunny_ear_rotated_about_a_vertex_normal_and_bounded_by_the_frontier_plane() {
 #[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
 fn bunny_ear_rotated_about_a_vertex_normal_and_bounded_by_the_frontier_plane_on_real_meshes() {
     bunny_ear_rotated_about_a_vertex_normal_and_bounded_by_the_frontier_plane_with(
-        &deform_common::load,
+        &testkit::load_shared,
     );
 }
 
@@ -435,13 +434,13 @@ fn perpendicular_distance(axis: &Axis, p: DVec3) -> f64 {
 #[test]
 fn bunny_head_tapered_over_20_levels() {
     // Three subdivisions: the sub-mesh is as many rings deep as the bunny's.
-    bunny_head_tapered_over_20_levels_with(&|_: &str| deform_common::bunny_stand_in(3));
+    bunny_head_tapered_over_20_levels_with(&|_: &str| testkit::stand_in::bunny_in_box(3));
 }
 
 #[test]
 #[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
 fn bunny_head_tapered_over_20_levels_on_real_meshes() {
-    bunny_head_tapered_over_20_levels_with(&deform_common::load);
+    bunny_head_tapered_over_20_levels_with(&testkit::load_shared);
 }
 
 fn bunny_head_tapered_over_20_levels_with(load: &dyn Fn(&str) -> Mesh) {
@@ -504,13 +503,13 @@ fn bunny_head_tapered_over_20_levels_with(load: &dyn Fn(&str) -> Mesh) {
 #[test]
 fn bunny_ear_twisted_over_10_levels_and_back() {
     // Three subdivisions: the sub-mesh is as many rings deep as the bunny's.
-    bunny_ear_twisted_over_10_levels_and_back_with(&|_: &str| deform_common::bunny_stand_in(3));
+    bunny_ear_twisted_over_10_levels_and_back_with(&|_: &str| testkit::stand_in::bunny_in_box(3));
 }
 
 #[test]
 #[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
 fn bunny_ear_twisted_over_10_levels_and_back_on_real_meshes() {
-    bunny_ear_twisted_over_10_levels_and_back_with(&deform_common::load);
+    bunny_ear_twisted_over_10_levels_and_back_with(&testkit::load_shared);
 }
 
 fn bunny_ear_twisted_over_10_levels_and_back_with(load: &dyn Fn(&str) -> Mesh) {

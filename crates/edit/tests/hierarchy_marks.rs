@@ -11,7 +11,7 @@ use edit::lee::{AreaSession, EditingArea, SessionOptions};
 use edit::{HierarchyEdit, HierarchyMarks, Vertices};
 use glam::{DAffine3, DQuat, DVec3};
 use halfedge::hierarchy::{DetailMode, Hierarchy, HierarchyOptions};
-use halfedge::{generators, Mesh, VertexId};
+use halfedge::{Mesh, VertexId};
 
 const LEVEL: usize = 3;
 
@@ -40,12 +40,7 @@ fn marks_of(
 
 /// An icosphere with smooth bumps, so that its detail coefficients are not radial.
 fn bumpy_sphere() -> Mesh {
-    let mut mesh = generators::icosphere(5);
-    for p in mesh.positions_mut() {
-        let bump = 1.0 + 0.06 * (5.0 * p.x).sin() * (4.0 * p.y).sin() * (3.0 * p.z + 0.5).sin();
-        *p *= bump;
-    }
-    mesh
+    testkit::meshes::bumpy_sphere(5, 0.06)
 }
 
 fn hierarchy(mode: DetailMode) -> (Mesh, Hierarchy) {

@@ -19,6 +19,7 @@ use edit::Vertices;
 use glam::{DMat4, DVec2, DVec3};
 use halfedge::hierarchy::{Hierarchy, HierarchyOptions};
 use halfedge::{generators, Mesh, VertexData, VertexId};
+use testkit::check::slot_position_bits as bits;
 
 /// A hierarchy of a subdivided icosphere stretched along x, at level 2.
 fn hierarchy_at_2() -> Hierarchy {
@@ -29,13 +30,6 @@ fn hierarchy_at_2() -> Hierarchy {
     let mut h = Hierarchy::build(mesh, &HierarchyOptions::rounds()).unwrap();
     h.go_to_level(2).unwrap();
     h
-}
-
-fn bits(mesh: &Mesh) -> Vec<[u64; 3]> {
-    mesh.positions()
-        .iter()
-        .map(|p| p.to_array().map(f64::to_bits))
-        .collect()
 }
 
 /// Asserts that `use_it` refuses with `Stale` on level 1, changing nothing, and works

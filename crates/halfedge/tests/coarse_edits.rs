@@ -3,12 +3,11 @@
 //! that land exactly ([`DetailMode::LocalFrame`], the default). On generated meshes, so
 //! they run anywhere.
 
-mod common;
-
-use common::{bumpy_capsule, crossing_edges};
 use glam::{DAffine3, DQuat, DVec3};
 use halfedge::hierarchy::{DetailMode, Hierarchy, HierarchyOptions};
 use halfedge::{Mesh, VertexId};
+use testkit::check::crossing_edges;
+use testkit::meshes::bumpy_capsule;
 
 fn diagonal(mesh: &Mesh) -> f64 {
     let (lo, hi) = mesh.bounding_box().unwrap();

@@ -1,13 +1,11 @@
 //! Collapse / vertex split: exact inverses, `check()` after every step, Euler
 //! characteristic preserved, refusals change nothing.
 
-mod common;
-
-use common::{euler, snapshot};
 use halfedge::{generators, CollapseVeto, Error, HalfedgeId, Mesh};
 use rand::seq::IndexedRandom;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
+use testkit::check::{euler, snapshot};
 
 /// Collapses random legal halfedges until `fraction` of the vertices are gone, moving the
 /// survivor to the midpoint, then splits in reverse order; asserts the mesh is restored
@@ -78,7 +76,7 @@ fn roundtrip_grid_with_boundary() {
 fn roundtrip_data_meshes() {
     // Small stand-ins: `check()` runs after every collapse.
     roundtrip_real_meshes_with(&|name: &str| {
-        common::data(match name {
+        testkit::data(match name {
             "spot.obj" => "torus.obj",
             "cow.obj" => "creature.obj",
             "suzanne.obj" => "dirty.obj",
@@ -90,7 +88,7 @@ fn roundtrip_data_meshes() {
 #[test]
 #[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
 fn roundtrip_real_meshes() {
-    roundtrip_real_meshes_with(&common::load);
+    roundtrip_real_meshes_with(&testkit::load_shared);
 }
 
 fn roundtrip_real_meshes_with(load: &dyn Fn(&str) -> Mesh) {

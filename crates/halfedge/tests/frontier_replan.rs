@@ -4,22 +4,13 @@
 //! face counts, the hierarchy stays exact. Generated meshes in the default tier, every
 //! shared mesh in the real-mesh tier.
 
-mod common;
-
-use common::{bumpy_capsule, crossing_edges};
-
 use std::collections::HashSet;
 
 use glam::DVec3;
 use halfedge::hierarchy::{Hierarchy, HierarchyOptions};
 use halfedge::{Mesh, VertexId};
-
-/// Positions as bits, for exact comparisons.
-fn bits(mesh: &Mesh) -> Vec<[u64; 3]> {
-    mesh.vertices()
-        .map(|v| mesh.position(v).to_array().map(f64::to_bits))
-        .collect()
-}
+use testkit::check::{crossing_edges, position_bits as bits};
+use testkit::meshes::bumpy_capsule;
 
 /// What identifies a record: the collapsed halfedge and the two positions it recorded.
 fn record_keys(h: &Hierarchy) -> HashSet<(String, [u64; 3], [u64; 3])> {
@@ -235,7 +226,7 @@ fn before_records(mesh: &Mesh, options: &HierarchyOptions) -> usize {
 #[test]
 #[ignore = "real-mesh tier: needs ../shared/meshes (cargo test --release -- --ignored)"]
 fn labels_hold_at_every_level_after_replanning_on_the_shared_meshes() {
-    for entry in std::fs::read_dir(common::meshes_dir()).unwrap() {
+    for entry in std::fs::read_dir(testkit::shared_meshes()).unwrap() {
         let path = entry.unwrap().path();
         let name = path.file_name().unwrap().to_string_lossy().to_string();
         let Ok((mesh, _)) = halfedge::io::read(&path) else {

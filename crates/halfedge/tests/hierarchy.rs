@@ -2,12 +2,10 @@
 //! stop criteria, walking the levels, and the centroid detail coefficients carrying
 //! coarse edits to the fine mesh.
 
-mod common;
-
-use common::{snapshot, Snapshot};
 use glam::DVec3;
 use halfedge::hierarchy::{DetailMode, Hierarchy, HierarchyOptions, Method};
 use halfedge::{generators, Error, Mesh};
+use testkit::check::{snapshot, Snapshot};
 
 const REAL: [&str; 4] = ["spot.obj", "stanford-bunny.obj", "cow.obj", "teapot.obj"];
 
@@ -26,13 +24,13 @@ fn diagonal(mesh: &Mesh) -> f64 {
 
 #[test]
 fn coarsen_all_refine_all_is_bit_identical() {
-    coarsen_all_refine_all_is_bit_identical_on_real_meshes_with(&common::stand_in);
+    coarsen_all_refine_all_is_bit_identical_on_real_meshes_with(&testkit::stand_in::by_topology);
 }
 
 #[test]
 #[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
 fn coarsen_all_refine_all_is_bit_identical_on_the_real_meshes() {
-    coarsen_all_refine_all_is_bit_identical_on_real_meshes_with(&common::load);
+    coarsen_all_refine_all_is_bit_identical_on_real_meshes_with(&testkit::load_shared);
 }
 
 fn coarsen_all_refine_all_is_bit_identical_on_real_meshes_with(load: &dyn Fn(&str) -> Mesh) {
@@ -63,13 +61,13 @@ fn coarsen_all_refine_all_is_bit_identical_on_real_meshes_with(load: &dyn Fn(&st
 /// later split checked. Every way, and in clones, refinement restores the input exactly.
 #[test]
 fn trusted_and_checked_refinement_agree() {
-    trusted_and_checked_refinement_agree_with(&common::stand_in);
+    trusted_and_checked_refinement_agree_with(&testkit::stand_in::by_topology);
 }
 
 #[test]
 #[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
 fn trusted_and_checked_refinement_agree_on_real_meshes() {
-    trusted_and_checked_refinement_agree_with(&common::load);
+    trusted_and_checked_refinement_agree_with(&testkit::load_shared);
 }
 
 fn trusted_and_checked_refinement_agree_with(load: &dyn Fn(&str) -> Mesh) {
@@ -112,13 +110,13 @@ fn trusted_and_checked_refinement_agree_with(load: &dyn Fn(&str) -> Mesh) {
 
 #[test]
 fn a_round_removes_about_45_percent_of_the_faces() {
-    a_round_removes_about_45_percent_of_the_faces_with(&common::stand_in);
+    a_round_removes_about_45_percent_of_the_faces_with(&testkit::stand_in::by_topology);
 }
 
 #[test]
 #[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
 fn a_round_removes_about_45_percent_of_the_faces_on_real_meshes() {
-    a_round_removes_about_45_percent_of_the_faces_with(&common::load);
+    a_round_removes_about_45_percent_of_the_faces_with(&testkit::load_shared);
 }
 
 fn a_round_removes_about_45_percent_of_the_faces_with(load: &dyn Fn(&str) -> Mesh) {
@@ -148,13 +146,13 @@ fn a_round_removes_about_45_percent_of_the_faces_with(load: &dyn Fn(&str) -> Mes
 
 #[test]
 fn qem_levels_are_cut_at_the_level_ratio() {
-    qem_levels_are_cut_at_the_level_ratio_with(&common::stand_in);
+    qem_levels_are_cut_at_the_level_ratio_with(&testkit::stand_in::by_topology);
 }
 
 #[test]
 #[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
 fn qem_levels_are_cut_at_the_level_ratio_on_real_meshes() {
-    qem_levels_are_cut_at_the_level_ratio_with(&common::load);
+    qem_levels_are_cut_at_the_level_ratio_with(&testkit::load_shared);
 }
 
 fn qem_levels_are_cut_at_the_level_ratio_with(load: &dyn Fn(&str) -> Mesh) {
@@ -172,13 +170,13 @@ fn qem_levels_are_cut_at_the_level_ratio_with(load: &dyn Fn(&str) -> Mesh) {
 
 #[test]
 fn stop_criteria() {
-    stop_criteria_with(&common::stand_in);
+    stop_criteria_with(&testkit::stand_in::by_topology);
 }
 
 #[test]
 #[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
 fn stop_criteria_on_real_meshes() {
-    stop_criteria_with(&common::load);
+    stop_criteria_with(&testkit::load_shared);
 }
 
 fn stop_criteria_with(load: &dyn Fn(&str) -> Mesh) {
@@ -217,13 +215,13 @@ fn stop_criteria_with(load: &dyn Fn(&str) -> Mesh) {
 
 #[test]
 fn error_bound_holds_for_every_qem_collapse() {
-    error_bound_holds_for_every_qem_collapse_with(&common::stand_in);
+    error_bound_holds_for_every_qem_collapse_with(&testkit::stand_in::by_topology);
 }
 
 #[test]
 #[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
 fn error_bound_holds_for_every_qem_collapse_on_real_meshes() {
-    error_bound_holds_for_every_qem_collapse_with(&common::load);
+    error_bound_holds_for_every_qem_collapse_with(&testkit::load_shared);
 }
 
 fn error_bound_holds_for_every_qem_collapse_with(load: &dyn Fn(&str) -> Mesh) {
@@ -250,13 +248,13 @@ fn error_bound_holds_for_every_qem_collapse_with(load: &dyn Fn(&str) -> Mesh) {
 
 #[test]
 fn walking_the_levels_in_any_order_gives_the_same_meshes() {
-    walking_the_levels_in_any_order_gives_the_same_meshes_with(&common::stand_in);
+    walking_the_levels_in_any_order_gives_the_same_meshes_with(&testkit::stand_in::by_topology);
 }
 
 #[test]
 #[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
 fn walking_the_levels_in_any_order_gives_the_same_meshes_on_real_meshes() {
-    walking_the_levels_in_any_order_gives_the_same_meshes_with(&common::load);
+    walking_the_levels_in_any_order_gives_the_same_meshes_with(&testkit::load_shared);
 }
 
 fn walking_the_levels_in_any_order_gives_the_same_meshes_with(load: &dyn Fn(&str) -> Mesh) {
@@ -300,13 +298,13 @@ fn walking_the_levels_in_any_order_gives_the_same_meshes_with(load: &dyn Fn(&str
 
 #[test]
 fn bad_arguments_are_errors() {
-    bad_arguments_are_errors_with(&common::stand_in);
+    bad_arguments_are_errors_with(&testkit::stand_in::by_topology);
 }
 
 #[test]
 #[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
 fn bad_arguments_are_errors_on_real_meshes() {
-    bad_arguments_are_errors_with(&common::load);
+    bad_arguments_are_errors_with(&testkit::load_shared);
 }
 
 fn bad_arguments_are_errors_with(load: &dyn Fn(&str) -> Mesh) {
@@ -337,13 +335,13 @@ fn bad_arguments_are_errors_with(load: &dyn Fn(&str) -> Mesh) {
 
 #[test]
 fn topology_changed_behind_the_hierarchy_is_refused() {
-    topology_changed_behind_the_hierarchy_is_refused_with(&common::stand_in);
+    topology_changed_behind_the_hierarchy_is_refused_with(&testkit::stand_in::by_topology);
 }
 
 #[test]
 #[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
 fn topology_changed_behind_the_hierarchy_is_refused_on_real_meshes() {
-    topology_changed_behind_the_hierarchy_is_refused_with(&common::load);
+    topology_changed_behind_the_hierarchy_is_refused_with(&testkit::load_shared);
 }
 
 fn topology_changed_behind_the_hierarchy_is_refused_with(load: &dyn Fn(&str) -> Mesh) {
@@ -376,13 +374,13 @@ fn topology_changed_behind_the_hierarchy_is_refused_with(load: &dyn Fn(&str) -> 
 
 #[test]
 fn progress_is_reported_per_level() {
-    progress_is_reported_per_level_with(&common::stand_in);
+    progress_is_reported_per_level_with(&testkit::stand_in::by_topology);
 }
 
 #[test]
 #[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
 fn progress_is_reported_per_level_on_real_meshes() {
-    progress_is_reported_per_level_with(&common::load);
+    progress_is_reported_per_level_with(&testkit::load_shared);
 }
 
 fn progress_is_reported_per_level_with(load: &dyn Fn(&str) -> Mesh) {
@@ -400,13 +398,13 @@ fn progress_is_reported_per_level_with(load: &dyn Fn(&str) -> Mesh) {
 
 #[test]
 fn translating_the_coarse_mesh_translates_the_refined_mesh() {
-    translating_the_coarse_mesh_translates_the_refined_mesh_with(&common::stand_in);
+    translating_the_coarse_mesh_translates_the_refined_mesh_with(&testkit::stand_in::by_topology);
 }
 
 #[test]
 #[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
 fn translating_the_coarse_mesh_translates_the_refined_mesh_on_real_meshes() {
-    translating_the_coarse_mesh_translates_the_refined_mesh_with(&common::load);
+    translating_the_coarse_mesh_translates_the_refined_mesh_with(&testkit::load_shared);
 }
 
 fn translating_the_coarse_mesh_translates_the_refined_mesh_with(load: &dyn Fn(&str) -> Mesh) {
@@ -436,13 +434,15 @@ fn translating_the_coarse_mesh_translates_the_refined_mesh_with(load: &dyn Fn(&s
 
 #[test]
 fn editing_the_fine_mesh_survives_coarsening_and_refining_again() {
-    editing_the_fine_mesh_survives_coarsening_and_refining_again_with(&common::stand_in);
+    editing_the_fine_mesh_survives_coarsening_and_refining_again_with(
+        &testkit::stand_in::by_topology,
+    );
 }
 
 #[test]
 #[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
 fn editing_the_fine_mesh_survives_coarsening_and_refining_again_on_real_meshes() {
-    editing_the_fine_mesh_survives_coarsening_and_refining_again_with(&common::load);
+    editing_the_fine_mesh_survives_coarsening_and_refining_again_with(&testkit::load_shared);
 }
 
 fn editing_the_fine_mesh_survives_coarsening_and_refining_again_with(load: &dyn Fn(&str) -> Mesh) {
@@ -493,7 +493,7 @@ fn translating_a_coarse_submesh_carries_its_fine_detail_exactly() {
 #[test]
 #[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
 fn translating_a_coarse_submesh_carries_its_fine_detail_exactly_on_real_meshes() {
-    translating_a_coarse_submesh_carries_its_fine_detail_exactly_with(&common::load);
+    translating_a_coarse_submesh_carries_its_fine_detail_exactly_with(&testkit::load_shared);
 }
 
 fn translating_a_coarse_submesh_carries_its_fine_detail_exactly_with(load: &dyn Fn(&str) -> Mesh) {
@@ -545,7 +545,7 @@ fn scaling_a_coarse_submesh_carries_the_fine_detail_along() {
 #[test]
 #[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
 fn scaling_a_coarse_submesh_carries_the_fine_detail_along_on_real_meshes() {
-    scaling_a_coarse_submesh_carries_the_fine_detail_along_with(&common::load);
+    scaling_a_coarse_submesh_carries_the_fine_detail_along_with(&testkit::load_shared);
 }
 
 fn scaling_a_coarse_submesh_carries_the_fine_detail_along_with(load: &dyn Fn(&str) -> Mesh) {
@@ -648,13 +648,13 @@ fn tiny_and_empty_meshes_build_trivial_hierarchies() {
 /// gives the same hierarchy as `build`.
 #[test]
 fn a_build_can_be_cancelled_from_its_progress_callback() {
-    a_build_can_be_cancelled_from_its_progress_callback_with(&common::stand_in);
+    a_build_can_be_cancelled_from_its_progress_callback_with(&testkit::stand_in::by_topology);
 }
 
 #[test]
 #[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
 fn a_build_can_be_cancelled_from_its_progress_callback_on_real_meshes() {
-    a_build_can_be_cancelled_from_its_progress_callback_with(&common::load);
+    a_build_can_be_cancelled_from_its_progress_callback_with(&testkit::load_shared);
 }
 
 fn a_build_can_be_cancelled_from_its_progress_callback_with(load: &dyn Fn(&str) -> Mesh) {

@@ -5,13 +5,12 @@
 //! deterministic; every refusal is a typed error naming the file and the section. The
 //! real-mesh tier saves and loads hierarchies of the shared meshes.
 
-mod common;
-
-use common::{snapshot, temp_dir};
 use glam::{DAffine3, DVec3};
 use halfedge::hierarchy::file::FORMAT_VERSION;
 use halfedge::hierarchy::{DetailMode, Hierarchy, HierarchyOptions};
 use halfedge::{generators, Error, Mesh, VertexId};
+use testkit::check::{slot_position_bits as position_bits, snapshot};
+use testkit::temp_dir;
 
 fn bytes_of(h: &Hierarchy) -> Vec<u8> {
     let mut out = Vec::new();
@@ -21,13 +20,6 @@ fn bytes_of(h: &Hierarchy) -> Vec<u8> {
 
 fn reload(h: &Hierarchy) -> Hierarchy {
     Hierarchy::read_from(&bytes_of(h), "test.mrh").unwrap()
-}
-
-fn position_bits(mesh: &Mesh) -> Vec<[u64; 3]> {
-    mesh.positions()
-        .iter()
-        .map(|p| p.to_array().map(f64::to_bits))
-        .collect()
 }
 
 /// Two components and a boundary: an icosphere, a torus and a grid side by side.
@@ -593,14 +585,14 @@ fn files_that_cannot_be_read_or_written_are_io_errors_naming_them() {
 #[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -p multires-halfedge --test hierarchy_file -- --include-ignored"]
 fn shared_meshes_round_trip_through_files() {
     let dir = temp_dir("hierarchy_file_shared");
-    let mut names: Vec<_> = std::fs::read_dir(common::meshes_dir())
+    let mut names: Vec<_> = std::fs::read_dir(testkit::shared_meshes())
         .unwrap()
         .filter_map(|e| e.ok().map(|e| e.file_name().to_string_lossy().into_owned()))
         .filter(|n| n.ends_with(".obj") || n.ends_with(".ply"))
         .collect();
     names.sort();
     for name in names {
-        let (mesh, _) = halfedge::io::read(common::meshes_dir().join(&name)).unwrap();
+        let (mesh, _) = halfedge::io::read(testkit::shared_meshes().join(&name)).unwrap();
         let mesh = match mesh.welded_seams().unwrap() {
             Some((welded, _)) => welded,
             None => mesh,
@@ -645,7 +637,7 @@ fn shared_meshes_round_trip_through_files() {
 #[ignore = "real-mesh tier, timings: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -p multires-halfedge --test hierarchy_file -- --ignored --nocapture bench_mesh"]
 fn bench_mesh_save_load_figures() {
     use std::time::Instant;
-    let mut mesh = common::load("nefertiti.obj");
+    let mut mesh = testkit::load_shared("nefertiti.obj");
     for _ in 0..2 {
         mesh = generators::subdivide(&mesh);
     }

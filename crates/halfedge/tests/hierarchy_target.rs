@@ -2,12 +2,11 @@
 //! works and widen their bounds only when they stall short of the target; every build
 //! says how it ended (`Hierarchy::build_outcome`). On generated meshes.
 
-mod common;
-
-use common::{data_dir, snapshot};
 use halfedge::hierarchy::StopReason;
 use halfedge::hierarchy::{Hierarchy, HierarchyOptions};
 use halfedge::{generators, Mesh};
+use testkit::check::snapshot;
+use testkit::data_dir;
 
 /// The bumpy sphere of `data/` (20,480 faces): the paper's rounds stall near 100 faces.
 fn blob() -> Mesh {

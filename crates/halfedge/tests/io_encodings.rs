@@ -2,13 +2,11 @@
 //! or Windows-1252 (as older exporters write them) read as their ASCII equivalents,
 //! while such bytes inside numbers still give an error naming the line.
 
-mod common;
-
 use std::path::Path;
 
-use common::{square, Enc};
 use halfedge::io::{read_obj_from_bytes, read_off_from_bytes, read_ply_from_bytes};
 use halfedge::{BuildReport, Error, Mesh};
+use testkit::ply::{square, Enc};
 
 fn summary(result: (Mesh, BuildReport)) -> (Vec<[u64; 3]>, Vec<[usize; 3]>, BuildReport) {
     let (mesh, report) = result;

@@ -1,12 +1,11 @@
 //! Bad files give typed errors that name the file and say what is wrong; nothing panics.
 
-mod common;
-
 use std::path::{Path, PathBuf};
 
-use common::{square, temp_dir, Enc, PlyBuilder};
 use halfedge::io;
 use halfedge::Error;
+use testkit::ply::{square, Enc, PlyBuilder};
+use testkit::temp_dir;
 
 /// Writes `bytes` to `dir/name`, reads it back with [`io::read`] and returns the error.
 fn read_error(dir: &Path, name: &str, bytes: &[u8]) -> Error {
@@ -506,7 +505,7 @@ fn obj_lines_continued_with_a_backslash() {
 #[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
 fn truncated_large_binary_ply_across_read_chunks() {
     // Files are streamed in chunks of 1 MiB: cut a 2.4 MB binary PLY around chunk borders.
-    let (horse, _) = io::read(common::shared_meshes().join("horse.ply")).unwrap();
+    let (horse, _) = io::read(testkit::shared_meshes().join("horse.ply")).unwrap();
     truncated_across_chunks(&horse, "truncated-large");
 }
 

@@ -14,11 +14,8 @@
 //! made huge). Seeds are fixed; `MULTIRES_HOSTILE_CASES` sets the
 //! number of cases per test for a long run (and `MULTIRES_HOSTILE_SEED` another seed).
 
-mod common;
-
 use std::path::Path;
 
-use common::{square, Enc};
 use halfedge::generators;
 use halfedge::io::{
     read_gz_from_bytes, read_obj_from_bytes, read_off_from_bytes, read_ply_from_bytes,
@@ -27,6 +24,7 @@ use halfedge::io::{
 };
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngSeed};
+use testkit::ply::{square, Enc};
 
 fn config(default_cases: u32) -> Config {
     Config {

@@ -1,28 +1,21 @@
 //! Gzip-compressed mesh files: every format round-trips through `.gz`, the format is the
 //! extension under `.gz`, and bombs, corrupt and truncated data give typed errors.
 
-mod common;
-
 use std::io::Write;
 use std::path::Path;
 
-use common::temp_dir;
 use flate2::write::GzEncoder;
 use flate2::Compression;
 use halfedge::io::gz::{self, decompress, decompressed_limit, read_gz_from_bytes};
 use halfedge::io::{self, PlyFormat};
 use halfedge::{generators, Error, Mesh};
+use testkit::check::triangles;
+use testkit::temp_dir;
 
 fn gzip(bytes: &[u8]) -> Vec<u8> {
     let mut e = GzEncoder::new(Vec::new(), Compression::default());
     e.write_all(bytes).unwrap();
     e.finish().unwrap()
-}
-
-fn triangles(mesh: &Mesh) -> Vec<[usize; 3]> {
-    mesh.faces()
-        .map(|f| mesh.triangle(f).map(|v| mesh.vertex_index(v)))
-        .collect()
 }
 
 fn corners(mesh: &Mesh) -> Vec<[[f32; 3]; 3]> {

@@ -2,13 +2,12 @@
 //! keyword's line, comments, values across lines, CRLF and CR line ends), round trips,
 //! the same polygons as OBJ, and hostile files that must give located errors.
 
-mod common;
-
 use std::path::Path;
 
-use common::{data_dir, temp_dir};
 use halfedge::io::{self, read_off_from_bytes};
 use halfedge::{generators, BuildReport, Error, Mesh};
+use testkit::check::{position_bits as bits, triangles};
+use testkit::{data_dir, temp_dir};
 
 fn read(text: &[u8]) -> (Mesh, BuildReport) {
     let (mesh, report) =
@@ -38,18 +37,6 @@ fn assert_error(text: &[u8], needles: &[&str]) {
             String::from_utf8_lossy(text)
         );
     }
-}
-
-fn triangles(mesh: &Mesh) -> Vec<[usize; 3]> {
-    mesh.faces()
-        .map(|f| mesh.triangle(f).map(|v| mesh.vertex_index(v)))
-        .collect()
-}
-
-fn bits(mesh: &Mesh) -> Vec<[u64; 3]> {
-    mesh.vertices()
-        .map(|v| mesh.position(v).to_array().map(f64::to_bits))
-        .collect()
 }
 
 /// A unit square as two triangles, the way the variants below write it.

@@ -2,14 +2,14 @@
 //! type for face lists, both index-list names, extra properties and elements, polygons,
 //! tristrips, all three encodings, and the same result on the fast and the general route.
 
-mod common;
-
 use std::path::Path;
 
-use common::{data_dir, shared_meshes, Enc, PlyBuilder};
 use glam::DVec3;
 use halfedge::io::{read_ply_from_bytes, write_ply_to, PlyFormat};
 use halfedge::{BuildReport, Mesh};
+use testkit::check::triangles;
+use testkit::ply::{Enc, PlyBuilder};
+use testkit::{data_dir, shared_meshes};
 
 const ENCODINGS: [Enc; 3] = [Enc::Ascii, Enc::Le, Enc::Be];
 const INTEGER_TYPES: [&str; 6] = ["char", "uchar", "short", "ushort", "int", "uint"];
@@ -19,13 +19,6 @@ fn read(bytes: &[u8]) -> (Mesh, BuildReport) {
         read_ply_from_bytes(bytes, Path::new("test.ply")).unwrap_or_else(|e| panic!("{e}"));
     mesh.check().unwrap();
     (mesh, report)
-}
-
-/// Faces as triples of file vertex numbers, in face order.
-fn triangles(mesh: &Mesh) -> Vec<[usize; 3]> {
-    mesh.faces()
-        .map(|f| mesh.triangle(f).map(|v| mesh.vertex_index(v)))
-        .collect()
 }
 
 /// A 3 × 2 grid of points (z = i + j) with two quads and one triangle fan of a pentagon,

@@ -3,26 +3,13 @@
 //! topology; on real meshes (with isolated vertices, boundaries, non-manifold input whose
 //! duplicated vertices are written as ordinary vertices) and on generated ones.
 
-mod common;
-
 use std::path::Path;
 
-use common::{data_dir, shared_meshes, temp_dir};
 use glam::DVec3;
 use halfedge::io::{self, PlyFormat};
 use halfedge::{generators, Mesh};
-
-fn triangles(mesh: &Mesh) -> Vec<[usize; 3]> {
-    mesh.faces()
-        .map(|f| mesh.triangle(f).map(|v| mesh.vertex_index(v)))
-        .collect()
-}
-
-fn bits(mesh: &Mesh) -> Vec<[u64; 3]> {
-    mesh.vertices()
-        .map(|v| mesh.position(v).to_array().map(f64::to_bits))
-        .collect()
-}
+use testkit::check::{position_bits as bits, triangles};
+use testkit::{data_dir, shared_meshes, temp_dir};
 
 /// Writes `mesh` in every format into `dir` and checks that each reads back equal.
 fn round_trip(name: &str, mesh: &Mesh, dir: &Path) {

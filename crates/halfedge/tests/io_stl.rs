@@ -2,15 +2,13 @@
 //! (binary files that begin with `solid`), welding of the triangle soup by the rule of
 //! `Mesh::welded_seams`, round trips, and hostile files that must give located errors.
 
-mod common;
-
 use std::path::Path;
 
-use common::temp_dir;
 use glam::DVec3;
 use halfedge::io::stl::{is_binary_stl, read_stl_soup_from_bytes};
 use halfedge::io::{self, read_stl_from_bytes, write_stl_to, StlFormat};
 use halfedge::{generators, BuildReport, Error, Mesh};
+use testkit::temp_dir;
 
 fn stl(mesh: &Mesh, format: StlFormat) -> Vec<u8> {
     let mut bytes = Vec::new();

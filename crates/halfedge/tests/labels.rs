@@ -2,16 +2,14 @@
 //! sections; the two sides labelled; errors for loops that do not separate; the Fig. 4
 //! rule through vertex splits; labels defined at any level hold at every other.
 
-mod common;
-
 use std::collections::HashSet;
 
-use common::{data, load};
 use glam::DVec3;
 use halfedge::hierarchy::{Hierarchy, HierarchyOptions};
 use halfedge::labels::{classify_split, LABEL_ATTRIBUTE};
 use halfedge::labels::{Frontier, Label, FRONTIER};
 use halfedge::{generators, Attribute, Error, FaceId, Mesh, VertexId};
+use testkit::{data, load_shared as load};
 
 /// A mesh with an ear to cut off by a plane: the plane (a point near the ear, the
 /// normal), how far in x the ear's vertices lie from the point (the other ear is farther),
@@ -77,31 +75,6 @@ fn smaller_side(mesh: &Mesh, labels: Attribute<VertexId, Label>) -> Label {
     } else {
         2
     }
-}
-
-/// A torus of `n × m` quads split in two triangles, wrapped in both directions.
-fn torus(n: usize, m: usize) -> Mesh {
-    let (big, small) = (1.0, 0.35);
-    let mut positions = Vec::new();
-    for j in 0..m {
-        for i in 0..n {
-            let (u, v) = (
-                i as f64 / n as f64 * std::f64::consts::TAU,
-                j as f64 / m as f64 * std::f64::consts::TAU,
-            );
-            let r = big + small * v.cos();
-            positions.push(DVec3::new(r * u.cos(), r * u.sin(), small * v.sin()));
-        }
-    }
-    let id = |i: usize, j: usize| ((i % n) + (j % m) * n) as u32;
-    let mut triangles = Vec::new();
-    for j in 0..m {
-        for i in 0..n {
-            triangles.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
-            triangles.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
-        }
-    }
-    Mesh::from_triangles(&positions, &triangles).unwrap().0
 }
 
 #[test]
@@ -252,7 +225,7 @@ fn a_collar_of_faces_makes_the_same_cut_with(ear: fn() -> Ear) {
 #[test]
 fn loops_that_do_not_separate_are_refused() {
     // A meridian of a torus does not separate it.
-    let mut t = torus(16, 8);
+    let mut t = generators::torus(1.0, 0.35, 16, 8).unwrap();
     let picks: Vec<VertexId> = [0usize, 3, 6]
         .iter()
         .map(|&j| t.vertex_at(j * 16).unwrap())

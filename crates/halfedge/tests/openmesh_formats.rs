@@ -31,50 +31,17 @@
 //! third test (`.ci/run` sets both up; the full suite's
 //! `cargo test --workspace --release -- --include-ignored` runs them too).
 
-mod common;
-
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::Command;
 
-use common::{data_dir, temp_dir};
 use halfedge::io::{self, StlFormat};
 use halfedge::{generators, Mesh};
 use serde_json::Value;
-
-/// The report keys OpenMesh and this kernel both compute.
-const KEYS: [&str; 9] = [
-    "vertices",
-    "edges",
-    "faces",
-    "halfedges",
-    "boundary_vertices",
-    "boundary_loops",
-    "components",
-    "euler",
-    "valence_histogram",
-];
+use testkit::openmesh::{require_openmesh, KEYS};
+use testkit::{data_dir, temp_dir};
 
 fn scripts() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/openmesh")
-}
-
-/// Panics with what to install unless python3 can import `openmesh` and `numpy`.
-fn require_openmesh() {
-    let probe = Command::new("python3")
-        .args(["-c", "import openmesh, numpy"])
-        .output();
-    match probe {
-        Ok(out) if out.status.success() => {}
-        Ok(out) => panic!(
-            "the OpenMesh tier needs the python module openmesh ({}): \
-             `python3 -m pip install openmesh==1.2.1 numpy` (it builds from source with cmake \
-             and a C++ compiler; .ci/run installs everything)",
-            String::from_utf8_lossy(&out.stderr).trim()
-        ),
-        Err(e) => {
-            panic!("the OpenMesh tier needs python3 ({e}) with `pip install openmesh==1.2.1 numpy`")
-        }
-    }
+    testkit::workspace_root().join("tests/openmesh")
 }
 
 /// One JSON line per file from `script` (report.py or faces.py).
@@ -343,7 +310,7 @@ fn stl_files_read_as_openmesh_reads_them() {
 #[ignore = "OpenMesh tier: needs python3 with openmesh==1.2.1 and numpy (pip; builds with cmake and a C++ compiler) and ../shared/meshes (or MULTIRES_MESHES); run with cargo test -p multires-halfedge --release --test openmesh_formats -- --include-ignored (.ci/run installs them)"]
 fn shared_meshes_as_off_and_stl_read_as_openmesh_reads_them() {
     require_openmesh();
-    let shared = common::shared_meshes();
+    let shared = testkit::shared_meshes();
     let dir = temp_dir("openmesh-shared");
     let (mut off, mut stl) = (Vec::new(), Vec::new());
     let mut names: Vec<PathBuf> = std::fs::read_dir(&shared)

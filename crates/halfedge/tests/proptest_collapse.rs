@@ -8,13 +8,12 @@
 //!   edges and two faces (two edges and one face for a boundary edge).
 //! - A refused collapse changes nothing.
 
-mod common;
-
-use common::{data, euler, snapshot};
 use glam::DVec3;
 use halfedge::{generators, HalfedgeId, Mesh};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngSeed};
+use testkit::check::{euler, snapshot};
+use testkit::data;
 
 fn config() -> Config {
     Config {

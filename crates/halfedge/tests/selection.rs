@@ -2,8 +2,6 @@
 //! generated meshes: every query against a brute-force answer or an analytic one, and
 //! bad arguments as typed errors.
 
-mod common;
-
 use glam::DVec3;
 use halfedge::bvh::{Bvh, Ray};
 use halfedge::selection::Selection;
@@ -362,7 +360,7 @@ fn rays_pick_the_nearest_vertex_of_the_face_they_hit_first() {
 #[test]
 #[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -- --include-ignored"]
 fn bvh_matches_brute_force_on_the_bunny() {
-    let mesh = common::load("stanford-bunny.obj");
+    let mesh = testkit::load_shared("stanford-bunny.obj");
     let bvh = Bvh::build(&mesh);
     assert_eq!(bvh.len(), 69_451);
     let (lo, hi) = mesh.bounding_box().unwrap();

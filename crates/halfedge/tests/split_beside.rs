@@ -6,16 +6,11 @@
 
 use glam::{DAffine3, DQuat, DVec3};
 use halfedge::hierarchy::{Hierarchy, HierarchyOptions};
-use halfedge::{generators, Mesh, VertexId};
+use halfedge::{Mesh, VertexId};
 
 /// An icosphere with bumps: 40,962 vertices, enough records for the threaded walk.
 fn bumpy_sphere() -> Mesh {
-    let mut mesh = generators::icosphere(6);
-    for p in mesh.positions_mut() {
-        let bump = 1.0 + 0.05 * (5.0 * p.x).sin() * (4.0 * p.y).sin() * (3.0 * p.z + 0.5).sin();
-        *p *= bump;
-    }
-    mesh
+    testkit::meshes::bumpy_sphere(6, 0.05)
 }
 
 /// What a walk leaves (see [`state`]).

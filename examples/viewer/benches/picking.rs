@@ -4,25 +4,12 @@
 //! nefertiti (99,938 faces) from `shared/meshes` and its 1-to-4 subdivision (399,752
 //! faces); `MULTIRES_MESHES` overrides the folder.
 
-use std::path::PathBuf;
-
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use glam::DVec3;
 use halfedge::{generators, Mesh};
 use rand::{Rng, SeedableRng};
 use viewer::camera::Ray;
 use viewer::pick::Bvh;
-
-fn meshes_dir() -> PathBuf {
-    if let Ok(dir) = std::env::var("MULTIRES_MESHES") {
-        return PathBuf::from(dir);
-    }
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .ancestors()
-        .map(|a| a.join("shared/meshes"))
-        .find(|p| p.is_dir())
-        .expect("shared/meshes not found above the crate; set MULTIRES_MESHES")
-}
 
 /// Rays from a sphere around the mesh towards random points inside its box.
 fn rays(mesh: &Mesh, n: usize) -> Vec<Ray> {
@@ -50,7 +37,7 @@ fn rays(mesh: &Mesh, n: usize) -> Vec<Ray> {
 }
 
 fn picking(c: &mut Criterion) {
-    let (nefertiti, _) = halfedge::io::read(meshes_dir().join("nefertiti.obj")).unwrap();
+    let (nefertiti, _) = halfedge::io::read(testkit::shared_mesh("nefertiti.obj")).unwrap();
     let subdivided = generators::subdivide(&nefertiti);
     let mut group = c.benchmark_group("picking");
     group.sample_size(10);

@@ -11,10 +11,11 @@ use std::path::Path;
 use std::process::Command;
 use std::time::Duration;
 
-use common::{display, display_command, image_stats, run_script, run_viewer, scratch_dir};
+use common::{display, display_command, image_stats, run_script, run_viewer};
 use edit::bendels_klein::image::{test_pattern, ImageOptions, ImageSession, Mask, Raster};
 use edit::bendels_klein::ShapeFunction;
 use glam::{DMat3, DVec2};
+use testkit::temp_dir as scratch_dir;
 use viewer::image_view::{
     display_rgba, pivot, Fit, ImageUi, ImageView, ImageViewError, MouseTool, ShapePreset, Transform,
 };

@@ -8,13 +8,14 @@
 
 mod common;
 
-use common::{display, display_command, image_stats, read, run_script, run_viewer, scratch_dir};
+use common::{display, display_command, image_stats, read, run_script, run_viewer};
 
 use std::process::Command;
 use std::time::Duration;
 
 use glam::DVec3;
 use halfedge::generators;
+use testkit::temp_dir as scratch_dir;
 
 #[test]
 fn scripted_drag_undo_redo_save_and_screenshot() {

@@ -6,7 +6,7 @@
 
 mod common;
 
-use common::{display_command, image_stats, read, scratch_dir};
+use common::{display_command, image_stats, read};
 
 use std::path::Path;
 use std::process::Command;
@@ -14,6 +14,7 @@ use std::process::Command;
 use glam::DVec3;
 use halfedge::hierarchy::{Hierarchy, HierarchyOptions};
 use halfedge::{generators, Mesh};
+use testkit::temp_dir as scratch_dir;
 use viewer::camera::{OrbitCamera, UpAxis, Viewport};
 use viewer::pick::Bvh;
 

@@ -12,7 +12,7 @@
 
 mod common;
 
-use common::{display_command, meshes_dir, read, scratch_dir};
+use common::{display_command, read};
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -21,6 +21,7 @@ use edit::bendels_klein::{Regions, Role};
 use edit::lee::{AreaSide, EditingArea};
 use glam::{DMat4, DVec3};
 use halfedge::{Mesh, VertexId};
+use testkit::{shared_meshes as meshes_dir, temp_dir as scratch_dir};
 
 /// Runs a script on `mesh_path`; panics with the output on failure.
 fn run_script(prefix: Command, mesh_path: &Path, dir: &Path, actions: serde_json::Value) {
@@ -101,7 +102,7 @@ fn picks_around(mesh: &Mesh, centre: DVec3, axis: DVec3, radius: f64, n: usize) 
 /// The bunny's stand-in: `data/creature.obj` (snout along +z) subdivided twice (92,160
 /// faces, the bunny's density) and turned to look along −x, written as OBJ into `dir`.
 fn creature_looking_along_minus_x(dir: &Path) -> PathBuf {
-    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/creature.obj");
+    let data = testkit::data_dir().join("creature.obj");
     let subdivide = halfedge::generators::subdivide;
     let mut mesh = subdivide(&subdivide(&read(&data)));
     for p in mesh.positions_mut() {

@@ -3,7 +3,7 @@
 //! screenshots.
 #![allow(dead_code)] // each test binary uses its own part
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
@@ -41,17 +41,6 @@ pub fn display_command() -> Option<Command> {
         "skipping the viewer test: neither xvfb-run nor DISPLAY (apt-get install {PACKAGES})"
     );
     None
-}
-
-/// A fresh folder of its own for one test: tests of one binary run in parallel in one
-/// process, so the process id alone does not keep two tests (say a default-tier test and
-/// its real-mesh twin) from writing and removing each other's files.
-pub fn scratch_dir(name: &str) -> PathBuf {
-    static NEXT: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
-    let n = NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-    let dir = std::env::temp_dir().join(format!("viewer-test-{name}-{}-{n}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
 }
 
 /// Runs the viewer with `args` on a display, killing it after `limit`.
@@ -129,21 +118,6 @@ pub fn display(out: &Output) -> String {
         String::from_utf8_lossy(&out.stdout),
         String::from_utf8_lossy(&out.stderr)
     )
-}
-
-/// `shared/meshes` found by walking up from the crate (or `MULTIRES_MESHES`).
-pub fn meshes_dir() -> PathBuf {
-    if let Ok(dir) = std::env::var("MULTIRES_MESHES") {
-        return PathBuf::from(dir);
-    }
-    let mut dir = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
-    loop {
-        let candidate = dir.join("shared").join("meshes");
-        if candidate.is_dir() {
-            return candidate;
-        }
-        assert!(dir.pop(), "no shared/meshes above the crate");
-    }
 }
 
 /// Writes `script` (the JSON of a viewer script) to `path`, runs the viewer on `input`
