@@ -191,7 +191,9 @@ fn matrix(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<(Vec<f64>, usize, usiz
         )));
     }
     if shape.len() != 2 {
-        return Err(mesh_err(format!("{what}: expected a matrix, got shape {shape:?}")));
+        return Err(mesh_err(format!(
+            "{what}: expected a matrix, got shape {shape:?}"
+        )));
     }
     let values: Vec<f64> = arr
         .call_method1("astype", ("float64",))?
@@ -260,13 +262,10 @@ pub fn to_points<'py>(py: Python<'py>, points: &[[f64; 3]]) -> Bound<'py, PyArra
 }
 
 /// An `(n, k)` array of `T`.
-pub fn to_rows<'py, T: numpy::Element, const K: usize>(
+pub fn to_rows<'py, T: numpy::Element + Copy, const K: usize>(
     py: Python<'py>,
     rows: &[[T; K]],
-) -> Bound<'py, PyArray2<T>>
-where
-    T: Copy,
-{
+) -> Bound<'py, PyArray2<T>> {
     let flat: Vec<T> = rows.iter().flatten().copied().collect();
     Array2::from_shape_vec((rows.len(), K), flat)
         .expect("n x k values")

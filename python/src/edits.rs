@@ -336,8 +336,11 @@ fn axis(obj: Option<&Bound<'_, PyAny>>) -> PyResult<Option<Axis>> {
     let (p, d): (Bound<'_, PyAny>, Bound<'_, PyAny>) = obj
         .extract()
         .map_err(|_| mesh_err("axis: expected (point, direction)"))?;
-    let axis = Axis::new(arrays::vec3(&p, "axis point")?, arrays::vec3(&d, "axis direction")?)
-        .map_err(|e| mesh_err(format!("axis: {e}")))?;
+    let axis = Axis::new(
+        arrays::vec3(&p, "axis point")?,
+        arrays::vec3(&d, "axis direction")?,
+    )
+    .map_err(|e| mesh_err(format!("axis: {e}")))?;
     Ok(Some(axis))
 }
 
@@ -347,7 +350,10 @@ enum SubmeshSpec {
     /// Scale about the sub-mesh's centroid.
     ScaleAtCentroid(f64),
     /// Rotation about the frontier plane's normal through its centre.
-    RotateAtFrontier { angle: f64, bounded: bool },
+    RotateAtFrontier {
+        angle: f64,
+        bounded: bool,
+    },
 }
 
 fn run_submesh(
@@ -409,7 +415,13 @@ pub fn submesh_pull(
 ) -> PyResult<usize> {
     let offset = arrays::vec3(offset, "offset")?;
     let p = self::propagation(propagation, falloff)?;
-    run_submesh(py, target, region, SubmeshSpec::Ready(SubmeshEdit::Pull { offset }), p)
+    run_submesh(
+        py,
+        target,
+        region,
+        SubmeshSpec::Ready(SubmeshEdit::Pull { offset }),
+        p,
+    )
 }
 
 /// submesh_scale(target, region, factor, *, centre=None, propagation=2, falloff="linear")
@@ -772,9 +784,10 @@ pub fn ffd(
 /// A boolean mask of `(h, w)` as a picture mask.
 fn picture_mask(obj: &Bound<'_, PyAny>, what: &str, w: usize, h: usize) -> PyResult<Mask> {
     let flat = arrays::index_set(
-        &obj.py()
-            .import("numpy")?
-            .call_method1("ravel", (obj.py().import("numpy")?.call_method1("asarray", (obj,))?,))?,
+        &obj.py().import("numpy")?.call_method1(
+            "ravel",
+            (obj.py().import("numpy")?.call_method1("asarray", (obj,))?,),
+        )?,
         what,
         w * h,
     )?;
@@ -795,6 +808,7 @@ fn picture_mask(obj: &Bound<'_, PyAny>, what: &str, w: usize, h: usize) -> PyRes
     Ok(mask)
 }
 
+#[allow(clippy::too_many_arguments)]
 fn blend_picture<'py, S: Sample + numpy::Element>(
     py: Python<'py>,
     image: &Bound<'py, PyAny>,
@@ -869,9 +883,7 @@ pub fn blend_image<'py>(
         .with_shape(shape_function(shape)?);
     match dtype.as_str() {
         "uint8" => blend_picture::<u8>(py, &image, (h, w, c), handle, fixed, a, options, squeeze),
-        "uint16" => {
-            blend_picture::<u16>(py, &image, (h, w, c), handle, fixed, a, options, squeeze)
-        }
+        "uint16" => blend_picture::<u16>(py, &image, (h, w, c), handle, fixed, a, options, squeeze),
         other => Err(mesh_err(format!(
             "image: expected dtype uint8 or uint16, got {other}"
         ))),
@@ -945,7 +957,9 @@ pub fn blend_polyline<'py>(
         .call_method0("tolist")?
         .extract()?;
     if let Some(bad) = flat.iter().find(|x| !x.is_finite()) {
-        return Err(mesh_err(format!("points: the coordinate {bad} is not finite")));
+        return Err(mesh_err(format!(
+            "points: the coordinate {bad} is not finite"
+        )));
     }
     let handle = arrays::index_set(handle, "handle", n)?;
     let fixed = arrays::index_set(fixed, "fixed", n)?;
@@ -955,9 +969,7 @@ pub fn blend_polyline<'py>(
     }
     for &i in &handle {
         if roles[i as usize] == Role::Fixed {
-            return Err(mesh_err(format!(
-                "handle and fixed overlap at point {i}"
-            )));
+            return Err(mesh_err(format!("handle and fixed overlap at point {i}")));
         }
         roles[i as usize] = Role::Handle;
     }
@@ -974,7 +986,10 @@ pub fn blend_polyline<'py>(
         .with_distance(distance)
         .with_shape(shape_function(shape)?);
     let rows: Vec<f64> = if d == 2 {
-        let pts: Vec<DVec2> = flat.chunks_exact(2).map(|c| DVec2::new(c[0], c[1])).collect();
+        let pts: Vec<DVec2> = flat
+            .chunks_exact(2)
+            .map(|c| DVec2::new(c[0], c[1]))
+            .collect();
         let a = arrays::affine2(transform, "transform")?;
         blend_curve(py, pts, closed, roles, a, options, refine)?
             .iter()
@@ -1027,4 +1042,3 @@ pub fn disk<'py>(
     out.sort_unstable();
     Ok(numpy::ndarray::Array1::from(out).into_pyarray(py))
 }
-

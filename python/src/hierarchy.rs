@@ -234,7 +234,9 @@ impl PyHierarchy {
     fn ancestors<'py>(&self, py: Python<'py>, level: i64) -> PyResult<Bound<'py, PyArray1<i64>>> {
         let level = level_of(&self.inner, level)?;
         let h = &self.inner;
-        let a = py.allow_threads(|| h.ancestors(level)).map_err(Fail::from)?;
+        let a = py
+            .allow_threads(|| h.ancestors(level))
+            .map_err(Fail::from)?;
         let a: Vec<i64> = a.into_iter().map(i64::from).collect();
         Ok(Array1::from(a).into_pyarray(py))
     }
@@ -256,8 +258,14 @@ impl PyHierarchy {
             (
                 records.iter().map(|r| idx(r.v0)).collect::<Vec<_>>(),
                 records.iter().map(|r| idx(r.v1)).collect::<Vec<_>>(),
-                records.iter().map(|r| r.vl.map_or(-1, idx)).collect::<Vec<_>>(),
-                records.iter().map(|r| r.vr.map_or(-1, idx)).collect::<Vec<_>>(),
+                records
+                    .iter()
+                    .map(|r| r.vl.map_or(-1, idx))
+                    .collect::<Vec<_>>(),
+                records
+                    .iter()
+                    .map(|r| r.vr.map_or(-1, idx))
+                    .collect::<Vec<_>>(),
                 records.iter().map(|r| r.p0.to_array()).collect::<Vec<_>>(),
                 records.iter().map(|r| r.p1.to_array()).collect::<Vec<_>>(),
             )

@@ -46,7 +46,8 @@ pub fn parse_weld(weld: &Bound<'_, PyAny>) -> PyResult<Weld> {
     let s: String = weld
         .extract()
         .map_err(|_| mesh_err("weld: expected 'auto', 'off' or a number"))?;
-    s.parse::<Weld>().map_err(|e| mesh_err(format!("weld: {e}")))
+    s.parse::<Weld>()
+        .map_err(|e| mesh_err(format!("weld: {e}")))
 }
 
 /// Reads `path` and welds it (the CLI's loader); releases the GIL.
@@ -151,17 +152,17 @@ pub fn mesh_from_arrays(
 
 /// The vertex positions as an `(n, 3)` float64 array (live vertices in writer order).
 pub fn vertex_array<'py>(py: Python<'py>, mesh: &Mesh) -> Bound<'py, PyArray2<f64>> {
-    let positions: Vec<[f64; 3]> = mesh.vertices().map(|v| mesh.position(v).to_array()).collect();
+    let positions: Vec<[f64; 3]> = mesh
+        .vertices()
+        .map(|v| mesh.position(v).to_array())
+        .collect();
     arrays::to_points(py, &positions)
 }
 
 /// The faces as an `(m, 3)` int64 array of rows of the vertex array.
 pub fn face_array<'py>(py: Python<'py>, mesh: &Mesh) -> Bound<'py, PyArray2<i64>> {
     let (_, triangles) = py.allow_threads(|| mesh.to_arrays());
-    let rows: Vec<[i64; 3]> = triangles
-        .iter()
-        .map(|t| t.map(i64::from))
-        .collect();
+    let rows: Vec<[i64; 3]> = triangles.iter().map(|t| t.map(i64::from)).collect();
     arrays::to_rows(py, &rows)
 }
 
@@ -352,7 +353,6 @@ pub fn read(py: Python<'_>, path: PathBuf, weld: Option<&Bound<'_, PyAny>>) -> P
     };
     read_mesh(py, path, weld)
 }
-
 
 /// icosphere(level)
 /// --
