@@ -131,9 +131,6 @@ fn region_or_all(
     }
 }
 
-/// lee_drag(target, primitive, displacement, *, area=None, disk=None, scale=0.5, frames="global")
-/// --
-///
 /// Lee 1999 area editing: the editing area (``area``: the faces whose three vertices
 /// are all in this region, index array or mask; or ``disk=(seed, vertex_count)``: rings
 /// around ``seed`` until that many vertices) is parametrised, its ``primitive`` vertices
@@ -226,9 +223,6 @@ pub fn lee_drag(
     Ok(n)
 }
 
-/// blend(target, handle, fixed, transform, *, distance="geodesic", shape="smoothstep", refine=None, max_new_vertices=None)
-/// --
-///
 /// Bendels & Klein editing regions: the ``handle`` vertices move rigidly by
 /// ``transform`` (4×4 or 3×4 affine matrix acting on column vectors), the ``fixed``
 /// ones stay, and every other vertex moves by the transform's power ``alpha``, blended
@@ -397,9 +391,6 @@ fn run_submesh(
     Ok(n)
 }
 
-/// submesh_pull(target, region, offset, *, propagation=2, falloff="linear")
-/// --
-///
 /// Sub-mesh edit: translates the sub-mesh ``region`` by ``offset``; the change fades
 /// over ``propagation`` rings of the host (``falloff`` ``"linear"`` or ``"smooth"``).
 /// Returns the sub-mesh's vertex count.
@@ -424,9 +415,6 @@ pub fn submesh_pull(
     )
 }
 
-/// submesh_scale(target, region, factor, *, centre=None, propagation=2, falloff="linear")
-/// --
-///
 /// Sub-mesh edit: scales ``region`` by ``factor`` about ``centre`` (default: its
 /// centroid). Returns the sub-mesh's vertex count.
 #[pyfunction]
@@ -451,9 +439,6 @@ pub fn submesh_scale(
     run_submesh(py, target, region, spec, p)
 }
 
-/// submesh_rotate(target, region, degrees, *, axis=None, bounded=False, propagation=2, falloff="linear")
-/// --
-///
 /// Sub-mesh edit: rotates ``region`` by ``degrees`` about ``axis`` (``(point,
 /// direction)``; default: the normal of the plane fitted to its frontier, through the
 /// frontier's centre). Returns the sub-mesh's vertex count.
@@ -483,9 +468,6 @@ pub fn submesh_rotate(
     run_submesh(py, target, region, spec, p)
 }
 
-/// submesh_taper(target, region, factor, *, axis=None, variation=None, propagation=2, falloff="linear")
-/// --
-///
 /// Sub-mesh edit: Barr's taper of ``region`` by ``factor`` about ``axis`` (``(point,
 /// direction)``, default the sub-mesh's own axis); ``variation`` is ``None``/"levels"
 /// (progressive from the frontier), a level count, ``"uniform"`` or ``(start, end)``
@@ -512,9 +494,6 @@ pub fn submesh_taper(
     run_submesh(py, target, region, SubmeshSpec::Ready(edit), p)
 }
 
-/// submesh_twist(target, region, degrees, *, axis=None, variation=None, propagation=2, falloff="linear")
-/// --
-///
 /// Sub-mesh edit: Barr's twist of ``region`` by ``degrees`` about ``axis`` (as
 /// :func:`submesh_taper`). Returns the sub-mesh's vertex count.
 #[pyfunction]
@@ -562,9 +541,6 @@ fn run_deformer<D: Deformer + Clone + Send + Sync + 'static>(
     Ok(())
 }
 
-/// barr_taper(target, centre, axis, start, end, factor, *, vertices=None)
-/// --
-///
 /// Barr's global taper: scales across ``axis`` (through ``centre``) by a factor going
 /// linearly from 1 at axial coordinate ``start`` to ``factor`` at ``end`` (held beyond).
 /// ``vertices``: index array or mask (default all). On a hierarchy the deformation is
@@ -593,9 +569,6 @@ pub fn barr_taper(
     run_deformer(py, target, vertices, d)
 }
 
-/// barr_twist(target, centre, axis, start, end, degrees, *, vertices=None)
-/// --
-///
 /// Barr's twist about ``axis`` through ``centre``: the angle goes linearly from 0 at
 /// axial coordinate ``start`` to ``degrees`` at ``end``. As :func:`barr_taper`.
 #[pyfunction]
@@ -622,9 +595,6 @@ pub fn barr_twist(
     run_deformer(py, target, vertices, d)
 }
 
-/// barr_bend(target, centre, axis, direction, rate, *, range=None, vertices=None)
-/// --
-///
 /// Barr's bend: the region along ``axis`` (through ``centre``) bends towards
 /// ``direction`` with curvature ``rate`` (1 / radius), within the axial ``range``
 /// ``(lo, hi)`` (default unbounded). As :func:`barr_taper`.
@@ -652,9 +622,6 @@ pub fn barr_bend(
     run_deformer(py, target, vertices, d)
 }
 
-/// taubin(target, *, vertices=None, iterations=10, lambda_=0.33, mu=-0.34, weights="uniform", fix_boundary=True)
-/// --
-///
 /// Taubin λ|μ smoothing of ``vertices`` (index array or mask, default all; the others
 /// stay), ``iterations`` pairs of steps, ``weights`` ``"uniform"`` or ``"cotangent"``.
 /// On a hierarchy the smoothed vertices are marked as the edit's region.
@@ -704,9 +671,6 @@ pub fn taubin(
     Ok(())
 }
 
-/// ffd(target, vertices, origin, x_direction, up, *, shape_grid=((3, 3), (4, 4)), height_grid=((1, 1), (2, 2)), margin=0.1, translate=None, bend=None, twist=None, taper=None, scale_heights=None)
-/// --
-///
 /// Shape/height-surface free-form deformation: ``vertices`` are attached to B-spline
 /// surfaces laid over their footprint in the frame at ``origin`` (``up`` its y axis,
 /// ``x_direction`` its x), grids given as ``((degree_u, degree_v), (count_u,
@@ -843,9 +807,6 @@ fn blend_picture<'py, S: Sample + numpy::Element>(
     }
 }
 
-/// blend_image(image, handle, fixed, transform, *, grid_step=4, shape="smoothstep")
-/// --
-///
 /// Bendels & Klein on a picture: ``image`` is an ``(h, w)`` or ``(h, w, c)`` uint8 or
 /// uint16 array (``c`` 1 to 4), ``handle`` and ``fixed`` ``(h, w)`` boolean masks,
 /// ``transform`` a 3×3 or 2×3 affine matrix of pixel coordinates (x right, y down). The
@@ -912,9 +873,6 @@ fn blend_curve<'py, P: BlendPoint>(
     Ok(out)
 }
 
-/// blend_polyline(points, handle, fixed, transform, *, closed=False, distance="arclength", shape="smoothstep", refine=None)
-/// --
-///
 /// Bendels & Klein on a polyline: ``points`` is ``(n, 2)`` or ``(n, 3)``, ``handle``
 /// and ``fixed`` index arrays or masks of points, ``transform`` a 3×3 / 2×3 matrix for
 /// 2-D points or a 4×4 / 3×4 one for 3-D points. ``distance`` is ``"arclength"`` or
@@ -1011,8 +969,9 @@ pub fn blend_polyline<'py>(
     Ok(arr.into_pyarray(py))
 }
 
-/// A faces-all-in-region helper for Python: the vertices of the Lee editing area
-/// `disk_around(seed, count)` (to preview an area), an int64 array.
+/// The vertices (rows of ``vertices``, sorted, int64) of the Lee editing area grown in
+/// rings around the vertex ``seed`` until it holds at least ``vertex_count`` vertices:
+/// the area ``lee_drag(..., disk=(seed, vertex_count))`` edits, to preview or reuse.
 #[pyfunction]
 #[pyo3(signature = (target, seed, vertex_count))]
 pub fn disk<'py>(

@@ -48,9 +48,6 @@ pub fn walk(py: Python<'_>, h: &mut Hierarchy, level: usize) -> PyResult<()> {
 
 #[pymethods]
 impl PyHierarchy {
-    /// Hierarchy(mesh, method="rounds", target_faces=2000, max_levels=None, max_error=None, detail="local", progress=None)
-    /// --
-    ///
     /// Builds the hierarchy of a copy of ``mesh``: ``method`` is ``"rounds"`` (the
     /// paper's rounds of planar-star collapses, one level per round) or ``"qem"``
     /// (quadric decimation cut into levels); the build stops at ``target_faces`` faces,
@@ -159,9 +156,6 @@ impl PyHierarchy {
         format!("{:?}", self.inner.method()).to_lowercase()
     }
 
-    /// go_to_level(level)
-    /// --
-    ///
     /// Walks to ``level`` (coarser or finer), carrying every edit along. Raises
     /// :class:`MeshError` for a level that does not exist. Releases the GIL.
     fn go_to_level(&mut self, py: Python<'_>, level: i64) -> PyResult<()> {
@@ -169,9 +163,6 @@ impl PyHierarchy {
         walk(py, &mut self.inner, level)
     }
 
-    /// refine()
-    /// --
-    ///
     /// Walks to level 0 (full resolution, every edit carried there) and returns that
     /// mesh (a copy). Releases the GIL.
     fn refine(&mut self, py: Python<'_>) -> PyResult<PyMesh> {
@@ -205,9 +196,6 @@ impl PyHierarchy {
         Array1::from(v).into_pyarray(py)
     }
 
-    /// set_vertices(vertices)
-    /// --
-    ///
     /// Moves the vertices of the current level to ``vertices`` (``(n, 3)``, rows as
     /// :attr:`vertices`): the user's own edit, carried to the finer levels by the
     /// detail coefficients when the hierarchy is refined (vertices whose position did not
@@ -224,9 +212,6 @@ impl PyHierarchy {
         set_positions(self.inner.mesh_mut(), &points)
     }
 
-    /// ancestors(level)
-    /// --
-    ///
     /// For every input vertex (index ``i`` of the input mesh), the input index of its
     /// representative at ``level``: the vertex it is collapsed into there (itself when it
     /// is live at that level). An int64 array. Raises :class:`MeshError` for a level
@@ -241,9 +226,6 @@ impl PyHierarchy {
         Ok(Array1::from(a).into_pyarray(py))
     }
 
-    /// records()
-    /// --
-    ///
     /// The collapse history, in collapse order, as a dict of arrays (input numbering):
     /// ``v0`` (the removed vertex), ``v1`` (the survivor), ``vl``, ``vr`` (the third
     /// vertices of the two faces, -1 on a boundary), ``p0``, ``p1`` (``(n, 3)``
@@ -285,9 +267,6 @@ impl PyHierarchy {
         Ok(d)
     }
 
-    /// info()
-    /// --
-    ///
     /// The ``multires info`` report of the current level's mesh, with a ``hierarchy``
     /// entry (method, levels, coarsest level, faces per level, current level, records).
     fn info<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
@@ -303,9 +282,6 @@ impl PyHierarchy {
         Ok(d)
     }
 
-    /// save(path)
-    /// --
-    ///
     /// Saves everything the hierarchy holds (levels, records, details, edits, the
     /// current level) to a ``.mrh`` file. Releases the GIL.
     fn save(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
@@ -314,9 +290,6 @@ impl PyHierarchy {
         Ok(())
     }
 
-    /// Hierarchy.load(path)
-    /// --
-    ///
     /// Loads a hierarchy saved with :meth:`save` (or ``multires simplify``). Raises
     /// FileNotFoundError for a missing file and :class:`MeshError` for a corrupt one.
     #[staticmethod]
@@ -327,9 +300,6 @@ impl PyHierarchy {
         Ok(Self { inner })
     }
 
-    /// to_bytes()
-    /// --
-    ///
     /// The ``.mrh`` file's bytes.
     fn to_bytes<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyBytes>> {
         let h = &self.inner;
@@ -342,9 +312,6 @@ impl PyHierarchy {
         Ok(PyBytes::new(py, &bytes))
     }
 
-    /// Hierarchy.from_bytes(data)
-    /// --
-    ///
     /// A hierarchy from ``.mrh`` bytes (:meth:`to_bytes`). Raises :class:`MeshError`
     /// for corrupt bytes.
     #[staticmethod]
@@ -355,9 +322,6 @@ impl PyHierarchy {
         Ok(Self { inner })
     }
 
-    /// copy()
-    /// --
-    ///
     /// An independent copy (edits and current level included).
     fn copy(&self) -> Self {
         Self {

@@ -33,9 +33,6 @@ fn recipe_of(source: &str) -> Res<Recipe> {
     }
 }
 
-/// apply_recipe(target, recipe)
-/// --
-///
 /// Applies an edit recipe (a path to a ``.toml`` file, or TOML text) to a
 /// :class:`Hierarchy` (each step at its level, marked; the hierarchy is left at the last
 /// step's level: call :meth:`Hierarchy.refine` for the full-resolution result) or to a
@@ -88,9 +85,6 @@ fn workflow_options(level: usize, method: &str) -> PyResult<WorkflowOptions> {
         .with_method(method_of(method)?))
 }
 
-/// workflow(path, *, level=3, method="rounds", weld="auto")
-/// --
-///
 /// The ``multires workflow`` job on one file: reads and welds it, builds the
 /// hierarchy, makes one edit of each family at ``level`` (a Lee drag, a Bendels & Klein
 /// rotation, a sub-mesh taper) and refines back. Returns ``(mesh, steps)``: the edited
@@ -125,9 +119,6 @@ pub fn workflow<'py>(
     Ok((PyMesh::new(done.result), list))
 }
 
-/// _collect_inputs(inputs) -> list of (path, relative)
-/// --
-///
 /// The meshes named by folders, globs, manifests and files, sorted and deduplicated, as
 /// ``multires batch`` collects them.
 #[pyfunction]
@@ -171,9 +162,6 @@ fn batch_options(
     Ok(options)
 }
 
-/// _process(path, relative, out, recipe=None, format="ply", weld="auto", level=3, method="rounds", shard=None) -> str
-/// --
-///
 /// ``multires::batch::process`` on one mesh: reads it, runs the recipe (or the
 /// workflow), writes the output and its sidecar, or skips it when up to date. Returns
 /// the report row as JSON text (exactly the line ``multires batch`` writes). Never
@@ -199,9 +187,6 @@ pub fn _process(
     serde_json::to_string(&row).map_err(|e| mesh_err(e.to_string()))
 }
 
-/// _job_hash(out, recipe=None, format="ply", weld="auto", level=3, method="rounds") -> str
-/// --
-///
 /// The job hash the sidecars record for these options.
 #[pyfunction]
 #[pyo3(signature = (out, recipe = None, format = "ply", weld = None, level = 3, method = "rounds"))]
@@ -216,9 +201,6 @@ pub fn _job_hash(
     Ok(batch_options(out, recipe, format, weld, level, method, None)?.job_hash())
 }
 
-/// _output_path(relative, out, format="ply") -> str
-/// --
-///
 /// Where a batch writes the output of the mesh at ``relative``.
 #[pyfunction]
 #[pyo3(signature = (relative, out, format = "ply"))]
@@ -231,9 +213,6 @@ pub fn _output_path(relative: PathBuf, out: &str, format: &str) -> String {
     batch::output_path(&input, &options).display().to_string()
 }
 
-/// _blake3_file(path) -> str
-/// --
-///
 /// The BLAKE3 hex digest of a file's bytes (the batch's input hash). Releases the GIL.
 #[pyfunction]
 pub fn _blake3_file(py: Python<'_>, path: PathBuf) -> PyResult<String> {
@@ -247,9 +226,6 @@ pub fn _blake3_file(py: Python<'_>, path: PathBuf) -> PyResult<String> {
     Ok(py.allow_threads(|| blake3::hash(&bytes).to_hex().to_string()))
 }
 
-/// _blake3_text(text) -> str
-/// --
-///
 /// The BLAKE3 hex digest of a text.
 #[pyfunction]
 pub fn _blake3_text(text: &str) -> String {

@@ -184,9 +184,6 @@ pub fn set_positions(mesh: &mut Mesh, points: &[[f64; 3]]) -> PyResult<()> {
 
 #[pymethods]
 impl PyMesh {
-    /// Mesh.from_arrays(vertices, faces)
-    /// --
-    ///
     /// Builds a mesh from an ``(n, 3)`` float array of positions and an ``(m, 3)``
     /// integer array (any integer dtype) of triangles. Faces that would make the mesh
     /// non-manifold go onto copies of their vertices and faces with a repeated index are
@@ -240,9 +237,6 @@ impl PyMesh {
         self.inner.n_edges()
     }
 
-    /// write(path)
-    /// --
-    ///
     /// Writes the mesh; the format follows the extension (``.obj``, ``.ply`` binary,
     /// ``.off``, ``.stl`` binary, each also ``.gz``). Releases the GIL.
     fn write(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
@@ -252,9 +246,6 @@ impl PyMesh {
         Ok(())
     }
 
-    /// check()
-    /// --
-    ///
     /// Checks every invariant of the half-edge structure; raises :class:`MeshError`
     /// naming the first broken one.
     fn check(&self, py: Python<'_>) -> PyResult<()> {
@@ -263,9 +254,6 @@ impl PyMesh {
         Ok(())
     }
 
-    /// info()
-    /// --
-    ///
     /// What the mesh is made of, as ``multires info`` reports it: ``vertices``,
     /// ``faces``, ``edges``, ``boundary_loops``, ``boundary_vertices``, ``components``,
     /// ``euler``, ``genus``, ``non_manifold_vertices``, ``bbox_min``, ``bbox_max``,
@@ -274,9 +262,6 @@ impl PyMesh {
         info_dict(py, &self.inner, self.fixes.as_deref())
     }
 
-    /// welded(tolerance="auto")
-    /// --
-    ///
     /// A welded copy: ``"auto"`` merges vertices at exactly the same position when that
     /// closes boundaries, a number ``F`` merges vertices within ``F`` times the
     /// bounding-box diagonal, ``"off"`` copies.
@@ -298,9 +283,6 @@ impl PyMesh {
         Ok(out)
     }
 
-    /// copy()
-    /// --
-    ///
     /// An independent copy.
     fn copy(&self) -> Self {
         self.clone()
@@ -334,9 +316,6 @@ impl PyMesh {
     }
 }
 
-/// read(path, weld="auto")
-/// --
-///
 /// Reads a mesh file (OBJ, PLY, OFF, STL, each also ``.gz``) as the ``multires`` command
 /// reads it, then welds it: ``"auto"`` (default) merges vertices at exactly the same
 /// position when that closes boundaries, ``"off"`` keeps the file's vertices, a number
@@ -354,9 +333,6 @@ pub fn read(py: Python<'_>, path: PathBuf, weld: Option<&Bound<'_, PyAny>>) -> P
     read_mesh(py, path, weld)
 }
 
-/// icosphere(level)
-/// --
-///
 /// A unit icosphere: the icosahedron subdivided ``level`` times (20·4^level faces).
 #[pyfunction]
 pub fn icosphere(level: usize) -> PyResult<PyMesh> {
@@ -366,9 +342,6 @@ pub fn icosphere(level: usize) -> PyResult<PyMesh> {
     Ok(PyMesh::new(halfedge::generators::icosphere(level)))
 }
 
-/// grid(nx, ny, sx=1.0, sy=1.0)
-/// --
-///
 /// A flat open grid of ``nx`` × ``ny`` squares (two triangles each), ``sx`` × ``sy``
 /// in size, in the z = 0 plane.
 #[pyfunction]
@@ -385,9 +358,6 @@ pub fn grid(nx: usize, ny: usize, sx: f64, sy: f64) -> PyResult<PyMesh> {
     Ok(PyMesh::new(halfedge::generators::grid(nx, ny, sx, sy)))
 }
 
-/// torus(major=1.0, minor=0.3, nu=32, nv=16)
-/// --
-///
 /// A closed torus of genus 1, ``nu`` × ``nv`` quads split in two.
 #[pyfunction]
 #[pyo3(signature = (major = 1.0, minor = 0.3, nu = 32, nv = 16))]

@@ -207,3 +207,17 @@ def test_long_calls_release_the_gil():
     h = multires.Hierarchy(mesh, target_faces=2000)
     n, seconds = ticks_during(lambda: h.go_to_level(0))
     assert n > 10, (n, seconds)
+
+
+def test_workflow_job(tmp_path, sphere):
+    sphere.write(tmp_path / "s.ply")
+    mesh, steps = multires.workflow(tmp_path / "s.ply", level=2)
+    names = [s["step"] for s in steps]
+    assert "refine" in names and mesh.n_faces == sphere.n_faces
+    assert not np.array_equal(mesh.vertices, sphere.vertices)
+    again, _ = multires.workflow(tmp_path / "s.ply", level=2)
+    assert again.vertices.tobytes() == mesh.vertices.tobytes()
+    with pytest.raises(FileNotFoundError):
+        multires.workflow(tmp_path / "none.ply")
+    with pytest.raises(MeshError, match="method"):
+        multires.workflow(tmp_path / "s.ply", method="fast")
