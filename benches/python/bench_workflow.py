@@ -103,7 +103,7 @@ def python_arrays_run(path, target, level, out):
 def rust_run(binary, path, recipe_path, out_dir):
     t = time.perf_counter()
     subprocess.run([str(binary), "batch", str(path), "--recipe", str(recipe_path), "--out",
-                    str(out_dir), "--jobs", "1"], check=True, stdout=subprocess.DEVNULL,
+                    str(out_dir)], check=True, stdout=subprocess.DEVNULL,
                    stderr=subprocess.DEVNULL)
     return time.perf_counter() - t
 

@@ -135,3 +135,35 @@ def test_batch_refuses_a_bad_recipe_before_starting(corpus, tmp_path):
         multires.batch(str(corpus), tmp_path / "o", recipe="version = 7\n")
     with pytest.raises(ValueError, match="not both"):
         multires.batch(str(corpus), tmp_path / "o", recipe=RECIPE, function=_edit)
+
+
+def _cli():
+    import shutil
+    from pathlib import Path
+    env = os.environ.get("MULTIRES_BIN")
+    if env and Path(env).is_file():
+        return env
+    root = Path(__file__).resolve().parents[2]
+    for target in (os.environ.get("CARGO_TARGET_DIR"), root / "target"):
+        if target and (Path(target) / "release" / "multires").is_file():
+            return str(Path(target) / "release" / "multires")
+    return shutil.which("multires")
+
+
+def test_rows_and_outputs_match_the_multires_command(corpus, tmp_path):
+    """The `multires batch` command and the package's Rust step on the same corpus:
+    the same rows (but timings and output folders) and the same output bytes."""
+    import subprocess
+    cli = _cli()
+    if cli is None:
+        pytest.skip("no multires binary: cargo build --release --bin multires, or MULTIRES_BIN=PATH")
+    (tmp_path / "r.toml").write_text(RECIPE)
+    subprocess.run([cli, "batch", str(corpus), "--recipe", str(tmp_path / "r.toml"), "--out",
+                    str(tmp_path / "cli")], capture_output=True)
+    theirs = [json.loads(l) for l in (tmp_path / "cli" / "report.jsonl").read_text().splitlines()]
+    found = multires._multires._collect_inputs([str(corpus)])
+    ours = [json.loads(multires._multires._process(p, r, str(tmp_path / "py"), RECIPE)) for p, r in found]
+    strip = lambda r: {k: v for k, v in r.items() if k not in ("seconds", "output")}
+    assert sorted(map(json.dumps, map(strip, theirs))) == sorted(map(json.dumps, map(strip, ours)))
+    for name in ("a-edited.ply", "c-edited.ply", os.path.join("sub", "b-edited.ply")):
+        assert (tmp_path / "cli" / name).read_bytes() == (tmp_path / "py" / name).read_bytes()
