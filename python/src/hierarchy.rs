@@ -93,7 +93,10 @@ impl PyHierarchy {
                 )))
             }
         });
-        let input = mesh.inner.clone();
+        let input = {
+            let m = &mesh.inner;
+            py.allow_threads(|| m.clone())
+        };
         drop(mesh);
         let mut raised: Option<PyErr> = None;
         let built = py.allow_threads(|| match &progress {
@@ -167,13 +170,15 @@ impl PyHierarchy {
     /// mesh (a copy). Releases the GIL.
     fn refine(&mut self, py: Python<'_>) -> PyResult<PyMesh> {
         walk(py, &mut self.inner, 0)?;
-        Ok(PyMesh::new(self.inner.mesh().clone()))
+        let m = self.inner.mesh();
+        Ok(PyMesh::new(py.allow_threads(|| m.clone())))
     }
 
     /// The mesh at the current level (a copy).
     #[getter]
-    fn mesh(&self) -> PyMesh {
-        PyMesh::new(self.inner.mesh().clone())
+    fn mesh(&self, py: Python<'_>) -> PyMesh {
+        let m = self.inner.mesh();
+        PyMesh::new(py.allow_threads(|| m.clone()))
     }
 
     /// The positions of the vertices live at the current level, ``(n, 3)`` float64.
