@@ -120,6 +120,13 @@ def test_dask_batch_recipe_function_workflow_and_resume(corpus, tmp_path):
         frows2 = multires.batch(str(corpus), fout, function=_edit, client=client)
         assert [r["status"] for r in frows2] == ["skipped", "error", "skipped", "skipped"]
 
+        # a scheduler address instead of a Client
+        aout = tmp_path / "address"
+        arows = multires.batch(str(corpus / "a.obj"), aout, recipe=RECIPE,
+                               client=cluster.scheduler_address)
+        assert [r["status"] for r in arows] == ["ok"]
+        assert client.status == "running"
+
         wout = tmp_path / "workflow"
         wrows = multires.batch([str(corpus / "a.obj"), str(corpus / "c.off")], wout,
                                client=client, level=1)
@@ -167,3 +174,13 @@ def test_rows_and_outputs_match_the_multires_command(corpus, tmp_path):
     assert sorted(map(json.dumps, map(strip, theirs))) == sorted(map(json.dumps, map(strip, ours)))
     for name in ("a-edited.ply", "c-edited.ply", os.path.join("sub", "b-edited.ply")):
         assert (tmp_path / "cli" / name).read_bytes() == (tmp_path / "py" / name).read_bytes()
+
+
+@pytest.mark.dask
+def test_dask_batch_on_its_own_local_cluster(corpus, tmp_path):
+    """No client: the batch starts a LocalCluster of two workers and closes it."""
+    pytest.importorskip("distributed", reason="pip install multires[dask] for the Dask batch test")
+    rows = multires.batch([str(corpus / "c.off"), str(corpus / "a.obj")], tmp_path / "o",
+                          recipe=RECIPE, n_workers=2)
+    assert [r["status"] for r in rows] == ["ok", "ok"]
+    assert [os.path.basename(r["input"]) for r in rows] == ["a.obj", "c.off"]
