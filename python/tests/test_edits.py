@@ -90,14 +90,16 @@ def test_submesh_edits_match_the_recipe_engine(sphere, method):
         same(ours, theirs)
 
 
-def test_blend_matches_the_recipe_engine(sphere):
+@pytest.mark.parametrize("distance,shape", [("geodesic", "smoothstep"), ("euclidean", "linear"),
+                                            ("geodesic", "smootherstep")])
+def test_blend_matches_the_recipe_engine(sphere, distance, shape):
     for name, ours, theirs, numbering in both_targets(sphere):
         v = ours.vertices
         handle = np.flatnonzero(v[:, 2] > 0.7)
         fixed = v[:, 2] < -0.2  # a mask
         a = rot_z(25.0, centre=v[handle].mean(axis=0))
         a[:3, 3] += [0.0, 0.1, 0.05]
-        report = multires.blend(ours, handle, fixed, a)
+        report = multires.blend(ours, handle, fixed, a, distance=distance, shape=shape)
         assert report["handle"] == len(handle) and report["deformable"] > 0
         recipe = (
             'version = 1\n[[step]]\nmethod = "blend"\n'
@@ -105,6 +107,7 @@ def test_blend_matches_the_recipe_engine(sphere):
             f'handle = {{ kind = "vertices", indices = {rows_toml(numbering[handle])} }}\n'
             f'fixed = {{ kind = "vertices", indices = {rows_toml(numbering[np.flatnonzero(fixed)])} }}\n'
             f"transform = {matrix_toml(a)}\n"
+            f'distance = "{distance}"\nshape = "{shape}"\n'
         )
         multires.apply_recipe(theirs, recipe)
         same(ours, theirs)
