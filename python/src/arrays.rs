@@ -70,6 +70,14 @@ pub fn integers(
 ) -> PyResult<(Vec<u32>, usize)> {
     let arr = asarray(obj)?;
     let (kind, shape, name) = kind_and_shape(&arr)?;
+    // An empty list is float64 to NumPy: take it as no indices.
+    let empty = shape.iter().product::<usize>() == 0;
+    let arr = if empty && kind != "i" && kind != "u" {
+        arr.call_method1("astype", ("int64",))?
+    } else {
+        arr
+    };
+    let kind = if empty { "i".to_owned() } else { kind };
     if kind != "i" && kind != "u" {
         return Err(mesh_err(format!(
             "{what}: expected an integer array, got dtype {name}"

@@ -417,3 +417,43 @@ def test_recipe_refusals(sphere, tmp_path):
                  "factor = 1.2\n")
     out = multires.apply_recipe(sphere, str(p))
     assert out[0]["method"] == "scale" and out[0]["moved"] > 0
+
+
+HOSTILE = {
+    "no target faces": lambda s, h, f: multires.Hierarchy(s, target_faces=0),
+    "NaN error bound": lambda s, h, f: multires.Hierarchy(s, max_error=float("nan")),
+    "disk of the whole sphere": lambda s, h, f: multires.lee_drag(s, [0], [0, 0, .1], disk=(0, 10**9)),
+    "empty primitive": lambda s, h, f: multires.lee_drag(s, [], [0, 0, .1], disk=(0, 50)),
+    "FFD degree above count": lambda s, h, f: multires.ffd(s, None, [0, 0, 0], [1, 0, 0], [0, 1, 0], shape_grid=((9, 9), (2, 2))),
+    "FFD empty grid": lambda s, h, f: multires.ffd(s, None, [0, 0, 0], [1, 0, 0], [0, 1, 0], shape_grid=((0, 0), (0, 0))),
+    "FFD huge grid": lambda s, h, f: multires.ffd(s, None, [0, 0, 0], [1, 0, 0], [0, 1, 0], shape_grid=((3, 3), (10**6, 10**6))),
+    "FFD frame with x along up": lambda s, h, f: multires.ffd(s, None, [0, 0, 0], [0, 1, 0], [0, 1, 0]),
+    "FFD no vertices": lambda s, h, f: multires.ffd(s, [], [0, 0, 0], [1, 0, 0], [0, 1, 0]),
+    "empty handle": lambda s, h, f: multires.blend(s, [], f, np.eye(4)),
+    "empty sub-mesh": lambda s, h, f: multires.submesh_pull(s, [], [0, 0, 1]),
+    "taper of 1e308": lambda s, h, f: multires.submesh_taper(s, h, 1e308),
+    "NaN profile": lambda s, h, f: multires.barr_taper(s, [0, 0, 0], [0, 0, 1], 0, float("nan"), 2),
+    "bend of 1e308": lambda s, h, f: multires.barr_bend(s, [0, 0, 0], [0, 0, 1], [1, 0, 0], 1e308),
+    "NaN lambda": lambda s, h, f: multires.taubin(s, lambda_=float("nan")),
+    "rotation without frontier": lambda s, h, f: multires.submesh_rotate(s, np.arange(s.n_vertices), 10),
+    "picture grid step 0": lambda s, h, f: multires.blend_image(np.zeros((8, 8), np.uint8), np.eye(8, dtype=bool), np.arange(64).reshape(8, 8) == 63, np.eye(3), grid_step=0),
+    "1x1 picture": lambda s, h, f: multires.blend_image(np.zeros((1, 1), np.uint8), np.ones((1, 1), bool), np.zeros((1, 1), bool), np.eye(3)),
+    "empty polyline": lambda s, h, f: multires.blend_polyline(np.zeros((0, 2)), [], [], np.eye(3)),
+    "welding tolerance 1e308": lambda s, h, f: s.welded(1e308),
+    "garbage .mrh": lambda s, h, f: multires.Hierarchy.from_bytes(b"MRH\x00" * 100),
+}
+
+
+@pytest.mark.parametrize("case", sorted(HOSTILE))
+def test_hostile_input_is_refused_or_done_never_a_panic(case, sphere):
+    """Inputs at the edges (empty, NaN, 1e308, huge sizes): a MeshError (or a result
+    whose positions are finite), never a Rust panic (PyO3's PanicException, a
+    BaseException) or a crash."""
+    v = sphere.vertices
+    h = np.flatnonzero(v[:, 2] > 0.7)
+    f = np.flatnonzero(v[:, 2] < 0.0)
+    try:
+        HOSTILE[case](sphere, h, f)
+    except MeshError:
+        pass
+    assert np.isfinite(sphere.vertices).all()
