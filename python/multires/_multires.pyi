@@ -1,7 +1,7 @@
 """Type stubs of the compiled extension (see the docstrings at run time)."""
 
 from os import PathLike
-from typing import Any, Callable, Optional, Sequence, Tuple, Union
+from typing import Any, Callable, Optional, Sequence, Tuple, Union, final
 
 import numpy as np
 import numpy.typing as npt
@@ -13,11 +13,13 @@ _Matrix = npt.ArrayLike
 _Weld = Union[str, float]
 
 __version__: str
+__all__ = ["MeshError", "EditError", "RecipeError", "Mesh", "Hierarchy", "read", "icosphere", "grid", "torus", "lee_drag", "disk", "blend", "submesh_pull", "submesh_scale", "submesh_rotate", "submesh_taper", "submesh_twist", "barr_taper", "barr_twist", "barr_bend", "taubin", "ffd", "blend_image", "blend_polyline", "apply_recipe", "workflow", "_collect_inputs", "_process", "_job_hash", "_output_path", "_blake3_file", "_blake3_text", "__version__"]
 
 class MeshError(ValueError): ...
 class EditError(MeshError): ...
 class RecipeError(MeshError): ...
 
+@final
 class Mesh:
     @staticmethod
     def from_arrays(vertices: npt.ArrayLike, faces: npt.ArrayLike) -> Mesh: ...
@@ -38,10 +40,13 @@ class Mesh:
     def info(self) -> dict[str, Any]: ...
     def welded(self, tolerance: Optional[_Weld] = None) -> Mesh: ...
     def copy(self) -> Mesh: ...
+    def __copy__(self) -> Mesh: ...
+    def __deepcopy__(self, _memo: Any) -> Mesh: ...
 
+@final
 class Hierarchy:
-    def __init__(
-        self,
+    def __new__(
+        cls,
         mesh: Mesh,
         method: str = "rounds",
         target_faces: int = 2000,
@@ -49,7 +54,7 @@ class Hierarchy:
         max_error: Optional[float] = None,
         detail: str = "local",
         progress: Optional[Callable[[int, int, int], Any]] = None,
-    ) -> None: ...
+    ) -> Hierarchy: ...
     @property
     def level(self) -> Optional[int]: ...
     @property
@@ -83,6 +88,8 @@ class Hierarchy:
     @staticmethod
     def from_bytes(data: bytes) -> Hierarchy: ...
     def copy(self) -> Hierarchy: ...
+    def __copy__(self) -> Hierarchy: ...
+    def __deepcopy__(self, _memo: Any) -> Hierarchy: ...
 
 _Target = Union[Mesh, Hierarchy]
 
@@ -172,7 +179,7 @@ def taubin(
     vertices: Optional[_Region] = None,
     iterations: int = 10,
     lambda_: float = 0.33,
-    mu: float = -0.34,
+    mu: float = ...,  # -0.34
     weights: str = "uniform",
     fix_boundary: bool = True,
 ) -> None: ...
@@ -183,8 +190,8 @@ def ffd(
     x_direction: _Vec3,
     up: _Vec3,
     *,
-    shape_grid: Tuple[Tuple[int, int], Tuple[int, int]] = ((3, 3), (4, 4)),
-    height_grid: Tuple[Tuple[int, int], Tuple[int, int]] = ((1, 1), (2, 2)),
+    shape_grid: Tuple[Tuple[int, int], Tuple[int, int]] = ...,  # ((3, 3), (4, 4))
+    height_grid: Tuple[Tuple[int, int], Tuple[int, int]] = ...,  # ((1, 1), (2, 2))
     margin: float = 0.1,
     translate: Optional[_Vec3] = None,
     bend: Optional[float] = None,
