@@ -93,8 +93,8 @@ def _run_function(path: str, relative: str, out: str, function: Callable, fmt: s
 
 
 def _run_process(path: str, relative: str, out: str, recipe: Optional[str], fmt: str,
-                 weld: Any, level: int, method: str) -> str:
-    return _multires._process(path, relative, out, recipe, fmt, weld, level, method)
+                 weld: Any, level: int, method: str, shard: Optional[tuple]) -> str:
+    return _multires._process(path, relative, out, recipe, fmt, weld, level, method, shard)
 
 
 def batch(
@@ -109,6 +109,7 @@ def batch(
     level: int = 3,
     method: str = "rounds",
     n_workers: int = 2,
+    shard: Optional[str] = None,
 ) -> list:
     """Runs a batch over many meshes on Dask and returns the report rows (dicts, input
     order).
@@ -134,6 +135,10 @@ def batch(
     the end), a string is a scheduler address, or a ``distributed.Client``. On a
     cluster, the input and output folders must be on a file system the workers share.
 
+    ``shard="I/N"`` runs only that shard of the corpus, the command's deterministic split
+    by path hash (rows say ``shard``; the summary is ``summary-I-of-N.json``): N batches,
+    each with its own Dask cluster or client, share a corpus with no coordinator.
+
     Raises ImportError (``pip install multires[dask]``) when Dask is not installed.
     """
     distributed = _import_distributed()
@@ -141,7 +146,9 @@ def batch(
         raise ValueError("give a recipe or a function, not both")
     if isinstance(inputs, (str, os.PathLike)):
         inputs = [inputs]
-    found = _multires._collect_inputs([os.fspath(i) for i in inputs])
+    shard_pair = _multires._parse_shard(shard) if shard is not None else None
+    shard_text = None if shard_pair is None else f"{shard_pair[0]}/{shard_pair[1]}"
+    found = _multires._collect_inputs([os.fspath(i) for i in inputs], shard)
     out = os.fspath(out_dir)
     os.makedirs(out, exist_ok=True)
     recipe_text = None
@@ -168,10 +175,10 @@ def batch(
         if function is not None:
             job_hash = _function_hash(function, format, weld)
             futures = [client.submit(_run_function, p, r, out, function, format, weld,
-                                     job_hash, None, pure=False) for p, r in found]
+                                     job_hash, shard_text, pure=False) for p, r in found]
         else:
             futures = [client.submit(_run_process, p, r, out, recipe_text, format, weld,
-                                     level, method, pure=False) for p, r in found]
+                                     level, method, shard_pair, pure=False) for p, r in found]
         index = {f.key: k for k, f in enumerate(futures)}
         rows: list = [None] * len(futures)
         with open(os.path.join(out, "report.jsonl"), "a", encoding="utf-8") as report:
@@ -196,8 +203,10 @@ def batch(
         "errors": sum(r["status"] == "error" for r in rows),
         "seconds": time.perf_counter() - clock,
         "faces": sum(r["faces"] for r in rows),
-        "shard": None,
+        "shard": shard_text,
     }
-    with open(os.path.join(out, "summary.json"), "w", encoding="utf-8") as f:
+    name = ("summary.json" if shard_pair is None
+            else f"summary-{shard_pair[0]}-of-{shard_pair[1]}.json")
+    with open(os.path.join(out, name), "w", encoding="utf-8") as f:
         json.dump(summary, f, indent=2)
     return rows

@@ -13,4 +13,5 @@ def batch(
     level: int = 3,
     method: str = "rounds",
     n_workers: int = 2,
+    shard: Optional[str] = None,
 ) -> list[dict[str, Any]]: ...

@@ -120,10 +120,19 @@ pub fn workflow<'py>(
 }
 
 /// The meshes named by folders, globs, manifests and files, sorted and deduplicated, as
-/// ``multires batch`` collects them.
+/// ``multires batch`` collects them; with ``shard="I/N"`` only that shard's (the
+/// command's deterministic split by path hash).
 #[pyfunction]
-pub fn _collect_inputs(inputs: Vec<String>) -> PyResult<Vec<(String, String)>> {
-    let found = batch::collect_inputs(&inputs).map_err(Fail::from)?;
+#[pyo3(signature = (inputs, shard = None))]
+pub fn _collect_inputs(
+    inputs: Vec<String>,
+    shard: Option<&str>,
+) -> PyResult<Vec<(String, String)>> {
+    let mut found = batch::collect_inputs(&inputs).map_err(Fail::from)?;
+    if let Some(s) = shard {
+        let (i, n) = batch::parse_shard(s).map_err(Fail::from)?;
+        found = batch::shard(found, i, n);
+    }
     Ok(found
         .into_iter()
         .map(|i| {
@@ -133,6 +142,12 @@ pub fn _collect_inputs(inputs: Vec<String>) -> PyResult<Vec<(String, String)>> {
             )
         })
         .collect())
+}
+
+/// ``"I/N"`` parsed as ``(I, N)`` (1 <= I <= N); :class:`MeshError` otherwise.
+#[pyfunction]
+pub fn _parse_shard(shard: &str) -> PyResult<(usize, usize)> {
+    Ok(batch::parse_shard(shard).map_err(Fail::from)?)
 }
 
 fn batch_options(

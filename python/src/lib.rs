@@ -48,6 +48,7 @@ fn _multires(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(jobs::workflow, m)?)?;
     m.add_function(wrap_pyfunction!(jobs::_collect_inputs, m)?)?;
     m.add_function(wrap_pyfunction!(jobs::_process, m)?)?;
+    m.add_function(wrap_pyfunction!(jobs::_parse_shard, m)?)?;
     m.add_function(wrap_pyfunction!(jobs::_job_hash, m)?)?;
     m.add_function(wrap_pyfunction!(jobs::_output_path, m)?)?;
     m.add_function(wrap_pyfunction!(jobs::_blake3_file, m)?)?;

@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 import multires
+from multires import MeshError
 from conftest import bumpy_sphere
 
 RECIPE = """version = 1
@@ -127,6 +128,21 @@ def test_dask_batch_recipe_function_workflow_and_resume(corpus, tmp_path):
         assert [r["status"] for r in arows] == ["ok"]
         assert client.status == "running"
 
+        # shards: two batches split the corpus with no coordinator
+        parts = [multires.batch(str(corpus), tmp_path / "shards", recipe=RECIPE, client=client,
+                                shard=f"{i}/2") for i in (1, 2)]
+        inputs = sorted(r["input"] for part in parts for r in part)
+        assert inputs == sorted(r["input"] for r in rows)
+        assert all(r["shard"] == f"{i}/2" for i, part in zip((1, 2), parts) for r in part)
+        for i in (1, 2):
+            assert (tmp_path / "shards" / f"summary-{i}-of-2.json").is_file()
+        fparts = [multires.batch(str(corpus), tmp_path / "fshards", function=_edit, client=client,
+                                 shard=f" {i}/2") for i in (1, 2)]
+        assert [[r["input"] for r in p] for p in fparts] == [[r["input"] for r in p] for p in parts]
+        assert all(r["shard"] == f"{i}/2" for i, part in zip((1, 2), fparts) for r in part)
+        with pytest.raises(MeshError, match="I/N"):
+            multires.batch(str(corpus), tmp_path / "x", recipe=RECIPE, client=client, shard="3/2")
+
         wout = tmp_path / "workflow"
         wrows = multires.batch([str(corpus / "a.obj"), str(corpus / "c.off")], wout,
                                client=client, level=1)
@@ -167,6 +183,15 @@ def test_rows_and_outputs_match_the_multires_command(corpus, tmp_path):
     (tmp_path / "r.toml").write_text(RECIPE)
     subprocess.run([cli, "batch", str(corpus), "--recipe", str(tmp_path / "r.toml"), "--out",
                     str(tmp_path / "cli")], capture_output=True)
+    subprocess.run([cli, "batch", str(corpus), "--recipe", str(tmp_path / "r.toml"), "--out",
+                    str(tmp_path / "cli-shard"), "--shard", "2/2"], capture_output=True)
+    theirs = [json.loads(l) for l in (tmp_path / "cli-shard" / "report.jsonl").read_text().splitlines()]
+    found = multires._multires._collect_inputs([str(corpus)], "2/2")
+    ours = [json.loads(multires._multires._process(p, r, str(tmp_path / "py-shard"), RECIPE,
+                                                   shard=(2, 2))) for p, r in found]
+    strip = lambda r: {k: v for k, v in r.items() if k not in ("seconds", "output")}
+    assert len(ours) >= 1 and all(r["shard"] == "2/2" for r in ours)
+    assert sorted(map(json.dumps, map(strip, theirs))) == sorted(map(json.dumps, map(strip, ours)))
     theirs = [json.loads(l) for l in (tmp_path / "cli" / "report.jsonl").read_text().splitlines()]
     found = multires._multires._collect_inputs([str(corpus)])
     ours = [json.loads(multires._multires._process(p, r, str(tmp_path / "py"), RECIPE)) for p, r in found]
