@@ -54,7 +54,8 @@ impl PyHierarchy {
     /// ``max_levels`` levels or the error bound ``max_error``. ``detail`` is ``"local"``
     /// (local-frame detail coefficients, the default) or ``"translation"``. ``progress``,
     /// if given, is called as ``progress(levels, faces, input_faces)`` while it builds;
-    /// an exception it raises stops the build and is raised here. Releases the GIL.
+    /// an exception it raises stops the build and is raised here, and so does Ctrl-C
+    /// (KeyboardInterrupt). Releases the GIL.
     #[new]
     #[pyo3(signature = (mesh, method = "rounds", target_faces = 2000, max_levels = None, max_error = None, detail = "local", progress = None))]
     #[allow(clippy::too_many_arguments)]
@@ -99,21 +100,26 @@ impl PyHierarchy {
         };
         drop(mesh);
         let mut raised: Option<PyErr> = None;
-        let built = py.allow_threads(|| match &progress {
-            None => Hierarchy::build(input, &options),
-            Some(callback) => {
-                Hierarchy::build_cancellable(input, &options, &mut |p: BuildProgress| {
-                    Python::with_gil(|py| {
-                        match callback.call1(py, (p.levels, p.faces, p.input_faces)) {
-                            Ok(_) => ControlFlow::Continue(()),
-                            Err(e) => {
-                                raised = Some(e);
-                                ControlFlow::Break(())
-                            }
+        // The build asks every level and every 65,536 collapses whether to go on: the
+        // callback is called then, and Ctrl-C (a pending signal) stops the build too.
+        let built = py.allow_threads(|| {
+            Hierarchy::build_cancellable(input, &options, &mut |p: BuildProgress| {
+                Python::with_gil(|py| {
+                    let called = match &progress {
+                        Some(callback) => callback
+                            .call1(py, (p.levels, p.faces, p.input_faces))
+                            .map(drop),
+                        None => Ok(()),
+                    };
+                    match called.and_then(|()| py.check_signals()) {
+                        Ok(()) => ControlFlow::Continue(()),
+                        Err(e) => {
+                            raised = Some(e);
+                            ControlFlow::Break(())
                         }
-                    })
+                    }
                 })
-            }
+            })
         });
         if let Some(e) = raised {
             return Err(e);

@@ -221,3 +221,26 @@ def test_workflow_job(tmp_path, sphere):
         multires.workflow(tmp_path / "none.ply")
     with pytest.raises(MeshError, match="method"):
         multires.workflow(tmp_path / "s.ply", method="fast")
+
+
+def test_ctrl_c_stops_a_build():
+    """A pending KeyboardInterrupt (what Ctrl-C makes) stops a build at its next check
+    (every level and every 65,536 collapses), well before the build would end."""
+    import _thread
+    import time
+    mesh = multires.icosphere(7)
+    t0 = time.perf_counter()
+    multires.Hierarchy(mesh, target_faces=100)
+    full = time.perf_counter() - t0
+    if full < 0.2:
+        pytest.skip(f"the build takes {full:.3f} s here: too fast to interrupt part-way")
+    timer = threading.Timer(0.02, _thread.interrupt_main)
+    t0 = time.perf_counter()
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        multires.Hierarchy(mesh, target_faces=100)
+        time.sleep(5)
+    elapsed = time.perf_counter() - t0
+    timer.cancel()
+    # without the check the interrupt would only be seen after the whole build
+    assert elapsed < 0.8 * full, (elapsed, full)
