@@ -21,9 +21,6 @@
 
 mod common;
 
-#[path = "../examples/support/progress.rs"]
-mod progress;
-
 use std::hint::black_box;
 use std::time::{Duration, Instant};
 
@@ -31,6 +28,7 @@ use criterion::{criterion_group, criterion_main, BatchSize, Criterion, Throughpu
 use glam::DVec3;
 use halfedge::hierarchy::{Hierarchy, HierarchyOptions};
 use halfedge::Mesh;
+use multires::progress::{self, Bars, Progress};
 
 /// Inputs with more faces than this show progress on every step.
 const PROGRESS_FACES: usize = 1_500_000;
@@ -71,42 +69,44 @@ fn rss() -> (u64, u64) {
 
 /// Builds the rounds hierarchy of `mesh` with a bar of the faces removed.
 fn build(mesh: Mesh, show: bool) -> Hierarchy {
-    let bar = progress::bar(
-        show,
-        mesh.n_faces() as u64,
-        "  hierarchy [{bar:30}] {pos}/{len} faces removed, {msg}",
-    );
+    let mut bars = Bars::new(show);
+    bars.start("  hierarchy (faces removed)", Some(mesh.n_faces() as u64));
     let h = Hierarchy::build_with_progress(mesh, &rounds_to_2000(), &mut |p| {
-        bar.set_position((p.input_faces - p.faces) as u64);
-        bar.set_message(format!("{} levels", p.levels));
+        bars.advance(
+            (p.input_faces - p.faces) as u64,
+            &format!("  hierarchy: {} levels", p.levels),
+        );
     })
     .unwrap();
-    bar.finish_and_clear();
+    bars.finish();
     h
 }
 
 /// Refines `h` to the input a level at a time, with a bar of the levels.
 fn refine_all(h: &mut Hierarchy, show: bool) {
     let coarsest = h.level_at_or_finer();
-    let bar = progress::bar(
-        show,
-        coarsest as u64,
-        "  refining [{bar:30}] level {pos}/{len}",
-    );
+    let mut bars = Bars::new(show);
+    bars.start("  refining (levels)", Some(coarsest as u64));
     for level in (0..coarsest).rev() {
         h.refine_to(level).unwrap();
-        bar.inc(1);
+        bars.advance((coarsest - level) as u64, "");
     }
-    bar.finish_and_clear();
+    bars.finish();
 }
 
 fn large(c: &mut Criterion) {
     for input in sizes() {
         let show = input.faces > PROGRESS_FACES;
-        let path = progress::step(show, format!("preparing {}", input.name()), || {
-            input.cached()
-        });
-        let mesh = progress::step(show, format!("loading {}", input.name()), || input.load());
+        let path = progress::step(
+            &mut Bars::new(show),
+            &format!("preparing {}", input.name()),
+            || input.cached(),
+        );
+        let mesh = progress::step(
+            &mut Bars::new(show),
+            &format!("loading {}", input.name()),
+            || input.load(),
+        );
         eprintln!(
             "{}: {} vertices, {} faces ({})",
             input.label,
@@ -122,14 +122,14 @@ fn large(c: &mut Criterion) {
 
         group.bench_function("load binary PLY", |b| {
             b.iter_with_large_drop(|| {
-                progress::step(show, "  loading", || {
+                progress::step(&mut Bars::new(show), "  loading", || {
                     halfedge::io::read(black_box(&path)).unwrap()
                 })
             })
         });
         group.bench_function("vertex normals", |b| {
             b.iter_with_large_drop(|| {
-                progress::step(show, "  vertex normals", || {
+                progress::step(&mut Bars::new(show), "  vertex normals", || {
                     black_box(&mesh).vertex_normals()
                 })
             })
@@ -151,18 +151,24 @@ fn large(c: &mut Criterion) {
         // The paper's use on one built hierarchy: walk back to the coarsest level
         // (untimed), translate the coarse mesh, refine to the input, which carries the
         // edit down through every split's centroid translation.
-        let mut h = progress::step(show, "building the hierarchy for the edit", || {
-            let mut h = build(mesh.clone(), show);
-            refine_all(&mut h, show);
-            h
-        });
+        let mut h = progress::step(
+            &mut Bars::new(show),
+            "building the hierarchy for the edit",
+            || {
+                let mut h = build(mesh.clone(), show);
+                refine_all(&mut h, show);
+                h
+            },
+        );
         group.bench_function("edit at the coarsest level and refine", |b| {
             b.iter_custom(|iterations| {
                 let mut total = Duration::ZERO;
                 for _ in 0..iterations {
-                    progress::step(show, "  back to the coarsest level (untimed)", || {
-                        h.go_to_level(h.coarsest_level()).unwrap()
-                    });
+                    progress::step(
+                        &mut Bars::new(show),
+                        "  back to the coarsest level (untimed)",
+                        || h.go_to_level(h.coarsest_level()).unwrap(),
+                    );
                     let clock = Instant::now();
                     for p in h.mesh_mut().positions_mut() {
                         *p += DVec3::new(0.01, 0.0, 0.0);

@@ -20,14 +20,11 @@ use std::time::Instant;
 
 use clap::Parser;
 
-#[path = "support/picks.rs"]
-mod picks;
-#[path = "support/progress.rs"]
-mod progress;
-#[path = "support/weld.rs"]
-mod weld;
 use edit::lee::{AreaSession, EditingArea, FrameKind, SessionOptions};
 use halfedge::VertexId;
+use multires::load::{self, Weld, WELD_HELP};
+use multires::progress::Bars;
+use multires::workflow::picks;
 
 #[derive(Parser, Debug)]
 #[command(about = "Drag a vertex with Lee 1999 area editing and write the result (OBJ or PLY)")]
@@ -53,8 +50,8 @@ struct Args {
     /// temporary folder.
     #[arg(long)]
     output: Option<PathBuf>,
-    #[arg(long, default_value = "auto", value_parser = weld::parse, help = weld::HELP)]
-    weld: weld::Weld,
+    #[arg(long, default_value = "auto", value_parser = |s: &str| s.parse::<Weld>(), help = WELD_HELP)]
+    weld: Weld,
 }
 
 fn default_mesh() -> PathBuf {
@@ -71,9 +68,10 @@ fn main() {
 fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
     let path = args.mesh.unwrap_or_else(default_mesh);
     let t = Instant::now();
-    let (mesh, report) = progress::read(&path)?;
-    let large = progress::is_large(mesh.n_faces());
-    let (mut mesh, _, welding) = weld::apply(mesh, report, args.weld, large)?;
+    let mut bars = Bars::new(load::is_large_file(&path));
+    let load::Loaded {
+        mut mesh, welding, ..
+    } = load::load(&path, args.weld, &mut bars)?;
     println!(
         "loaded {} ({} vertices, {} faces) in {:.1?}",
         path.display(),

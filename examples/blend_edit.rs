@@ -20,16 +20,14 @@ use std::time::Instant;
 
 use clap::Parser;
 
-#[path = "support/progress.rs"]
-mod progress;
-#[path = "support/weld.rs"]
-mod weld;
 use edit::bendels_klein::Regions;
 use edit::bendels_klein::ShapeFunction;
 use edit::bendels_klein::{BlendOptions, BlendSession, DistanceKind, RefineOptions};
 use glam::{DMat4, DVec3};
 use halfedge::selection::Selection;
 use halfedge::{Mesh, VertexId};
+use multires::load::{self, Weld, WELD_HELP};
+use multires::progress::{self, Bars, LARGE_FACES};
 
 #[derive(Parser, Debug)]
 #[command(
@@ -63,8 +61,8 @@ struct Args {
     /// Refine edges longer than this multiple of the mean edge length (0: no refinement).
     #[arg(long, default_value_t = 2.0)]
     refine: f64,
-    #[arg(long, default_value = "auto", value_parser = weld::parse, help = weld::HELP)]
-    weld: weld::Weld,
+    #[arg(long, default_value = "auto", value_parser = |s: &str| s.parse::<Weld>(), help = WELD_HELP)]
+    weld: Weld,
 }
 
 fn parse_vec(s: &str) -> Result<DVec3, String> {
@@ -118,9 +116,11 @@ fn main() {
 
 fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
     let clock = Instant::now();
-    let (mesh, report) = progress::read(&args.mesh)?;
-    let large = progress::is_large(mesh.n_faces());
-    let (mut mesh, _, welding) = weld::apply(mesh, report, args.weld, large)?;
+    let mut bars = Bars::new(load::is_large_file(&args.mesh));
+    let load::Loaded {
+        mut mesh, welding, ..
+    } = load::load(&args.mesh, args.weld, &mut bars)?;
+    bars.set_shown(mesh.n_faces() > LARGE_FACES);
     println!(
         "loaded {} vertices, {} faces in {:.3} s",
         mesh.n_vertices(),
@@ -262,7 +262,7 @@ fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
     } else {
         "geodesic distances (fast marching)"
     };
-    let mut session = progress::step(large, distances, || {
+    let mut session = progress::step(&mut bars, distances, || {
         BlendSession::new(&mesh, regions, options)
     })?;
     println!(
@@ -283,7 +283,7 @@ fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
     if args.refine > 0.0 {
         let clock = Instant::now();
         let max = args.refine * mesh.mean_edge_length();
-        let report = progress::step(large, "adaptive refinement", || {
+        let report = progress::step(&mut bars, "adaptive refinement", || {
             session.refine(&mut mesh, RefineOptions::new(max))
         })?;
         println!(
@@ -297,9 +297,11 @@ fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
     }
 
     let clock = Instant::now();
-    progress::step(large, format!("writing {}", args.out.display()), || {
-        halfedge::io::write(&args.out, &mesh)
-    })?;
+    progress::step(
+        &mut bars,
+        &format!("writing {}", args.out.display()),
+        || halfedge::io::write(&args.out, &mesh),
+    )?;
     println!(
         "wrote {} in {:.3} s",
         args.out.display(),

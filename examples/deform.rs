@@ -13,16 +13,14 @@ use std::time::Instant;
 
 use clap::Parser;
 
-#[path = "support/progress.rs"]
-mod progress;
-#[path = "support/weld.rs"]
-mod weld;
 use edit::deform::{
     apply_deformer, taubin, AttachOptions, Ffd, LatticeFrame, Profile, SmoothingWeights, Taper,
     TaubinOptions, Twist,
 };
 use edit::Vertices;
 use glam::DVec3;
+use multires::load::{self, Weld, WELD_HELP};
+use multires::progress::{Bars, Progress, LARGE_FACES};
 
 /// Twist, taper, smooth and bend a mesh.
 #[derive(Parser)]
@@ -44,16 +42,16 @@ struct Args {
     /// FFD bend angle in degrees.
     #[arg(long, default_value_t = 45.0)]
     bend: f64,
-    #[arg(long, default_value = "auto", value_parser = weld::parse, help = weld::HELP)]
-    weld: weld::Weld,
+    #[arg(long, default_value = "auto", value_parser = |s: &str| s.parse::<Weld>(), help = WELD_HELP)]
+    weld: Weld,
 }
 
-/// Runs a step, under a spinner when `show` (large meshes), and prints its time.
-fn timed<T>(show: bool, what: &str, f: impl FnOnce() -> T) -> T {
-    let spinner = progress::spinner(show, what);
+/// Runs a step, under a spinner when `bars` are shown (large meshes), and prints its time.
+fn timed<T>(bars: &mut Bars, what: &str, f: impl FnOnce() -> T) -> T {
+    bars.start(what, None);
     let start = Instant::now();
     let result = f();
-    spinner.finish_and_clear();
+    bars.finish();
     println!(
         "{what:<40} {:>10.2} ms",
         start.elapsed().as_secs_f64() * 1e3
@@ -69,11 +67,12 @@ fn main() {
 }
 
 fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
-    let large_file =
-        std::fs::metadata(&args.mesh).is_ok_and(|m| m.len() > progress::LARGE_FILE_BYTES);
-    let (mesh, report) = timed(large_file, "read", || halfedge::io::read(&args.mesh))?;
-    let large = progress::is_large(mesh.n_faces());
-    let (mut mesh, _, welding) = weld::apply(mesh, report, args.weld, large)?;
+    let mut bars = Bars::new(load::is_large_file(&args.mesh));
+    let (mesh, report) = timed(&mut bars, "read", || halfedge::io::read(&args.mesh))?;
+    bars.set_shown(mesh.n_faces() > LARGE_FACES);
+    let load::Loaded {
+        mut mesh, welding, ..
+    } = load::apply_weld(mesh, report, args.weld, &mut bars)?;
     println!(
         "{}: {} vertices, {} faces",
         args.mesh.display(),
@@ -97,16 +96,16 @@ fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
     let half = 0.5 * extent[longest];
 
     let twist = Twist::linear(centre, axis, -half, half, args.twist.to_radians())?;
-    timed(large, "Barr twist", || {
+    timed(&mut bars, "Barr twist", || {
         apply_deformer(&mut mesh, &twist, Vertices::All)
     })?;
     let taper = Taper::new(centre, axis, Profile::local(-half, half, 1.0, args.taper)?)?;
-    timed(large, "Barr taper", || {
+    timed(&mut bars, "Barr taper", || {
         apply_deformer(&mut mesh, &taper, Vertices::All)
     })?;
     let options = TaubinOptions::default().with_weights(SmoothingWeights::Cotangent);
     timed(
-        large,
+        &mut bars,
         &format!("Taubin, {} iterations", args.smooth),
         || taubin(&mut mesh, Vertices::All, &options, args.smooth),
     )?;
@@ -114,7 +113,7 @@ fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
     // the FFD's shape surface lies under the mesh, its u direction along the longest axis
     let up = DVec3::AXES[(longest + 1) % 3];
     let frame = LatticeFrame::new(lo.dot(up) * up, axis, up)?;
-    let mut ffd = timed(large, "FFD attach", || {
+    let mut ffd = timed(&mut bars, "FFD attach", || {
         Ffd::covering(
             &mesh,
             Vertices::All,
@@ -126,10 +125,10 @@ fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
         )
     })?;
     ffd.bend(args.bend.to_radians())?;
-    timed(large, "FFD deform (bend)", || ffd.deform(&mut mesh))?;
+    timed(&mut bars, "FFD deform (bend)", || ffd.deform(&mut mesh))?;
 
     mesh.check()?;
-    timed(large, "write", || halfedge::io::write(&args.out, &mesh))?;
+    timed(&mut bars, "write", || halfedge::io::write(&args.out, &mesh))?;
     println!("wrote {}", args.out.display());
     Ok(())
 }

@@ -16,10 +16,10 @@ use std::time::Instant;
 
 use clap::{Parser, ValueEnum};
 
-#[path = "support/progress.rs"]
-mod progress;
 use halfedge::hierarchy::{Hierarchy, HierarchyOptions};
 use halfedge::{generators, Mesh};
+use multires::load;
+use multires::progress::{self, Bars, Progress, LARGE_FACES};
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
 enum MethodArg {
@@ -130,14 +130,21 @@ fn main() {
 }
 
 fn run(args: &Args) -> Result<(), halfedge::Error> {
-    let (mut mesh, _) = progress::read(&args.file)?;
+    let mut bars = Bars::new(args.progress || load::is_large_file(&args.file));
+    let (mut mesh, _) = progress::step(
+        &mut bars,
+        &format!("loading {}", args.file.display()),
+        || halfedge::io::read(&args.file),
+    )?;
     for k in 1..=args.subdivide {
-        let show = args.progress || progress::is_large(4 * mesh.n_faces());
-        mesh = progress::step(show, format!("subdividing {k}/{}", args.subdivide), || {
-            generators::subdivide(&mesh)
-        });
+        bars.set_shown(args.progress || 4 * mesh.n_faces() > LARGE_FACES);
+        mesh = progress::step(
+            &mut bars,
+            &format!("subdividing {k}/{}", args.subdivide),
+            || generators::subdivide(&mesh),
+        );
     }
-    let show = args.progress || progress::is_large(mesh.n_faces());
+    bars.set_shown(args.progress || mesh.n_faces() > LARGE_FACES);
     let mut options = match args.method {
         MethodArg::Rounds => HierarchyOptions::rounds(),
         MethodArg::Qem => HierarchyOptions::qem(),
@@ -158,21 +165,19 @@ fn run(args: &Args) -> Result<(), halfedge::Error> {
     options.relax_when_stalled = !args.no_relax;
     let before = snapshot(&mesh);
     let input_faces = mesh.n_faces() as u64;
-    let bar = progress::bar(
-        show,
-        input_faces,
-        "simplifying [{bar:40}] {pos}/{len} faces removed, {msg}",
-    );
+    bars.start("simplifying (faces removed)", Some(input_faces));
     let start = Instant::now();
     let mut hierarchy = Hierarchy::build_with_progress(mesh, &options, &mut |p| {
-        bar.set_position((p.input_faces - p.faces) as u64);
-        bar.set_message(format!("{} levels", p.levels));
+        bars.advance(
+            (p.input_faces - p.faces) as u64,
+            &format!("simplifying: {} levels", p.levels),
+        );
     })?;
     let coarsen_seconds = start.elapsed().as_secs_f64();
-    bar.finish_and_clear();
+    bars.finish();
     let outcome = hierarchy.build_outcome().clone();
     let start = Instant::now();
-    progress::step(show, "refining back to the input", || {
+    progress::step(&mut bars, "refining back to the input", || {
         hierarchy.refine_to(0)
     })?;
     let refine_seconds = start.elapsed().as_secs_f64();

@@ -13,9 +13,10 @@
 //!   machine, whatever else the corpus holds.
 //! - **Outputs**: `OUT/<relative path>-edited.<format>`, mirroring the input folders, with
 //!   a sidecar `…-edited.<format>.json` recording the input's and the job's hashes.
-//! - **Resuming**: a mesh whose output and sidecar exist, with the same input hash and
-//!   job hash, is `skipped`; everything else runs again. An interrupted batch resumes
-//!   where it stopped.
+//! - **Resuming**: a mesh whose output and sidecar exist, with the same input hash, job
+//!   hash and output hash (BLAKE3), is `skipped`; everything else runs again (a changed
+//!   input or recipe, an output lost or cut short). An interrupted batch resumes where it
+//!   stopped.
 //! - **Report**: every mesh appends one line to `OUT/report.jsonl` as it finishes (`input`,
 //!   `output`, `status` — `ok`, `skipped` or `error` —, `seconds`, `faces`, `vertices`,
 //!   `error`, `input_hash`, `shard`), and the batch writes `OUT/summary.json` at the end.
@@ -96,15 +97,22 @@ pub fn collect_inputs(inputs: &[impl AsRef<str>]) -> Result<Vec<Input>> {
                 option: "INPUTS",
                 reason: format!("{input:?} is not a glob pattern: {e}"),
             })?;
+            let before = found.len();
             for entry in entries {
                 let path = entry.map_err(|e| Error::Io {
                     path: e.path().to_owned(),
                     source: std::io::Error::other(e.to_string()),
                 })?;
                 if path.is_file() {
-                    let relative = path.strip_prefix(&root).unwrap_or(&path).to_owned();
+                    let relative = within(path.strip_prefix(&root).unwrap_or(&path));
                     found.push(Input { path, relative });
                 }
+            }
+            if found.len() == before {
+                return Err(Error::InvalidOption {
+                    option: "INPUTS",
+                    reason: format!("the pattern {input:?} matches no file"),
+                });
             }
         } else if is_manifest(input) {
             let text = std::fs::read_to_string(path).map_err(io_error(path))?;
@@ -124,9 +132,10 @@ pub fn collect_inputs(inputs: &[impl AsRef<str>]) -> Result<Vec<Input>> {
                         ),
                     });
                 }
+                let relative = within(Path::new(line));
                 found.push(Input {
                     path: file,
-                    relative: PathBuf::from(line),
+                    relative,
                 });
             }
         } else {
@@ -136,18 +145,47 @@ pub fn collect_inputs(inputs: &[impl AsRef<str>]) -> Result<Vec<Input>> {
                     source: std::io::Error::new(std::io::ErrorKind::NotFound, "no such file"),
                 });
             }
-            let name = path
-                .file_name()
-                .map_or_else(|| path.to_owned(), PathBuf::from);
             found.push(Input {
                 path: path.to_owned(),
-                relative: name,
+                relative: within(Path::new(path.file_name().unwrap_or(path.as_os_str()))),
             });
         }
     }
     found.sort();
     found.dedup_by(|a, b| a.path == b.path);
+    if found.is_empty() {
+        return Err(Error::InvalidOption {
+            option: "INPUTS",
+            reason: format!(
+                "no mesh file in {}",
+                inputs
+                    .iter()
+                    .map(|i| format!("{:?}", i.as_ref()))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+        });
+    }
     Ok(found)
+}
+
+/// `path` as a path inside the output folder: its plain components only (an absolute
+/// path is mirrored under the folder; `..` is dropped) — so that no input, however
+/// named, makes a batch write outside its output folder.
+fn within(path: &Path) -> PathBuf {
+    use std::path::Component;
+    let inside: PathBuf = path
+        .components()
+        .filter_map(|c| match c {
+            Component::Normal(part) => Some(part),
+            _ => None,
+        })
+        .collect();
+    if inside.as_os_str().is_empty() {
+        path.file_name().map_or(inside, PathBuf::from)
+    } else {
+        inside
+    }
 }
 
 fn is_manifest(input: &str) -> bool {
@@ -302,6 +340,8 @@ struct Sidecar {
     input: String,
     input_hash: String,
     job_hash: String,
+    /// The output's own hash: an output changed or cut short since is made again.
+    output_hash: String,
     faces: usize,
     vertices: usize,
 }
@@ -309,8 +349,9 @@ struct Sidecar {
 /// The output mesh of `input` in a batch with `options`.
 #[must_use]
 pub fn output_path(input: &Input, options: &BatchOptions) -> PathBuf {
-    let stem = workflow::file_stem(&input.relative);
-    let dir = input.relative.parent().unwrap_or(Path::new(""));
+    let relative = within(&input.relative);
+    let stem = workflow::file_stem(&relative);
+    let dir = relative.parent().unwrap_or(Path::new(""));
     options
         .out
         .join(dir)
@@ -378,7 +419,13 @@ fn process_inner(
             .ok()
             .and_then(|b| serde_json::from_slice::<Sidecar>(&b).ok())
         {
-            if previous.input_hash == input_hash && previous.job_hash == job_hash {
+            let output_hash = std::fs::read(output)
+                .ok()
+                .map(|b| blake3::hash(&b).to_hex().to_string());
+            if previous.input_hash == input_hash
+                && previous.job_hash == job_hash
+                && output_hash.as_ref() == Some(&previous.output_hash)
+            {
                 row.faces = previous.faces;
                 row.vertices = previous.vertices;
                 return Ok("skipped");
@@ -408,10 +455,12 @@ fn process_inner(
         }
     };
     halfedge::io::write(output, &result)?;
+    let written = std::fs::read(output).map_err(io_error(output))?;
     let record = Sidecar {
         input: input.path.display().to_string(),
         input_hash,
         job_hash: job_hash.to_owned(),
+        output_hash: blake3::hash(&written).to_hex().to_string(),
         faces: row.faces,
         vertices: row.vertices,
     };
@@ -506,6 +555,22 @@ pub fn run(
     use rayon::prelude::*;
     let clock = Instant::now();
     std::fs::create_dir_all(&options.out).map_err(io_error(&options.out))?;
+    let mut targets: Vec<(PathBuf, &Path)> = inputs
+        .iter()
+        .map(|i| (output_path(i, options), i.path.as_path()))
+        .collect();
+    targets.sort();
+    if let Some(pair) = targets.windows(2).find(|w| w[0].0 == w[1].0) {
+        return Err(Error::InvalidOption {
+            option: "INPUTS",
+            reason: format!(
+                "{} and {} would both be written to {}",
+                pair[0].1.display(),
+                pair[1].1.display(),
+                pair[0].0.display()
+            ),
+        });
+    }
     let report_path = options.out.join("report.jsonl");
     let report = std::fs::OpenOptions::new()
         .create(true)

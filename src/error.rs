@@ -54,10 +54,12 @@ pub enum Error {
     },
     /// Some meshes of a batch failed (each has its line in the report; the others were
     /// processed).
-    #[error("{failed} of {meshes} meshes failed (see {report})")]
+    #[error("{failed} of {meshes} meshes failed, the first: {first} (see {report})")]
     BatchFailures {
         /// Meshes that failed.
         failed: usize,
+        /// The first failed mesh's error (file and reason).
+        first: String,
         /// Meshes of the batch.
         meshes: usize,
         /// The report.

@@ -3,9 +3,9 @@
 //! Multiresolution editing of triangle meshes: the facade of the workspace, re-exporting
 //! the [`halfedge`] kernel and the [`edit`] methods.
 //!
-//! Start with the guides in [`edit::guide`]: one per method (its paper, parameters,
+//! Start with the guides in [`guide`]: one per method (its paper, parameters,
 //! errors and a runnable example) and the simplify → edit → refine
-//! [workflow](edit::guide::workflow).
+//! [workflow](guide::workflow).
 //!
 //! Besides the two crates, the facade re-exports [`glam`] (the math types of every API)
 //! and, with the `render` feature (default), offers [`render`]: PNG pictures of meshes
@@ -14,6 +14,7 @@
 #[cfg(feature = "render")]
 pub mod batch;
 pub mod error;
+pub mod guide;
 pub mod load;
 pub mod progress;
 pub mod recipe;

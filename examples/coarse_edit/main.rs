@@ -127,11 +127,9 @@ use clap::{Parser, ValueEnum};
 use halfedge::hierarchy::{DetailMode, Method};
 
 mod measure;
-#[path = "../support/progress.rs"]
-mod progress;
-#[path = "../support/weld.rs"]
-mod weld;
 use measure::{EditKind, Failure, Options};
+use multires::load::{self, Weld, WELD_HELP};
+use multires::progress::{Bars, LARGE_FACES};
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
 enum EditArg {
@@ -207,8 +205,8 @@ struct Args {
     /// full-res.ply; same vertex order in all three).
     #[arg(long)]
     out: Option<PathBuf>,
-    #[arg(long, default_value = "auto", value_parser = weld::parse, help = weld::HELP)]
-    weld: weld::Weld,
+    #[arg(long, default_value = "auto", value_parser = |s: &str| s.parse::<Weld>(), help = WELD_HELP)]
+    weld: Weld,
 }
 
 fn main() {
@@ -228,12 +226,15 @@ fn run(args: &Args) -> Result<serde_json::Value, Failure> {
         hint: "pass an .obj or .ply mesh file".into(),
     })?;
     // A triangle soup or seams welded (the file's vertex numbers of --seed-vertex follow).
-    let large = progress::is_large(input.n_faces());
-    let (input, _, welding) =
-        weld::apply(input, report, args.weld, large).map_err(|e| Failure {
-            message: format!("cannot weld {}: {e}", args.file.display()),
-            hint: "pass --weld off".into(),
-        })?;
+    let mut bars = Bars::new(input.n_faces() > LARGE_FACES);
+    let load::Loaded {
+        mesh: input,
+        welding,
+        ..
+    } = load::apply_weld(input, report, args.weld, &mut bars).map_err(|e| Failure {
+        message: format!("cannot weld {}: {e}", args.file.display()),
+        hint: "pass --weld off".into(),
+    })?;
     let seed_vertex =
         match (&welding, args.seed_vertex) {
             (Some(w), Some(i)) => Some(w.vertex_map.get(i).map(|&j| j as usize).ok_or_else(

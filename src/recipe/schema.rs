@@ -413,15 +413,57 @@ impl Recipe {
     /// [`RecipeError::Parse`] for TOML that is not a recipe (naming the step, the key,
     /// the line and the column), [`RecipeError::Version`] for another version.
     pub fn from_toml(text: &str, path: &std::path::Path) -> RecipeResult<Self> {
-        let recipe: Recipe = toml::from_str(text).map_err(|e| RecipeError::Parse {
+        let parse = |message: String| RecipeError::Parse {
             path: path.to_owned(),
-            message: describe_toml_error(text, &e),
-        })?;
-        if recipe.version != RECIPE_VERSION {
+            message,
+        };
+        // TOML syntax first (located by line and column), then the version, then the
+        // top-level keys, then each step on its own so that errors name it.
+        let mut table: toml::Table =
+            toml::from_str(text).map_err(|e| parse(describe_toml_error(text, &e)))?;
+        let version = match table.get("version") {
+            None => 1,
+            Some(toml::Value::Integer(v)) => u32::try_from(*v).unwrap_or(u32::MAX),
+            Some(other) => {
+                return Err(parse(format!(
+                    "version: expected an integer, found {}",
+                    other.type_str()
+                )))
+            }
+        };
+        if version != RECIPE_VERSION {
             return Err(RecipeError::Version {
-                found: recipe.version,
+                found: version,
                 supported: RECIPE_VERSION,
             });
+        }
+        let steps = match table.remove("step") {
+            None => Vec::new(),
+            Some(toml::Value::Array(steps)) => steps,
+            Some(other) => {
+                return Err(parse(format!(
+                    "step: expected a list of [[step]] tables, found {}",
+                    other.type_str()
+                )))
+            }
+        };
+        let mut recipe: Recipe = toml::Value::Table(table)
+            .try_into()
+            .map_err(|e: toml::de::Error| parse(e.message().trim().to_owned()))?;
+        let headers: Vec<usize> = text
+            .lines()
+            .enumerate()
+            .filter(|(_, l)| l.trim_start().starts_with("[[step]]"))
+            .map(|(i, _)| i + 1)
+            .collect();
+        for (k, step) in steps.into_iter().enumerate() {
+            let step: Step = step.try_into().map_err(|e: toml::de::Error| {
+                let place = headers
+                    .get(k)
+                    .map_or(String::new(), |line| format!(" (line {line})"));
+                parse(format!("step {}{place}: {}", k + 1, e.message().trim()))
+            })?;
+            recipe.steps.push(step);
         }
         Ok(recipe)
     }

@@ -64,7 +64,7 @@
 
 mod blend;
 mod lee;
-mod picks;
+pub mod picks;
 pub(crate) mod submesh;
 
 use std::path::{Path, PathBuf};

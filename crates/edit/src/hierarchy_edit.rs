@@ -7,7 +7,7 @@
 //! **fields** (coarse vertices moved by a map of space that is not affine, such as a twist
 //! ramping along its axis, [`Hierarchy::mark_field`]: their fine vertices are that map of
 //! where they were). Local-frame detail after Kobbelt, Campagna, Vorsatz & Seidel 1998;
-//! see the [coarse edits guide](crate::guide::coarse_edits).
+//! see the coarse edits guide (`multires::guide::coarse_edits`, `docs/guide/coarse-edits.md`).
 //!
 //! Every edit that can be made at a coarse level says what it did through one trait,
 //! [`HierarchyEdit`]: a Lee 1999 [`AreaSession`](crate::lee::AreaSession), a Bendels &

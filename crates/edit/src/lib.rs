@@ -23,11 +23,11 @@
 //! resolution. [`Error`] gathers the three family errors for programs that handle any of
 //! them.
 //!
-//! Start with the [`guide`]: one page per method with its paper, parameters, errors and
-//! a runnable example, and the simplify → edit → refine [workflow](guide::workflow).
+//! Start with the guides (`multires::guide` in the `multires` crate, `docs/guide/*.md` in
+//! the repository): one page per method with its paper, parameters, errors and a runnable
+//! example, and the simplify → edit → refine workflow.
 
 mod error;
-pub mod guide;
 pub mod laplace;
 
 mod hierarchy_edit;

@@ -4,7 +4,7 @@
 //! times with `io::read` and prints the best time, the file size and what was read.
 //!
 //! ```text
-//! cargo run -p halfedge --release --example format_speed [-- --level 8] [--keep DIR]
+//! cargo run -p multires-halfedge --release --example format_speed [-- --level 8] [--keep DIR]
 //! ```
 //!
 //! `--keep DIR` writes the files into DIR and leaves them there (for timing other

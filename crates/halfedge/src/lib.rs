@@ -70,3 +70,8 @@ pub use mesh::Mesh;
 pub use topology::TopologyReport;
 pub use vertex_data::VertexData;
 pub use weld::WeldReport;
+
+/// The crate README's code, compiled and run as a doctest so that it stays true.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

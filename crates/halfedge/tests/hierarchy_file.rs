@@ -590,7 +590,7 @@ fn files_that_cannot_be_read_or_written_are_io_errors_naming_them() {
 /// Real-mesh tier: every shared mesh (welded where it has seams), built by rounds and by
 /// QEM, saved to a file, loaded, refined to the input bit for bit.
 #[test]
-#[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -p halfedge --test hierarchy_file -- --include-ignored"]
+#[ignore = "real-mesh tier: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -p multires-halfedge --test hierarchy_file -- --include-ignored"]
 fn shared_meshes_round_trip_through_files() {
     let dir = temp_dir("hierarchy_file_shared");
     let mut names: Vec<_> = std::fs::read_dir(common::meshes_dir())
@@ -642,7 +642,7 @@ fn shared_meshes_round_trip_through_files() {
 /// 1.6 M faces, rounds to 2,000 faces): build, save, load, the mesh section's decode,
 /// the file's size, and what distrusting the loaded mesh costs a refinement.
 #[test]
-#[ignore = "real-mesh tier, timings: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -p halfedge --test hierarchy_file -- --ignored --nocapture bench_mesh"]
+#[ignore = "real-mesh tier, timings: needs ../shared/meshes (or MULTIRES_MESHES); run with cargo test --release -p multires-halfedge --test hierarchy_file -- --ignored --nocapture bench_mesh"]
 fn bench_mesh_save_load_figures() {
     use std::time::Instant;
     let mut mesh = common::load("nefertiti.obj");

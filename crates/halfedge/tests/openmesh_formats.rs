@@ -25,7 +25,7 @@
 //!   other such files may differ in their vertex count.
 //!
 //! These tests are `#[ignore]`d like the workspace's `tests/openmesh*.rs`, but live in
-//! the kernel so that they build with it alone: run them with `cargo test -p halfedge
+//! the kernel so that they build with it alone: run them with `cargo test -p multires-halfedge
 //! --release --test openmesh_formats -- --include-ignored` where python3 has
 //! `openmesh==1.2.1` and numpy, and the shared meshes are beside the workspace for the
 //! third test (`.ci/run` sets both up; the full suite's
@@ -267,7 +267,7 @@ const DATA: [&str; 6] = [
 ];
 
 #[test]
-#[ignore = "OpenMesh tier: needs python3 with openmesh==1.2.1 and numpy (pip; builds with cmake and a C++ compiler); run with cargo test -p halfedge --release --test openmesh_formats -- --include-ignored (.ci/run installs them)"]
+#[ignore = "OpenMesh tier: needs python3 with openmesh==1.2.1 and numpy (pip; builds with cmake and a C++ compiler); run with cargo test -p multires-halfedge --release --test openmesh_formats -- --include-ignored (.ci/run installs them)"]
 fn off_files_read_as_openmesh_reads_them() {
     require_openmesh();
     let dir = temp_dir("openmesh-off");
@@ -299,7 +299,7 @@ fn off_files_read_as_openmesh_reads_them() {
 }
 
 #[test]
-#[ignore = "OpenMesh tier: needs python3 with openmesh==1.2.1 and numpy (pip; builds with cmake and a C++ compiler); run with cargo test -p halfedge --release --test openmesh_formats -- --include-ignored (.ci/run installs them)"]
+#[ignore = "OpenMesh tier: needs python3 with openmesh==1.2.1 and numpy (pip; builds with cmake and a C++ compiler); run with cargo test -p multires-halfedge --release --test openmesh_formats -- --include-ignored (.ci/run installs them)"]
 fn stl_files_read_as_openmesh_reads_them() {
     require_openmesh();
     let dir = temp_dir("openmesh-stl");
@@ -340,7 +340,7 @@ fn stl_files_read_as_openmesh_reads_them() {
 /// The shared meshes (scans and models, some with holes, several components or
 /// non-manifold parts), written as OFF and as binary STL, read alike by both.
 #[test]
-#[ignore = "OpenMesh tier: needs python3 with openmesh==1.2.1 and numpy (pip; builds with cmake and a C++ compiler) and ../shared/meshes (or MULTIRES_MESHES); run with cargo test -p halfedge --release --test openmesh_formats -- --include-ignored (.ci/run installs them)"]
+#[ignore = "OpenMesh tier: needs python3 with openmesh==1.2.1 and numpy (pip; builds with cmake and a C++ compiler) and ../shared/meshes (or MULTIRES_MESHES); run with cargo test -p multires-halfedge --release --test openmesh_formats -- --include-ignored (.ci/run installs them)"]
 fn shared_meshes_as_off_and_stl_read_as_openmesh_reads_them() {
     require_openmesh();
     let shared = common::shared_meshes();

@@ -49,17 +49,25 @@ pub fn run(a: BatchArgs, out: &Output) -> multires::Result<()> {
         summary.seconds,
         a.out.join("report.jsonl").display()
     );
-    for row in rows.iter().filter(|r| r.status == "error") {
-        let error = row.error.as_deref().unwrap_or("?");
-        if error.starts_with(&row.input) {
-            text += &format!("\n  error: {error}");
-        } else {
-            text += &format!("\n  error: {}: {error}", row.input);
-        }
+    let failures: Vec<String> = rows
+        .iter()
+        .filter(|r| r.status == "error")
+        .map(|row| {
+            let error = row.error.as_deref().unwrap_or("?");
+            if error.starts_with(&row.input) {
+                error.to_owned()
+            } else {
+                format!("{}: {error}", row.input)
+            }
+        })
+        .collect();
+    for failure in &failures {
+        text += &format!("\n  error: {failure}");
     }
     out.text(text);
-    if summary.errors > 0 {
+    if let Some(first) = failures.into_iter().next() {
         return Err(multires::Error::BatchFailures {
+            first,
             failed: summary.errors,
             meshes: summary.meshes,
             report: a.out.join("report.jsonl"),

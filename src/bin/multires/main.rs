@@ -31,9 +31,7 @@ fn main() -> ExitCode {
         Err(e) => {
             use clap::error::ErrorKind;
             let code = match e.kind() {
-                ErrorKind::DisplayHelp
-                | ErrorKind::DisplayVersion
-                | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => 0,
+                ErrorKind::DisplayHelp | ErrorKind::DisplayVersion => 0,
                 _ => 2,
             };
             let _ = e.print();
@@ -47,7 +45,9 @@ fn main() -> ExitCode {
     match result {
         Ok(Ok(())) => ExitCode::SUCCESS,
         Ok(Err(e)) => {
-            eprintln!("error: {e}");
+            // one line: file, place and reason
+            let message = e.to_string().replace(['\n', '\r'], " ");
+            eprintln!("error: {message}");
             ExitCode::from(1)
         }
         Err(panic) => {
