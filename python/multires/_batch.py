@@ -64,7 +64,8 @@ def _run_function(path: str, relative: str, out: str, function: Callable, fmt: s
             except (OSError, ValueError):
                 previous = None
             if (previous and previous.get("input_hash") == row["input_hash"]
-                    and previous.get("job_hash") == job_hash):
+                    and previous.get("job_hash") == job_hash
+                    and previous.get("output_hash") == _multires._blake3_file(output)):
                 row.update(status="skipped", faces=previous.get("faces", 0),
                            vertices=previous.get("vertices", 0))
                 row["seconds"] = time.perf_counter() - clock
@@ -83,8 +84,8 @@ def _run_function(path: str, relative: str, out: str, function: Callable, fmt: s
         result.write(output)
         with open(sidecar, "w", encoding="utf-8") as f:
             json.dump({"input": path, "input_hash": row["input_hash"],
-                       "job_hash": job_hash, "faces": row["faces"],
-                       "vertices": row["vertices"]}, f, indent=2)
+                       "job_hash": job_hash, "output_hash": _multires._blake3_file(output),
+                       "faces": row["faces"], "vertices": row["vertices"]}, f, indent=2)
         row["status"] = "ok"
     except Exception as e:  # noqa: BLE001 - one bad mesh never stops a batch
         row["error"] = f"{type(e).__name__}: {e}" if not isinstance(e, ValueError) else str(e)
@@ -125,8 +126,9 @@ def batch(
     - neither: the workflow (``level``, ``method``) as ``multires batch`` runs it.
 
     The output goes to ``out_dir/<relative path>-edited.<format>`` with a JSON sidecar
-    recording the input's BLAKE3 and the job's hash; a mesh whose output is up to date
-    is ``skipped``, so an interrupted batch resumes. Every mesh appends one line to
+    recording the BLAKE3 of the input and of the output and the job's hash; a mesh whose
+    output is up to date (same input, same job, output unchanged) is ``skipped``, so an
+    interrupted batch resumes. Every mesh appends one line to
     ``out_dir/report.jsonl`` (``input``, ``output``, ``status`` ok|skipped|error,
     ``seconds``, ``faces``, ``vertices``, ``error``, ``input_hash``, ``shard``) and the
     batch writes ``out_dir/summary.json``. One bad mesh never stops a batch.

@@ -50,6 +50,11 @@ def test_batch_step_rows_are_the_rust_rows(corpus, tmp_path):
     assert os.path.isfile(out / "sub" / "b-edited.ply")
     again = [json.loads(multires._multires._process(p, r, str(out), RECIPE)) for p, r in found]
     assert [r["status"] for r in again] == ["skipped", "error", "skipped", "skipped"]
+    (out / "a-edited.ply").write_bytes(b"cut")
+    third = [json.loads(multires._multires._process(p, r, str(out), RECIPE)) for p, r in found]
+    assert [r["status"] for r in third] == ["ok", "error", "skipped", "skipped"]
+    rust_sidecar = json.loads((out / "a-edited.ply.json").read_text())
+    assert list(rust_sidecar) == ["input", "input_hash", "job_hash", "output_hash", "faces", "vertices"]
 
 
 def test_batch_without_dask_names_the_extra(monkeypatch, corpus, tmp_path):
@@ -120,6 +125,14 @@ def test_dask_batch_recipe_function_workflow_and_resume(corpus, tmp_path):
         assert np.allclose(got.vertices, expect.vertices, atol=1e-12)
         frows2 = multires.batch(str(corpus), fout, function=_edit, client=client)
         assert [r["status"] for r in frows2] == ["skipped", "error", "skipped", "skipped"]
+        # an output cut short since is made again (the sidecar records its hash)
+        data = (fout / "c-edited.ply").read_bytes()
+        (fout / "c-edited.ply").write_bytes(data[: len(data) // 2])
+        frows3 = multires.batch(str(corpus), fout, function=_edit, client=client)
+        assert [r["status"] for r in frows3] == ["skipped", "error", "ok", "skipped"]
+        assert (fout / "c-edited.ply").read_bytes() == data
+        sidecar = json.loads((fout / "c-edited.ply.json").read_text())
+        assert list(sidecar) == ["input", "input_hash", "job_hash", "output_hash", "faces", "vertices"]
 
         # a scheduler address instead of a Client
         aout = tmp_path / "address"
