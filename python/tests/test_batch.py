@@ -222,3 +222,11 @@ def test_dask_batch_on_its_own_local_cluster(corpus, tmp_path):
                           recipe=RECIPE, n_workers=2)
     assert [r["status"] for r in rows] == ["ok", "ok"]
     assert [os.path.basename(r["input"]) for r in rows] == ["a.obj", "c.off"]
+
+
+def test_importing_multires_does_not_import_dask():
+    import subprocess
+    import sys
+    code = "import sys, multires; print(any(m.split('.')[0] in ('dask', 'distributed') for m in sys.modules))"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd="/")
+    assert out.stdout.strip() == "False", out.stdout + out.stderr
