@@ -244,3 +244,23 @@ def test_ctrl_c_stops_a_build():
     timer.cancel()
     # without the check the interrupt would only be seen after the whole build
     assert elapsed < 0.8 * full, (elapsed, full)
+
+
+def test_threads_build_and_edit_in_parallel_with_serial_results():
+    """Meshes edited from a thread pool (the GIL released in every call) end exactly
+    as the same work done one after another."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    from conftest import bumpy_sphere
+
+    def job(seed):
+        h = multires.Hierarchy(bumpy_sphere(4, seed=seed), target_faces=300)
+        v = h.vertices
+        multires.barr_twist(h, [0, 0, 0], [0, 0, 1], -1.0, 1.0, 10.0 * seed)
+        multires.submesh_pull(h, np.flatnonzero(v[:, 2] > 0.5), [0.0, 0.0, 0.1])
+        return h.refine().vertices.tobytes()
+
+    serial = [job(s) for s in range(6)]
+    with ThreadPoolExecutor(max_workers=3) as pool:
+        parallel = list(pool.map(job, range(6)))
+    assert parallel == serial
