@@ -29,6 +29,7 @@
 //! - [`recipes`]: edit recipes (TOML): steps, levels, portable regions, errors
 //!   ([`crate::recipe`]).
 //! - [`architecture`]: how the crates and modules fit together and the rules they keep.
+//! - [`python`]: the Python package (`pip install ./python`, `import multires`).
 
 #[doc = include_str!("../docs/guide/hierarchy.md")]
 pub mod hierarchy {}
@@ -65,3 +66,6 @@ pub mod recipes {}
 
 #[doc = include_str!("../docs/guide/architecture.md")]
 pub mod architecture {}
+
+#[doc = include_str!("../docs/guide/python.md")]
+pub mod python {}
