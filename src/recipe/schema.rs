@@ -111,6 +111,15 @@ pub enum Region {
     },
     /// Every vertex with a face.
     All,
+    /// The area bounded by the closed loop of shortest edge paths through these places,
+    /// in order (the last joined to the first), on its side of smaller surface area: a
+    /// Lee editing area given by its boundary picks, as the viewer makes one (the picks
+    /// also place the area's embedding onto the rectangle). For other methods, the
+    /// area's vertices.
+    Loop {
+        /// The picks, at least 3.
+        through: Vec<Place>,
+    },
 }
 
 /// A rotation for a Bendels & Klein handle.
@@ -356,6 +365,9 @@ pub struct Smooth {
     /// μ (default −0.53).
     #[serde(default = "default_mu")]
     pub mu: f64,
+    /// The Laplacian's weights: `uniform` (default) or `cotangent`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub weights: Option<String>,
 }
 
 fn default_collar() -> usize {
