@@ -36,6 +36,9 @@ use halfedge::hierarchy::{Hierarchy, LevelBookmark};
 use halfedge::labels::Label;
 use halfedge::labels::LABEL_ATTRIBUTE;
 use halfedge::{BuildReport, Mesh, VertexId};
+use multires::recipe::{HierarchySpec, Step};
+
+use crate::recipe_log::{RecipeLog, RecordId};
 
 /// A mesh file read for the viewer: the mesh, how it was built, and how many vertices
 /// were welded onto others at the same position (a triangle soup or a mesh cut along
@@ -106,10 +109,12 @@ impl Snapshot {
     }
 }
 
-/// One step of the history: its label and the state before (undo) or after (redo) it.
+/// One step of the history: its label and the state before (undo) or after (redo) it,
+/// with the recipe log as it was then.
 struct Entry {
     label: String,
     snapshot: Snapshot,
+    log: RecipeLog,
 }
 
 /// What the open edit stores.
@@ -156,6 +161,10 @@ pub struct Document {
     redo: Vec<Entry>,
     open_edit: Option<(String, EditKind)>,
     revision: Revision,
+    /// The edits as recipe steps (see [`crate::recipe_log`]).
+    log: RecipeLog,
+    /// The last id given to a log entry.
+    log_ids: u64,
 }
 
 impl Document {
@@ -169,6 +178,8 @@ impl Document {
             redo: Vec::new(),
             open_edit: None,
             revision: Revision::default(),
+            log: RecipeLog::default(),
+            log_ids: 0,
         }
     }
 
@@ -217,10 +228,13 @@ impl Document {
         if self.open_edit.is_some() {
             return;
         }
+        self.log.flush(&mut self.log_ids);
         self.push_undo(Entry {
             label: label.to_owned(),
             snapshot: Snapshot::Positions(self.mesh().positions().to_vec()),
+            log: self.log.clone(),
         });
+        self.log.begin_change(label, &mut self.log_ids);
         self.redo.clear();
         self.open_edit = Some((label.to_owned(), EditKind::Positions));
     }
@@ -231,10 +245,13 @@ impl Document {
         match self.open_edit.as_ref().map(|(_, k)| *k) {
             None => {
                 let before = self.take_content_for_topology();
+                self.log.flush(&mut self.log_ids);
                 self.push_undo(Entry {
                     label: label.to_owned(),
                     snapshot: Snapshot::Content(Box::new(before)),
+                    log: self.log.clone(),
                 });
+                self.log.begin_change(label, &mut self.log_ids);
                 self.redo.clear();
                 self.open_edit = Some((label.to_owned(), EditKind::Topology));
             }
@@ -312,10 +329,13 @@ impl Document {
     pub fn set_hierarchy(&mut self, hierarchy: Hierarchy, label: &str) {
         self.end_edit();
         let before = std::mem::replace(&mut self.content, Content::Levels(Box::new(hierarchy)));
+        self.log.flush(&mut self.log_ids);
         self.push_undo(Entry {
             label: label.to_owned(),
             snapshot: Snapshot::Content(Box::new(before)),
+            log: self.log.clone(),
         });
+        self.log.built(&mut self.log_ids);
         self.redo.clear();
         self.bump_all();
     }
@@ -344,10 +364,13 @@ impl Document {
         let (result, keep) = change(&mut work)?;
         if keep {
             let before = std::mem::replace(&mut self.content, Content::Levels(work));
+            self.log.flush(&mut self.log_ids);
             self.push_undo(Entry {
                 label: label.to_owned(),
                 snapshot: Snapshot::Content(Box::new(before)),
+                log: self.log.clone(),
             });
+            self.log.begin_change(label, &mut self.log_ids);
             self.redo.clear();
             self.bump_all();
         }
@@ -392,9 +415,11 @@ impl Document {
         let before = (!open_level).then(|| Snapshot::Level(Box::new(h.bookmark())));
         h.go_to_level(level)?;
         if let Some(snapshot) = before {
+            self.log.flush(&mut self.log_ids);
             self.push_undo(Entry {
                 label: label.to_owned(),
                 snapshot,
+                log: self.log.clone(),
             });
             self.redo.clear();
             self.open_edit = Some((label.to_owned(), EditKind::Level));
@@ -442,7 +467,9 @@ impl Document {
     }
 
     /// Swaps the current state with `entry`'s snapshot and returns the inverse entry.
-    fn swap_in(&mut self, entry: Entry) -> Entry {
+    fn swap_in(&mut self, mut entry: Entry) -> Entry {
+        std::mem::swap(&mut entry.log, &mut self.log);
+        let log = entry.log;
         let snapshot = match entry.snapshot {
             Snapshot::Positions(mut p) => {
                 // The hierarchy's marks describe the motion of the positions being
@@ -494,6 +521,7 @@ impl Document {
         Entry {
             label: entry.label,
             snapshot,
+            log,
         }
     }
 
@@ -540,6 +568,43 @@ impl Document {
     /// Number of redo steps available.
     pub fn redo_len(&self) -> usize {
         self.redo.len()
+    }
+
+    /// The edits as recipe steps (see [`crate::recipe_log`]).
+    pub fn recipe_log(&self) -> &RecipeLog {
+        &self.log
+    }
+
+    /// Records the step of the change just made (`Err`: what it was, when it has no
+    /// recipe step), replacing the entry `replacing` names when it is the last one (the
+    /// same edit changed again, see [`RecipeLog`]). Returns the entry's id.
+    pub fn record_step(
+        &mut self,
+        replacing: Option<RecordId>,
+        step: Result<Step, String>,
+    ) -> RecordId {
+        self.log.record(replacing, step, &mut self.log_ids)
+    }
+
+    /// Sets the options of the hierarchy build the log starts from (`None`: options the
+    /// recipe's `[hierarchy]` table cannot express).
+    pub fn set_recipe_hierarchy(&mut self, spec: Option<HierarchySpec>) {
+        self.log.set_built_spec(spec);
+    }
+
+    /// The level a step made now is made at: `Ok(None)` on a plain mesh, `Ok(Some(l))`
+    /// at level `l` of the hierarchy.
+    ///
+    /// # Errors
+    /// A message when the hierarchy is between levels.
+    pub fn recipe_level(&self) -> Result<Option<usize>, String> {
+        match &self.content {
+            Content::Plain(_) => Ok(None),
+            Content::Levels(h) => h
+                .current_level()
+                .map(Some)
+                .ok_or_else(|| "the hierarchy is between two levels".to_owned()),
+        }
     }
 }
 
