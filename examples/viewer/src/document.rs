@@ -10,8 +10,9 @@
 //! attribute), live in the mesh and ride along through the levels.
 //!
 //! Every change goes through an *edit*: [`Document::begin_edit`] stores what is needed to
-//! go back (the positions for a geometric edit, the whole mesh once the connectivity
-//! changes, the level and positions for a level change) and [`Document::end_edit`] closes
+//! go back (the positions for a geometric edit — on a hierarchy with its marks, as a
+//! bookmark — the whole mesh once the connectivity changes, the level and positions for
+//! a level change) and [`Document::end_edit`] closes
 //! it, so that one gesture (a drag, a slider drag, a button press) is one undo step
 //! however many frames it spans. Asking for [`Document::positions_mut`] or
 //! [`Document::mesh_mut`] outside an edit opens one, so no change can escape the history.
@@ -228,10 +229,17 @@ impl Document {
         if self.open_edit.is_some() {
             return;
         }
+        // On a hierarchy, a bookmark: the positions and the hierarchy's marks, so that
+        // undo and redo give back the marks of the edits they keep (refinement then
+        // places the finer levels as those edits meant).
+        let snapshot = match &self.content {
+            Content::Levels(h) => Snapshot::Level(Box::new(h.bookmark())),
+            Content::Plain(m) => Snapshot::Positions(m.positions().to_vec()),
+        };
         self.log.flush(&mut self.log_ids);
         self.push_undo(Entry {
             label: label.to_owned(),
-            snapshot: Snapshot::Positions(self.mesh().positions().to_vec()),
+            snapshot,
             log: self.log.clone(),
         });
         self.log.begin_change(label, &mut self.log_ids);
@@ -382,8 +390,10 @@ impl Document {
     /// it places the finer levels as the edit meant: a handle lands exactly, a region's
     /// motion is interpolated over its fine vertices. Not an undo step of its own: the
     /// marks belong to the positions the edit wrote, and undo or redo of a position step
-    /// drops every mark (they would describe motion the mesh no longer has). Does nothing
-    /// and returns `Ok(None)` when the document holds a plain mesh.
+    /// gives back the marks the hierarchy had with the positions it restores (the step
+    /// stores a [`LevelBookmark`]: the positions and the marks), so the edits kept keep
+    /// their marks and an undone edit's are gone. Does nothing and returns `Ok(None)` when
+    /// the document holds a plain mesh.
     ///
     /// # Errors
     /// The error of `mark`.
@@ -443,16 +453,26 @@ impl Document {
             return;
         }
         *kind = EditKind::Topology;
-        let Some(Entry {
-            snapshot: Snapshot::Positions(p),
-            ..
-        }) = self.undo.last_mut()
-        else {
+        let Some(entry) = self.undo.last_mut() else {
             return;
         };
-        let p = std::mem::take(p);
+        let snapshot = std::mem::replace(&mut entry.snapshot, Snapshot::Positions(Vec::new()));
         let mut before = self.take_content_for_topology();
-        before.mesh_for_values().positions_mut().copy_from_slice(&p);
+        match (&snapshot, &mut before) {
+            (Snapshot::Positions(p), before) => {
+                before.mesh_for_values().positions_mut().copy_from_slice(p);
+            }
+            (Snapshot::Level(bookmark), Content::Levels(h)) => {
+                // Back to the positions and marks before the edit.
+                if h.return_to(bookmark).is_err() {
+                    h.mesh_mut()
+                        .positions_mut()
+                        .copy_from_slice(bookmark.positions());
+                    h.clear_marks();
+                }
+            }
+            _ => {}
+        }
         if let Some(entry) = self.undo.last_mut() {
             entry.snapshot = Snapshot::Content(Box::new(before));
         }
@@ -494,6 +514,7 @@ impl Document {
             Snapshot::Level(bookmark) => match &mut self.content {
                 Content::Levels(h) => {
                     let now = Snapshot::Level(Box::new(h.bookmark()));
+                    let same_level = h.applied() == bookmark.applied();
                     // Back to a position the hierarchy has been at, exactly; when the
                     // bookmark no longer fits (cannot happen with LIFO steps), a walk
                     // there with the positions put back.
@@ -508,7 +529,12 @@ impl Document {
                         walked
                     };
                     if back {
-                        self.bump_all();
+                        if same_level {
+                            // Positions and marks only (a position edit's undo).
+                            self.revision.geometry += 1;
+                        } else {
+                            self.bump_all();
+                        }
                         now
                     } else {
                         Snapshot::Level(bookmark)
