@@ -330,7 +330,7 @@ fn run_step(
             let sub = resolve_submesh(target.mesh_mut(), &s.region, frame).map_err(&fail)?;
             target.labels_changed();
             let mut smoother = Smoother::for_submesh(target.mesh(), &sub, s.collar, weights, true)
-            .map_err(|e| fail(e.to_string()))?;
+                .map_err(|e| fail(e.to_string()))?;
             smoother
                 .taubin(target.mesh_mut(), s.lambda, s.mu, s.iterations)
                 .map_err(|e| fail(e.to_string()))?;

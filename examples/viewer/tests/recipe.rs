@@ -52,7 +52,12 @@ fn assert_bit_identical(viewer: &Mesh, replay: &Mesh, what: &str) {
     let (a, b) = (bits(viewer), bits(replay));
     assert_eq!(a.len(), b.len(), "{what}: vertex count");
     let differ = a.iter().zip(&b).filter(|(x, y)| x != y).count();
-    assert_eq!(differ, 0, "{what}: {differ} of {} positions differ", a.len());
+    assert_eq!(
+        differ,
+        0,
+        "{what}: {differ} of {} positions differ",
+        a.len()
+    );
 }
 
 /// The `multires` binary: `$MULTIRES_BIN`, else next to this test's binary (built by

@@ -43,7 +43,11 @@ pub fn array(v: DVec3) -> [f64; 3] {
 ///
 /// # Errors
 /// Why the area has no exact region (then the edit cannot be recorded).
-pub fn lee_area(mesh: &Mesh, area: &EditingArea, picks: Option<&[VertexId]>) -> Result<Region, String> {
+pub fn lee_area(
+    mesh: &Mesh,
+    area: &EditingArea,
+    picks: Option<&[VertexId]>,
+) -> Result<Region, String> {
     if let Some(picks) = picks {
         return Ok(Region::Loop {
             through: picks.iter().map(|&v| place(mesh, v)).collect(),

@@ -25,7 +25,8 @@ impl BendelsKlein {
         if report.new_vertices > 0 {
             ctx.begin_topology_edit("Bendels–Klein refine");
             *ctx.mesh_mut() = self.scratch.mesh().clone();
-            ctx.doc.record_step(None, Err(REFINE_HAS_NO_STEP.to_owned()));
+            ctx.doc
+                .record_step(None, Err(REFINE_HAS_NO_STEP.to_owned()));
             self.recorded = None;
             self.regions = Some(session.regions().clone());
             self.paint.resize(ctx.mesh().vertex_slots(), PAINT_NONE);
@@ -51,7 +52,10 @@ impl BendelsKlein {
     /// from the current level's (scaled by the square root of the ratio of the face
     /// counts; exact at level 0). The rebuilt levels have other vertices than the ones the
     /// regions were given on: the regions are cleared, give them again to edit further.
-    pub(super) fn refine_in_hierarchy(&mut self, ctx: &mut ToolContext<'_>) -> Result<(), ToolError> {
+    pub(super) fn refine_in_hierarchy(
+        &mut self,
+        ctx: &mut ToolContext<'_>,
+    ) -> Result<(), ToolError> {
         let Some(session) = &self.session else {
             return Err(ToolError::new("Bendels–Klein: no edit to refine"));
         };
@@ -90,7 +94,8 @@ impl BendelsKlein {
         })?;
         let t = start.elapsed();
         if report.new_vertices > 0 {
-            ctx.doc.record_step(None, Err(REFINE_HAS_NO_STEP.to_owned()));
+            ctx.doc
+                .record_step(None, Err(REFINE_HAS_NO_STEP.to_owned()));
             self.recorded = None;
             // The rebuilt hierarchy's levels have vertices of their own.
             self.handle_picks.clear();

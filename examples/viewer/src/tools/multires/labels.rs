@@ -294,4 +294,3 @@ pub(super) fn read_labels(mesh: &Mesh, attribute: halfedge::Attribute<VertexId, 
     }
     labels
 }
-

@@ -52,8 +52,11 @@ mod labels;
 mod tests;
 
 use build::*;
-pub use labels::{frontier_overlay, refreshed_label_layer, FrontierMode, PlaneNormal, SubMeshLabels, HOST, LABEL_LAYER, SUBMESH};
 use labels::*;
+pub use labels::{
+    frontier_overlay, refreshed_label_layer, FrontierMode, PlaneNormal, SubMeshLabels, HOST,
+    LABEL_LAYER, SUBMESH,
+};
 
 /// The multiresolution tool (see the module docs).
 pub struct Multires {
@@ -107,7 +110,6 @@ impl Multires {
             view: None,
         }
     }
-
 }
 
 impl Multires {
@@ -522,4 +524,3 @@ impl Multires {
         }
     }
 }
-
