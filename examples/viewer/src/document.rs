@@ -148,6 +148,17 @@ pub enum DocumentError {
     Hierarchy(#[from] halfedge::Error),
 }
 
+/// Puts `h` back to the positions and marks of `bookmark` (taken at the same level when
+/// a position edit began); when it cannot, the positions only, without marks.
+fn back_before_edit(h: &mut Hierarchy, bookmark: &LevelBookmark) {
+    if h.return_to(bookmark).is_err() {
+        h.mesh_mut()
+            .positions_mut()
+            .copy_from_slice(bookmark.positions());
+        h.clear_marks();
+    }
+}
+
 /// Largest memory the undo stack may hold before the oldest steps are dropped.
 const HISTORY_BYTES: usize = 1 << 30;
 /// Most undo steps kept.
@@ -462,15 +473,7 @@ impl Document {
             (Snapshot::Positions(p), before) => {
                 before.mesh_for_values().positions_mut().copy_from_slice(p);
             }
-            (Snapshot::Level(bookmark), Content::Levels(h)) => {
-                // Back to the positions and marks before the edit.
-                if h.return_to(bookmark).is_err() {
-                    h.mesh_mut()
-                        .positions_mut()
-                        .copy_from_slice(bookmark.positions());
-                    h.clear_marks();
-                }
-            }
+            (Snapshot::Level(bookmark), Content::Levels(h)) => back_before_edit(h, bookmark),
             _ => {}
         }
         if let Some(entry) = self.undo.last_mut() {

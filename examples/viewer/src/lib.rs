@@ -19,9 +19,9 @@
 //! (orbit camera, rays), [`pick`] (BVH ray casting), [`document`] (the mesh or its
 //! hierarchy + undo/redo), [`colors`] (scalar fields, labels, colour bar), [`render`] (GPU
 //! side), [`tools`] (the tool trait, the parameter tables and the tools), [`script`]
-//! (scripted mode), [`save`] (writing meshes), [`recipe_log`] (the edits as a recipe), [`format`](mod@format) (numbers and
-//! durations for the panels), [`image_view`] (a PNG edited in 2-D with Bendels & Klein's
-//! method).
+//! (scripted mode), [`save`] (writing meshes), [`recipe_log`] (the edits as an edit
+//! recipe), [`format`](mod@format) (numbers and durations for the panels), [`image_view`]
+//! (a PNG edited in 2-D with Bendels & Klein's method).
 
 pub mod app;
 pub mod camera;

@@ -1,7 +1,7 @@
 //! Tests of the *Sub-mesh edits* tool.
 
 use super::*;
-use crate::tools::fixture::{drag_through, refine_and_land, Expect, Fixture};
+use crate::tools::fixture::{bits, drag_through, refine_and_land, Expect, Fixture};
 use halfedge::generators;
 
 #[test]
@@ -122,4 +122,37 @@ fn a_submesh_pulled_by_a_drag_at_a_coarse_level_lands_exactly() {
         worst < 1e-9,
         "a vertex is {worst:e} off its pulled position"
     );
+}
+
+#[test]
+fn the_recorded_steps_replay_on_the_plain_mesh_bit_for_bit_and_follow_undo() {
+    // Whole-mesh smoothing (the recipe's `all` region with no collar) and a scale of a
+    // ring, recorded without a level; `apply_to_mesh` on the input gives the tool's mesh.
+    let mesh = generators::icosphere(3);
+    let mut tools =
+        crate::tools::Headless::new(crate::document::Document::new(mesh.clone(), None, None));
+    let mut ctx = tools.ctx();
+    let mut tool = SubMeshEdit::new();
+    tool.source = Source::All;
+    tool.operation = Operation::Smooth;
+    tool.smooth_whole = true;
+    tool.run(&mut ctx).unwrap();
+    tool.smooth_whole = false;
+    tool.source = Source::Ring;
+    tool.centre = mesh.vertices().nth(5);
+    tool.operation = Operation::Scale;
+    tool.run(&mut ctx).unwrap();
+    let recipe = ctx.doc.recipe_log().recipe().unwrap();
+    assert_eq!(
+        recipe.steps.iter().map(|s| s.method()).collect::<Vec<_>>(),
+        ["smooth", "scale"]
+    );
+    assert!(recipe.steps.iter().all(|s| s.level().is_none()));
+    let mut replay = mesh.clone();
+    multires::recipe::apply_to_mesh(&mut replay, &recipe, &mut multires::progress::Silent).unwrap();
+    assert_eq!(bits(replay.positions()), bits(ctx.mesh().positions()));
+    ctx.doc.undo();
+    assert_eq!(ctx.doc.recipe_log().recipe().unwrap().steps.len(), 1);
+    ctx.doc.redo();
+    assert_eq!(ctx.doc.recipe_log().recipe().unwrap(), recipe);
 }
