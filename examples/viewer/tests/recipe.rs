@@ -60,28 +60,32 @@ fn assert_bit_identical(viewer: &Mesh, replay: &Mesh, what: &str) {
     );
 }
 
-/// The `multires` binary: `$MULTIRES_BIN`, else next to this test's binary (built by
-/// `cargo build --bin multires` into the same target folder, which this builds when it
-/// is missing).
+/// The `multires` binary: `$MULTIRES_BIN`, else next to this test's binary, brought up
+/// to date by `cargo build -p multires --bin multires` into the same target folder (a no-op when it
+/// is, so that a stale binary never replays a recipe of a newer schema).
 fn multires_binary() -> PathBuf {
     if let Some(path) = std::env::var_os("MULTIRES_BIN") {
         return PathBuf::from(path);
     }
+    static BUILT: std::sync::Once = std::sync::Once::new();
     let exe = std::env::current_exe().unwrap();
     let dir = exe.parent().unwrap().parent().unwrap();
     let path = dir.join(format!("multires{}", std::env::consts::EXE_SUFFIX));
-    if !path.exists() {
+    BUILT.call_once(|| {
         let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
         let profile = dir.file_name().unwrap().to_string_lossy().into_owned();
         let mut cmd = Command::new(cargo);
-        cmd.args(["build", "--bin", "multires"])
+        cmd.args(["build", "-p", "multires", "--bin", "multires"])
             .current_dir(env!("CARGO_MANIFEST_DIR"));
         if profile == "release" {
             cmd.arg("--release");
         }
         let status = cmd.status().expect("cargo runs");
-        assert!(status.success(), "cargo build --bin multires failed");
-    }
+        assert!(
+            status.success(),
+            "cargo build -p multires --bin multires failed"
+        );
+    });
     assert!(path.exists(), "{} not built", path.display());
     path
 }
