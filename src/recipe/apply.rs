@@ -317,16 +317,20 @@ fn run_step(
             format!("handle of {n_handle} vertices moved, {n_deformable} deformable")
         }
         Step::Smooth(s) => {
+            let weights = match s.weights.as_deref().unwrap_or("uniform") {
+                "uniform" => SmoothingWeights::Uniform,
+                "cotangent" => SmoothingWeights::Cotangent,
+                other => {
+                    return Err(invalid(
+                        "weights",
+                        format!("{other:?} is not uniform or cotangent"),
+                    ))
+                }
+            };
             let sub = resolve_submesh(target.mesh_mut(), &s.region, frame).map_err(&fail)?;
             target.labels_changed();
-            let mut smoother = Smoother::for_submesh(
-                target.mesh(),
-                &sub,
-                s.collar,
-                SmoothingWeights::default(),
-                true,
-            )
-            .map_err(|e| fail(e.to_string()))?;
+            let mut smoother = Smoother::for_submesh(target.mesh(), &sub, s.collar, weights, true)
+                .map_err(|e| fail(e.to_string()))?;
             smoother
                 .taubin(target.mesh_mut(), s.lambda, s.mu, s.iterations)
                 .map_err(|e| fail(e.to_string()))?;

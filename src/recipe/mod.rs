@@ -50,8 +50,8 @@ mod schema;
 pub use apply::{apply, apply_to_mesh, StepOutcome};
 pub use region::{resolve_place, resolve_region, Frame};
 pub use schema::{
-    Falloff, HierarchySpec, Matrix, Place, Recipe, Region, Rotate, Step, StepKind, Variation,
-    RECIPE_VERSION,
+    AxisSpec, Blend, Falloff, HierarchySpec, LeeDrag, Matrix, Place, Pull, Recipe, Region, Rotate,
+    RotateStep, Scale, Smooth, Step, StepKind, Taper, Twist, Variation, RECIPE_VERSION,
 };
 
 use std::path::PathBuf;

@@ -1,7 +1,7 @@
 //! Resolving a recipe's places and regions on the mesh a step is made on.
 
 use edit::deform::SubMesh;
-use edit::lee::EditingArea;
+use edit::lee::{AreaSide, EditingArea};
 use glam::DVec3;
 use halfedge::labels::LABEL_ATTRIBUTE;
 use halfedge::{Mesh, VertexId};
@@ -111,6 +111,7 @@ pub fn resolve_region(
             })
             .collect::<Result<_, _>>()?,
         Region::All => mesh.vertices().filter(|&v| !mesh.is_isolated(v)).collect(),
+        Region::Loop { .. } => resolve_area(mesh, region, frame)?.vertices().to_vec(),
     };
     vertices.sort_by_key(|&v| mesh.vertex_index(v));
     vertices.dedup();
@@ -160,8 +161,8 @@ pub(crate) fn resolve_submesh(
     }
 }
 
-/// A region as a Lee editing area: a `disk` grown around its centre, any other region by
-/// the faces whose three corners it holds.
+/// A region as a Lee editing area: a `disk` grown around its centre, a `loop` filled on
+/// its smaller side, any other region by the faces whose three corners it holds.
 ///
 /// # Errors
 /// A message saying why the region is no editing area here (not a disk, touching the
@@ -174,6 +175,19 @@ pub(crate) fn resolve_area(
     if let Region::Disk { around, vertices } = region {
         let centre = resolve_place(mesh, around)?;
         return EditingArea::disk_around(mesh, centre, *vertices).map_err(|e| e.to_string());
+    }
+    if let Region::Loop { through } = region {
+        if through.len() < 3 {
+            return Err(format!(
+                "a loop needs at least 3 places, got {}",
+                through.len()
+            ));
+        }
+        let picks = through
+            .iter()
+            .map(|p| resolve_place(mesh, p))
+            .collect::<Result<Vec<_>, _>>()?;
+        return EditingArea::from_picks(mesh, &picks, AreaSide::Smaller).map_err(|e| e.to_string());
     }
     let vertices = resolve_region(mesh, region, frame)?;
     let mut inside = vec![false; mesh.vertex_slots()];

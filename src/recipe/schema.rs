@@ -111,6 +111,15 @@ pub enum Region {
     },
     /// Every vertex with a face.
     All,
+    /// The area bounded by the closed loop of shortest edge paths through these places,
+    /// in order (the last joined to the first), on its side of smaller surface area: a
+    /// Lee editing area given by its boundary picks, as the viewer makes one (the picks
+    /// also place the area's embedding onto the rectangle). For other methods, the
+    /// area's vertices.
+    Loop {
+        /// The picks, at least 3.
+        through: Vec<Place>,
+    },
 }
 
 /// A rotation for a Bendels & Klein handle.
@@ -173,6 +182,9 @@ pub struct AxisSpec {
 #[allow(clippy::large_enum_variant)]
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "method", rename_all = "snake_case")]
+// A recipe holds a handful of steps: their size does not matter, and unboxed variants
+// keep the steps plain to build (the viewer writes them).
+#[allow(clippy::large_enum_variant)]
 pub enum Step {
     /// Lee 1999: an editing area embedded by a harmonic map, its primitive dragged and
     /// the drag spread by multilevel B-splines at scale `s`.
@@ -359,6 +371,9 @@ pub struct Smooth {
     /// μ (default −0.53).
     #[serde(default = "default_mu")]
     pub mu: f64,
+    /// The Laplacian's weights: `uniform` (default) or `cotangent`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub weights: Option<String>,
 }
 
 fn default_collar() -> usize {

@@ -10,8 +10,9 @@
 //! attribute), live in the mesh and ride along through the levels.
 //!
 //! Every change goes through an *edit*: [`Document::begin_edit`] stores what is needed to
-//! go back (the positions for a geometric edit, the whole mesh once the connectivity
-//! changes, the level and positions for a level change) and [`Document::end_edit`] closes
+//! go back (the positions for a geometric edit — on a hierarchy with its marks, as a
+//! bookmark — the whole mesh once the connectivity changes, the level and positions for
+//! a level change) and [`Document::end_edit`] closes
 //! it, so that one gesture (a drag, a slider drag, a button press) is one undo step
 //! however many frames it spans. Asking for [`Document::positions_mut`] or
 //! [`Document::mesh_mut`] outside an edit opens one, so no change can escape the history.
@@ -36,6 +37,9 @@ use halfedge::hierarchy::{Hierarchy, LevelBookmark};
 use halfedge::labels::Label;
 use halfedge::labels::LABEL_ATTRIBUTE;
 use halfedge::{BuildReport, Mesh, VertexId};
+use multires::recipe::{HierarchySpec, Step};
+
+use crate::recipe_log::{RecipeLog, RecordId};
 
 /// A mesh file read for the viewer: the mesh, how it was built, and how many vertices
 /// were welded onto others at the same position (a triangle soup or a mesh cut along
@@ -106,10 +110,12 @@ impl Snapshot {
     }
 }
 
-/// One step of the history: its label and the state before (undo) or after (redo) it.
+/// One step of the history: its label and the state before (undo) or after (redo) it,
+/// with the recipe log as it was then.
 struct Entry {
     label: String,
     snapshot: Snapshot,
+    log: RecipeLog,
 }
 
 /// What the open edit stores.
@@ -142,6 +148,17 @@ pub enum DocumentError {
     Hierarchy(#[from] halfedge::Error),
 }
 
+/// Puts `h` back to the positions and marks of `bookmark` (taken at the same level when
+/// a position edit began); when it cannot, the positions only, without marks.
+fn back_before_edit(h: &mut Hierarchy, bookmark: &LevelBookmark) {
+    if h.return_to(bookmark).is_err() {
+        h.mesh_mut()
+            .positions_mut()
+            .copy_from_slice(bookmark.positions());
+        h.clear_marks();
+    }
+}
+
 /// Largest memory the undo stack may hold before the oldest steps are dropped.
 const HISTORY_BYTES: usize = 1 << 30;
 /// Most undo steps kept.
@@ -156,6 +173,10 @@ pub struct Document {
     redo: Vec<Entry>,
     open_edit: Option<(String, EditKind)>,
     revision: Revision,
+    /// The edits as recipe steps (see [`crate::recipe_log`]).
+    log: RecipeLog,
+    /// The last id given to a log entry.
+    log_ids: u64,
 }
 
 impl Document {
@@ -169,6 +190,8 @@ impl Document {
             redo: Vec::new(),
             open_edit: None,
             revision: Revision::default(),
+            log: RecipeLog::default(),
+            log_ids: 0,
         }
     }
 
@@ -217,10 +240,20 @@ impl Document {
         if self.open_edit.is_some() {
             return;
         }
+        // On a hierarchy, a bookmark: the positions and the hierarchy's marks, so that
+        // undo and redo give back the marks of the edits they keep (refinement then
+        // places the finer levels as those edits meant).
+        let snapshot = match &self.content {
+            Content::Levels(h) => Snapshot::Level(Box::new(h.bookmark())),
+            Content::Plain(m) => Snapshot::Positions(m.positions().to_vec()),
+        };
+        self.log.flush(&mut self.log_ids);
         self.push_undo(Entry {
             label: label.to_owned(),
-            snapshot: Snapshot::Positions(self.mesh().positions().to_vec()),
+            snapshot,
+            log: self.log.clone(),
         });
+        self.log.begin_change(label, &mut self.log_ids);
         self.redo.clear();
         self.open_edit = Some((label.to_owned(), EditKind::Positions));
     }
@@ -231,10 +264,13 @@ impl Document {
         match self.open_edit.as_ref().map(|(_, k)| *k) {
             None => {
                 let before = self.take_content_for_topology();
+                self.log.flush(&mut self.log_ids);
                 self.push_undo(Entry {
                     label: label.to_owned(),
                     snapshot: Snapshot::Content(Box::new(before)),
+                    log: self.log.clone(),
                 });
+                self.log.begin_change(label, &mut self.log_ids);
                 self.redo.clear();
                 self.open_edit = Some((label.to_owned(), EditKind::Topology));
             }
@@ -312,10 +348,13 @@ impl Document {
     pub fn set_hierarchy(&mut self, hierarchy: Hierarchy, label: &str) {
         self.end_edit();
         let before = std::mem::replace(&mut self.content, Content::Levels(Box::new(hierarchy)));
+        self.log.flush(&mut self.log_ids);
         self.push_undo(Entry {
             label: label.to_owned(),
             snapshot: Snapshot::Content(Box::new(before)),
+            log: self.log.clone(),
         });
+        self.log.built(&mut self.log_ids);
         self.redo.clear();
         self.bump_all();
     }
@@ -344,10 +383,13 @@ impl Document {
         let (result, keep) = change(&mut work)?;
         if keep {
             let before = std::mem::replace(&mut self.content, Content::Levels(work));
+            self.log.flush(&mut self.log_ids);
             self.push_undo(Entry {
                 label: label.to_owned(),
                 snapshot: Snapshot::Content(Box::new(before)),
+                log: self.log.clone(),
             });
+            self.log.begin_change(label, &mut self.log_ids);
             self.redo.clear();
             self.bump_all();
         }
@@ -359,8 +401,10 @@ impl Document {
     /// it places the finer levels as the edit meant: a handle lands exactly, a region's
     /// motion is interpolated over its fine vertices. Not an undo step of its own: the
     /// marks belong to the positions the edit wrote, and undo or redo of a position step
-    /// drops every mark (they would describe motion the mesh no longer has). Does nothing
-    /// and returns `Ok(None)` when the document holds a plain mesh.
+    /// gives back the marks the hierarchy had with the positions it restores (the step
+    /// stores a [`LevelBookmark`]: the positions and the marks), so the edits kept keep
+    /// their marks and an undone edit's are gone. Does nothing and returns `Ok(None)` when
+    /// the document holds a plain mesh.
     ///
     /// # Errors
     /// The error of `mark`.
@@ -392,9 +436,11 @@ impl Document {
         let before = (!open_level).then(|| Snapshot::Level(Box::new(h.bookmark())));
         h.go_to_level(level)?;
         if let Some(snapshot) = before {
+            self.log.flush(&mut self.log_ids);
             self.push_undo(Entry {
                 label: label.to_owned(),
                 snapshot,
+                log: self.log.clone(),
             });
             self.redo.clear();
             self.open_edit = Some((label.to_owned(), EditKind::Level));
@@ -418,16 +464,18 @@ impl Document {
             return;
         }
         *kind = EditKind::Topology;
-        let Some(Entry {
-            snapshot: Snapshot::Positions(p),
-            ..
-        }) = self.undo.last_mut()
-        else {
+        let Some(entry) = self.undo.last_mut() else {
             return;
         };
-        let p = std::mem::take(p);
+        let snapshot = std::mem::replace(&mut entry.snapshot, Snapshot::Positions(Vec::new()));
         let mut before = self.take_content_for_topology();
-        before.mesh_for_values().positions_mut().copy_from_slice(&p);
+        match (&snapshot, &mut before) {
+            (Snapshot::Positions(p), before) => {
+                before.mesh_for_values().positions_mut().copy_from_slice(p);
+            }
+            (Snapshot::Level(bookmark), Content::Levels(h)) => back_before_edit(h, bookmark),
+            _ => {}
+        }
         if let Some(entry) = self.undo.last_mut() {
             entry.snapshot = Snapshot::Content(Box::new(before));
         }
@@ -442,7 +490,9 @@ impl Document {
     }
 
     /// Swaps the current state with `entry`'s snapshot and returns the inverse entry.
-    fn swap_in(&mut self, entry: Entry) -> Entry {
+    fn swap_in(&mut self, mut entry: Entry) -> Entry {
+        std::mem::swap(&mut entry.log, &mut self.log);
+        let log = entry.log;
         let snapshot = match entry.snapshot {
             Snapshot::Positions(mut p) => {
                 // The hierarchy's marks describe the motion of the positions being
@@ -467,6 +517,7 @@ impl Document {
             Snapshot::Level(bookmark) => match &mut self.content {
                 Content::Levels(h) => {
                     let now = Snapshot::Level(Box::new(h.bookmark()));
+                    let same_level = h.applied() == bookmark.applied();
                     // Back to a position the hierarchy has been at, exactly; when the
                     // bookmark no longer fits (cannot happen with LIFO steps), a walk
                     // there with the positions put back.
@@ -481,7 +532,12 @@ impl Document {
                         walked
                     };
                     if back {
-                        self.bump_all();
+                        if same_level {
+                            // Positions and marks only (a position edit's undo).
+                            self.revision.geometry += 1;
+                        } else {
+                            self.bump_all();
+                        }
                         now
                     } else {
                         Snapshot::Level(bookmark)
@@ -494,6 +550,7 @@ impl Document {
         Entry {
             label: entry.label,
             snapshot,
+            log,
         }
     }
 
@@ -540,6 +597,43 @@ impl Document {
     /// Number of redo steps available.
     pub fn redo_len(&self) -> usize {
         self.redo.len()
+    }
+
+    /// The edits as recipe steps (see [`crate::recipe_log`]).
+    pub fn recipe_log(&self) -> &RecipeLog {
+        &self.log
+    }
+
+    /// Records the step of the change just made (`Err`: what it was, when it has no
+    /// recipe step), replacing the entry `replacing` names when it is the last one (the
+    /// same edit changed again, see [`RecipeLog`]). Returns the entry's id.
+    pub fn record_step(
+        &mut self,
+        replacing: Option<RecordId>,
+        step: Result<Step, String>,
+    ) -> RecordId {
+        self.log.record(replacing, step, &mut self.log_ids)
+    }
+
+    /// Sets the options of the hierarchy build the log starts from (`None`: options the
+    /// recipe's `[hierarchy]` table cannot express).
+    pub fn set_recipe_hierarchy(&mut self, spec: Option<HierarchySpec>) {
+        self.log.set_built_spec(spec);
+    }
+
+    /// The level a step made now is made at: `Ok(None)` on a plain mesh, `Ok(Some(l))`
+    /// at level `l` of the hierarchy.
+    ///
+    /// # Errors
+    /// A message when the hierarchy is between levels.
+    pub fn recipe_level(&self) -> Result<Option<usize>, String> {
+        match &self.content {
+            Content::Plain(_) => Ok(None),
+            Content::Levels(h) => h
+                .current_level()
+                .map(Some)
+                .ok_or_else(|| "the hierarchy is between two levels".to_owned()),
+        }
     }
 }
 

@@ -19,9 +19,9 @@
 //! (orbit camera, rays), [`pick`] (BVH ray casting), [`document`] (the mesh or its
 //! hierarchy + undo/redo), [`colors`] (scalar fields, labels, colour bar), [`render`] (GPU
 //! side), [`tools`] (the tool trait, the parameter tables and the tools), [`script`]
-//! (scripted mode), [`save`] (writing meshes), [`format`](mod@format) (numbers and
-//! durations for the panels), [`image_view`] (a PNG edited in 2-D with Bendels & Klein's
-//! method).
+//! (scripted mode), [`save`] (writing meshes), [`recipe_log`] (the edits as an edit
+//! recipe), [`format`](mod@format) (numbers and durations for the panels), [`image_view`]
+//! (a PNG edited in 2-D with Bendels & Klein's method).
 
 pub mod app;
 pub mod camera;
@@ -30,6 +30,7 @@ pub mod document;
 pub mod format;
 pub mod image_view;
 pub mod pick;
+pub mod recipe_log;
 pub mod render;
 pub mod save;
 pub mod script;

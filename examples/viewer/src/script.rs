@@ -11,6 +11,7 @@
 //! |---|---|---|
 //! | `load` | `path` | read a mesh (OBJ, PLY), frame it, clear the history; a `.png` opens in the 2-D image view |
 //! | `save` | `path` | write the mesh (`.obj`, `.ply`); in the image view the edited picture (`.png`) |
+//! | `save_recipe` | `path` | write the edits made since the load (or the hierarchy build) as an edit recipe (TOML, `multires::recipe`) that `multires edit` replays bit for bit; fails, naming them, when edits without a recipe step (FFD, Bendels–Klein refine) or edits before the hierarchy build are in the history |
 //! | `screenshot` | `path` | write what the window shows (PNG), panels included |
 //! | `orbit` | `yaw`, `pitch` (default 0) | turn the camera around its target |
 //! | `zoom` | `factor` | multiply the camera distance (< 1 zooms in) |
@@ -91,6 +92,11 @@ pub enum Action {
     },
     /// Write the mesh.
     Save {
+        /// The file.
+        path: PathBuf,
+    },
+    /// Write the edits as a recipe (TOML).
+    SaveRecipe {
         /// The file.
         path: PathBuf,
     },
@@ -269,6 +275,7 @@ impl Action {
         match self {
             Action::Load { .. } => "load",
             Action::Save { .. } => "save",
+            Action::SaveRecipe { .. } => "save_recipe",
             Action::Screenshot { .. } => "screenshot",
             Action::Orbit { .. } => "orbit",
             Action::Zoom { .. } => "zoom",

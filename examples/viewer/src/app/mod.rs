@@ -66,6 +66,7 @@ pub struct Options {
 struct Paths {
     open: String,
     save: String,
+    recipe: String,
 }
 
 /// Frame counting and timing.
@@ -171,6 +172,10 @@ impl App {
             }
             None => "edited.obj".into(),
         };
+        self.paths.recipe = Path::new(&self.paths.save)
+            .with_extension("toml")
+            .display()
+            .to_string();
     }
 
     /// Reads a mesh file and makes it the document; a `.png` opens in the image view
@@ -238,6 +243,30 @@ impl App {
         self.last_op = Some(("save".into(), start.elapsed()));
         self.status = Status {
             message: format!("Saved {}", path.display()),
+            is_error: false,
+        };
+        Ok(())
+    }
+
+    /// Writes the edits made so far as a recipe (TOML, `multires::recipe::Recipe::write`),
+    /// or refuses, saying why: edits without a recipe step (named), edits made before the
+    /// hierarchy was built (see [`crate::recipe_log`]).
+    pub fn save_recipe(&mut self, path: &Path) -> Result<(), String> {
+        if self.image.is_some() {
+            return Err("the image view's edits have no recipe steps".into());
+        }
+        let recipe = self
+            .doc
+            .recipe_log()
+            .recipe()
+            .map_err(|e| format!("the recipe cannot be saved: {e}"))?;
+        recipe.write(path).map_err(|e| e.to_string())?;
+        self.status = Status {
+            message: format!(
+                "Saved the recipe of {} step(s) to {}",
+                recipe.steps.len(),
+                path.display()
+            ),
             is_error: false,
         };
         Ok(())

@@ -127,6 +127,39 @@ impl App {
                         };
                     }
                 }
+                let recipe = ui.horizontal(|ui| {
+                    ui.add(
+                        egui::TextEdit::singleline(&mut self.paths.recipe)
+                            .hint_text("path to .toml")
+                            .desired_width(200.0),
+                    );
+                    ui.button("Save recipe…")
+                        .on_hover_text(
+                            "Write the edits as an edit recipe that `multires edit` replays \
+                             on the hierarchy (or `apply_to_mesh` on the mesh)",
+                        )
+                        .clicked()
+                });
+                if recipe.inner {
+                    let path = PathBuf::from(self.paths.recipe.trim());
+                    if let Err(e) = self.save_recipe(&path) {
+                        self.status = Status {
+                            message: format!("Save recipe failed: {e}"),
+                            is_error: true,
+                        };
+                    }
+                }
+                let (steps, without) = self.doc.recipe_log().counts();
+                if steps + without > 0 {
+                    ui.weak(format!(
+                        "Recipe: {steps} step(s){}",
+                        if without > 0 {
+                            format!(", {without} edit(s) without a step")
+                        } else {
+                            String::new()
+                        }
+                    ));
+                }
                 if let Some(r) = self.doc.build_report() {
                     if r.duplicated_vertices + r.dropped_faces + r.dropped_triangles > 0 {
                         ui.weak(format!(

@@ -240,6 +240,7 @@ impl App {
         match action {
             Action::Load { path } => self.load(&path),
             Action::Save { path } => self.save(&path),
+            Action::SaveRecipe { path } => self.save_recipe(&path),
             Action::Screenshot { path } => {
                 self.script.screenshot = Some(PendingScreenshot {
                     path,

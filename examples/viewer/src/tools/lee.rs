@@ -16,8 +16,13 @@ use std::time::Instant;
 
 use edit::lee::{AreaSession, AreaSide, EditingArea, FrameKind, SessionOptions};
 use edit::HierarchyEdit;
+use glam::DVec3;
 use halfedge::{FaceId, Mesh, VertexId};
+use multires::recipe::Step;
 use three_d::egui;
+
+use super::recipe_steps;
+use crate::recipe_log::RecordId;
 
 use super::edit_support::{
     ball_vertices, copy_positions, diagonal, ms, vertex_list_param, vertex_param, Scratch,
@@ -91,6 +96,11 @@ pub struct LeeAreaEdit {
     edit_active: bool,
     /// Updates during the current drag and their total time (for the status line).
     drag_updates: (usize, f64),
+    /// The boundary picks the current area was made from (a loop), for its recipe step.
+    area_picks: Option<Vec<VertexId>>,
+    /// The last drag's vector and the recipe entry that records it (re-shaping the drag
+    /// replaces that entry).
+    recorded: Option<(DVec3, RecordId)>,
 }
 
 impl LeeAreaEdit {
@@ -134,9 +144,13 @@ impl LeeAreaEdit {
         let area = match self.source {
             None => return Ok(()),
             Some(AreaSource::Loop) => {
+                self.area_picks = Some(self.boundary_picks.clone());
                 EditingArea::from_picks(mesh, &self.boundary_picks, AreaSide::Smaller)?
             }
-            Some(AreaSource::Disk(seed)) => disk_area(mesh, seed, self.radius * diagonal(mesh))?,
+            Some(AreaSource::Disk(seed)) => {
+                self.area_picks = None;
+                disk_area(mesh, seed, self.radius * diagonal(mesh))?
+            }
         };
         let t_area = start.elapsed();
         let session = AreaSession::new(mesh, area, &self.options())?;
@@ -253,6 +267,11 @@ impl LeeAreaEdit {
             self.scratch.mesh(),
             slots.into_iter(),
         );
+        if let Some((delta, id)) = self.recorded {
+            let step = self.recipe_step(ctx, delta);
+            let id = ctx.doc.record_step(Some(id), step);
+            self.recorded = Some((delta, id));
+        }
         ctx.info(format!(
             "Lee: re-shaped the last drag at s = {:.3}, {} frames, in {}",
             self.scale,
@@ -276,6 +295,33 @@ impl LeeAreaEdit {
         self.edit_active = false;
         ctx.info("Lee: committed; the next drag starts from the current surface");
         Ok(())
+    }
+
+    /// The recipe step of the current drag by `delta` (`Err`: what the edit was and why it
+    /// has no exact step).
+    fn recipe_step(&self, ctx: &ToolContext<'_>, delta: DVec3) -> Result<Step, String> {
+        let refuse = |why: String| format!("Lee drag ({why})");
+        let session = self
+            .session
+            .as_ref()
+            .ok_or_else(|| refuse("no session".into()))?;
+        let mesh = ctx.mesh();
+        let area = recipe_steps::lee_area(mesh, session.area(), self.area_picks.as_deref())
+            .map_err(|e| refuse(format!("an editing area the recipe cannot name: {e}")))?;
+        let level = recipe_steps::level(ctx).map_err(refuse)?;
+        let primitive = session
+            .primitive()
+            .into_iter()
+            .map(|v| recipe_steps::place(mesh, v))
+            .collect();
+        Ok(recipe_steps::lee_drag(
+            level,
+            area,
+            primitive,
+            delta,
+            self.scale,
+            self.normal_frames,
+        ))
     }
 
     fn clear(&mut self, ctx: &mut ToolContext<'_>) {
@@ -548,8 +594,18 @@ impl Tool for LeeAreaEdit {
                             "press on an interior vertex of the editing area to drag",
                         ));
                     };
+                    // A session made afresh on the current surface (its embedding and
+                    // levels computed there), as the recipe's replay of the drag makes it.
+                    let area = self
+                        .session
+                        .as_ref()
+                        .expect("checked by is_interior")
+                        .area()
+                        .clone();
+                    self.session = Some(AreaSession::new(ctx.mesh(), area, &self.options())?);
+                    self.recorded = None;
                     let scratch = self.scratch.sync(ctx.doc);
-                    let session = self.session.as_mut().expect("checked by is_interior");
+                    let session = self.session.as_mut().expect("set above");
                     if !self.primitive.contains(&v) {
                         self.primitive = vec![v];
                     }
@@ -592,6 +648,9 @@ impl Tool for LeeAreaEdit {
                         // and the primitive's translation are marked, so that refining
                         // lands the primitive and keeps the outside still.
                         ctx.doc.mark_hierarchy(|h| session.mark(h))?;
+                        let step = self.recipe_step(ctx, delta);
+                        self.recorded = Some((delta, ctx.doc.record_step(None, step)));
+                        let session = self.session.as_ref().expect("dragged above");
                         let (n, total) = self.drag_updates;
                         ctx.info(format!(
                             "Lee drag: primitive of {} vertices moved by {:.4} over {} \
@@ -668,6 +727,7 @@ impl Tool for LeeAreaEdit {
     fn on_mesh_replaced(&mut self, mesh: &Mesh) {
         self.scratch.clear();
         self.edit_active = false;
+        self.recorded = None;
         self.boundary_picks.retain(|&v| mesh.is_valid_vertex(v));
         self.primitive.retain(|&v| mesh.is_valid_vertex(v));
         if let Some(session) = &mut self.session {

@@ -41,6 +41,7 @@ mod inspect;
 mod lee;
 mod multires;
 pub mod params;
+mod recipe_steps;
 mod submesh;
 
 pub use bendels_klein::{BendelsKlein, BkMode};

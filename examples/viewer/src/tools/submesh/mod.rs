@@ -21,7 +21,13 @@ use edit::deform::{
 use edit::HierarchyEdit;
 use glam::DVec3;
 use halfedge::{Mesh, VertexId};
+use multires::recipe::{
+    AxisSpec, Falloff as RecipeFalloff, Pull, Region, RotateStep, Scale, Smooth, Step, Taper,
+    Twist, Variation as RecipeVariation,
+};
 use three_d::egui;
+
+use super::recipe_steps;
 
 use super::params::{self, Param, Widget};
 use super::{
@@ -200,13 +206,7 @@ impl SubMeshEdit {
             .map(|&i| positions[i as usize])
             .sum::<DVec3>()
             / sub.len() as f64;
-        let view = self.view.unwrap_or(ViewInfo {
-            eye: DVec3::Z,
-            forward: -DVec3::Z,
-            right: DVec3::X,
-            up: DVec3::Y,
-            scene_radius: 1.0,
-        });
+        let view = self.view_or_default();
         let has_frontier = !sub.frontier_indices().is_empty();
         // Taper and twist: inward levels from the frontier, or along the view's up axis.
         let barr = |sub: &SubMesh| -> Result<(Option<Axis>, Variation), ToolError> {
@@ -257,6 +257,136 @@ impl SubMeshEdit {
         })
     }
 
+    /// The recipe step of the current operation on `sub` (for pull: by `offset`), as
+    /// [`edit`](Self::edit) and [`run`](Self::run) compute it: the sub-mesh's vertices, the
+    /// centre and the axis the tool used (`Err`: why it has no exact step).
+    fn recipe_step(
+        &self,
+        ctx: &ToolContext<'_>,
+        sub: Option<&SubMesh>,
+        offset: DVec3,
+    ) -> Result<Step, String> {
+        let mesh = ctx.mesh();
+        let level = recipe_steps::level(ctx)?;
+        let region = match sub {
+            Some(sub) => Region::Vertices {
+                indices: sub.vertex_indices().to_vec(),
+            },
+            None => Region::All,
+        };
+        if self.operation == Operation::Smooth {
+            return Ok(Step::Smooth(Smooth {
+                level,
+                region,
+                collar: if self.smooth_whole {
+                    0
+                } else {
+                    self.smooth_collar
+                },
+                iterations: self.iterations,
+                lambda: self.lambda,
+                mu: self.mu,
+                weights: self.cotangent.then(|| "cotangent".to_owned()),
+            }));
+        }
+        let sub = sub.ok_or("no sub-mesh")?;
+        let propagation = self.levels;
+        let falloff = if self.smooth_falloff {
+            RecipeFalloff::Smooth
+        } else {
+            RecipeFalloff::Linear
+        };
+        // What `edit` computes, as the recipe names it.
+        let centroid = sub
+            .vertex_indices()
+            .iter()
+            .map(|&i| mesh.positions()[i as usize])
+            .sum::<DVec3>()
+            / sub.len() as f64;
+        let view = self.view_or_default();
+        let has_frontier = !sub.frontier_indices().is_empty();
+        let axis_along = |direction: DVec3| AxisSpec {
+            point: recipe_steps::array(centroid),
+            direction: recipe_steps::array(direction),
+        };
+        let barr = || -> Result<(Option<AxisSpec>, Option<RecipeVariation>), String> {
+            if has_frontier {
+                Ok((None, None))
+            } else {
+                let axis = Axis::new(centroid, view.up).map_err(|e| e.to_string())?;
+                let (start, end) = sub.axial_extent(mesh, &axis).map_err(|e| e.to_string())?;
+                Ok((
+                    Some(axis_along(view.up)),
+                    Some(RecipeVariation::Along { start, end }),
+                ))
+            }
+        };
+        Ok(match self.operation {
+            Operation::Pull => Step::Pull(Pull {
+                level,
+                region,
+                propagation,
+                falloff,
+                offset: recipe_steps::array(offset),
+            }),
+            Operation::Scale => Step::Scale(Scale {
+                level,
+                region,
+                propagation,
+                falloff,
+                factor: self.scale,
+                centre: Some(recipe_steps::array(centroid)),
+            }),
+            Operation::Rotate => Step::Rotate(RotateStep {
+                level,
+                region,
+                propagation,
+                falloff,
+                degrees: self.angle,
+                // With a frontier the recipe's default axis is the tool's.
+                axis: (!has_frontier).then(|| axis_along(view.forward)),
+                bounded: false,
+            }),
+            Operation::Taper => {
+                let (axis, variation) = barr()?;
+                Step::Taper(Taper {
+                    level,
+                    region,
+                    propagation,
+                    falloff,
+                    factor: self.taper,
+                    axis,
+                    variation,
+                })
+            }
+            Operation::Twist => {
+                let (axis, variation) = barr()?;
+                Step::Twist(Twist {
+                    level,
+                    region,
+                    propagation,
+                    falloff,
+                    degrees: self.twist,
+                    axis,
+                    variation,
+                })
+            }
+            Operation::Smooth => unreachable!("handled above"),
+        })
+    }
+
+    /// The view the axes of edits without a frontier follow (a default one before the
+    /// panel was drawn).
+    fn view_or_default(&self) -> ViewInfo {
+        self.view.unwrap_or(ViewInfo {
+            eye: DVec3::Z,
+            forward: -DVec3::Z,
+            right: DVec3::X,
+            up: DVec3::Y,
+            scene_radius: 1.0,
+        })
+    }
+
     /// Applies the current operation (pull needs a drag).
     pub fn run(&mut self, ctx: &mut ToolContext<'_>) -> Result<(), ToolError> {
         let mesh = ctx.mesh();
@@ -265,6 +395,7 @@ impl SubMeshEdit {
         // What the edit tells a hierarchy (its region and the part moved at full
         // strength), so that refining lands it as made.
         let mut marks = None;
+        let mut sub_used = None;
         let (sub_len, what) = match self.operation {
             Operation::Pull => {
                 return Err(ToolError::new(
@@ -281,7 +412,10 @@ impl SubMeshEdit {
                     Smoother::new(mesh, edit::Vertices::All, weights, true)?
                 } else {
                     let sub = self.submesh(mesh)?;
-                    Smoother::for_submesh(mesh, &sub, self.smooth_collar, weights, true)?
+                    let smoother =
+                        Smoother::for_submesh(mesh, &sub, self.smooth_collar, weights, true)?;
+                    sub_used = Some(sub);
+                    smoother
                 };
                 smoother.taubin(&mut work, self.lambda, self.mu, self.iterations)?;
                 (
@@ -308,9 +442,14 @@ impl SubMeshEdit {
                 let sub = self.submesh(mesh)?;
                 let edit = self.edit(mesh, &sub)?;
                 marks = Some(sub.apply_with_marks(&mut work, &edit, self.propagation())?);
-                (sub.len(), format!("{op}, n = {}", self.levels))
+                let n = sub.len();
+                sub_used = Some(sub);
+                (n, format!("{op}, n = {}", self.levels))
             }
         };
+        let step = self
+            .recipe_step(ctx, sub_used.as_ref(), DVec3::ZERO)
+            .map_err(|why| format!("Sub-mesh {op} ({why})"));
         // Copy what changed (bit for bit) into the document, as one undo step.
         let changed: Vec<usize> = mesh
             .vertices()
@@ -326,6 +465,7 @@ impl SubMeshEdit {
         if let Some(marks) = marks {
             ctx.doc.mark_hierarchy(|h| marks.mark(h))?;
         }
+        ctx.doc.record_step(None, step);
         ctx.info(format!(
             "Sub-mesh {what}: {} vertices moved (sub-mesh {} vertices)",
             group(changed.len()),
@@ -680,6 +820,10 @@ impl Tool for SubMeshEdit {
                     ctx.error(format!("Sub-mesh pull: {e}"));
                 } else if drag.phase == DragPhase::End {
                     let d = self.drag.take().expect("checked");
+                    let step = self
+                        .recipe_step(ctx, Some(&d.sub), drag.delta())
+                        .map_err(|why| format!("Sub-mesh pull ({why})"));
+                    ctx.doc.record_step(None, step);
                     ctx.info(format!(
                         "Sub-mesh pull: {} vertices moved (sub-mesh {}, n = {}), |d| = {:.4}",
                         group(d.touched.len()),
@@ -735,128 +879,4 @@ impl Tool for SubMeshEdit {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::tools::fixture::{drag_through, refine_and_land, Expect, Fixture};
-    use halfedge::generators;
-
-    #[test]
-    fn rings_grow_with_the_count() {
-        let mesh = generators::icosphere(3);
-        let v = mesh.vertices().next().unwrap();
-        let zero = rings_around(&mesh, v, 0);
-        assert_eq!(zero.iter().filter(|&&b| b).count(), 1);
-        let one = rings_around(&mesh, v, 1);
-        assert_eq!(one.iter().filter(|&&b| b).count(), 1 + mesh.valence(v));
-        let many = rings_around(&mesh, v, 100);
-        assert_eq!(many.iter().filter(|&&b| b).count(), mesh.n_vertices());
-    }
-
-    #[test]
-    fn a_scale_without_propagation_leaves_the_host_alone() {
-        let mesh = generators::icosphere(3);
-        let mut tool = SubMeshEdit::new();
-        tool.source = Source::Ring;
-        tool.centre = mesh.vertices().next();
-        tool.levels = 0;
-        tool.operation = Operation::Scale;
-        let sub = tool.submesh(&mesh).unwrap();
-        let edit = tool.edit(&mesh, &sub).unwrap();
-        let mut work = mesh.clone();
-        sub.apply(&mut work, &edit, tool.propagation()).unwrap();
-        for v in mesh.vertices() {
-            let i = mesh.vertex_index(v);
-            if !sub.contains_index(i) {
-                assert_eq!(mesh.positions()[i], work.positions()[i]);
-            }
-        }
-        assert_ne!(mesh.positions(), work.positions());
-    }
-
-    /// At level 2 of the fixture, a tool on the two rings around the top vertex with
-    /// no propagation.
-    fn top_rings(ctx: &ToolContext<'_>, operation: Operation) -> SubMeshEdit {
-        let mesh = ctx.mesh();
-        let mut tool = SubMeshEdit::new();
-        tool.source = Source::Ring;
-        tool.rings = 2;
-        tool.centre = mesh
-            .vertices()
-            .max_by(|&a, &b| mesh.position(a).z.total_cmp(&mesh.position(b).z));
-        tool.levels = 0;
-        tool.operation = operation;
-        tool
-    }
-
-    /// Refines the fixture's document to the input and returns the largest distance of
-    /// an input vertex whose ancestor at `level` is in `sub` from `map` of its input
-    /// position, checking that every other input vertex stayed bit for bit.
-    fn refine_and_measure(
-        ctx: &mut ToolContext<'_>,
-        input: &Mesh,
-        level: usize,
-        sub: &SubMesh,
-        map: glam::DAffine3,
-    ) -> f64 {
-        let seen = refine_and_land(ctx, input, level, |a| {
-            if sub.contains_index(a) {
-                Expect::Lands(map)
-            } else {
-                Expect::Stays
-            }
-        });
-        assert!(seen.landed > 20, "{} vertices inside", seen.landed);
-        seen.worst
-    }
-
-    #[test]
-    fn a_submesh_rotated_at_a_coarse_level_lands_exactly_at_full_resolution() {
-        // The tool marks the document's hierarchy with the rotation (the whole sub-mesh
-        // at full strength) and the sub-mesh as the region.
-        let level = 2;
-        let mut fixture = Fixture::at_level(level);
-        let input = fixture.input.clone();
-        let mut ctx = fixture.ctx();
-        let mut tool = top_rings(&ctx, Operation::Rotate);
-        tool.angle = 35.0;
-        let sub = tool.submesh(ctx.mesh()).unwrap();
-        let axis = sub.axis(ctx.mesh()).unwrap();
-        tool.run(&mut ctx).unwrap();
-        let map = glam::DAffine3::from_translation(axis.point())
-            * glam::DAffine3::from_axis_angle(axis.direction(), 35f64.to_radians())
-            * glam::DAffine3::from_translation(-axis.point());
-        let worst = refine_and_measure(&mut ctx, &input, level, &sub, map);
-        // The icosphere's diagonal is about 3.5.
-        assert!(
-            worst < 1e-9,
-            "a vertex is {worst:e} off its rotated position"
-        );
-    }
-
-    #[test]
-    fn a_submesh_pulled_by_a_drag_at_a_coarse_level_lands_exactly() {
-        let level = 2;
-        let mut fixture = Fixture::at_level(level);
-        let input = fixture.input.clone();
-        let mut ctx = fixture.ctx();
-        let mut tool = top_rings(&ctx, Operation::Pull);
-        let sub = tool.submesh(ctx.mesh()).unwrap();
-        let start = ctx.mesh().position(tool.centre.unwrap());
-        let offset = DVec3::new(0.1, -0.05, 0.3);
-        drag_through(
-            &mut tool,
-            &mut ctx,
-            None,
-            start,
-            offset,
-            &[0.0, 0.5, 0.8, 1.0],
-        );
-        ctx.doc.end_edit();
-        let map = glam::DAffine3::from_translation(offset);
-        let worst = refine_and_measure(&mut ctx, &input, level, &sub, map);
-        assert!(
-            worst < 1e-9,
-            "a vertex is {worst:e} off its pulled position"
-        );
-    }
-}
+mod tests;

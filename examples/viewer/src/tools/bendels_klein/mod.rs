@@ -26,6 +26,9 @@ use glam::{DMat4, DVec3};
 use halfedge::{Mesh, VertexId};
 use three_d::egui;
 
+use super::recipe_steps;
+use crate::recipe_log::RecordId;
+
 use super::curve_editor::{CurveEditor, Preset};
 use super::edit_support::{
     ball_vertices, copy_positions, diagonal, ms, vec3_param, vertex_list_param, vertex_param,
@@ -37,6 +40,13 @@ use super::{
     Pick, Tool, ToolContext, ToolError,
 };
 use crate::colors::{Colormap, Rgba, NO_LABEL};
+
+mod parameters;
+mod refine;
+#[cfg(test)]
+mod tests;
+
+use parameters::*;
 
 /// What a click on the mesh does in the Bendels–Klein tool.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -121,6 +131,9 @@ pub struct BendelsKlein {
     pivot: DVec3,
     scratch: Scratch,
     drag_base: DVec3,
+    /// The recipe entry of the session's edit: each new transform replaces it (the
+    /// session applies every transform to the same rest positions).
+    recorded: Option<RecordId>,
 }
 
 impl Default for BendelsKlein {
@@ -145,6 +158,7 @@ impl Default for BendelsKlein {
             pivot: DVec3::ZERO,
             scratch: Scratch::default(),
             drag_base: DVec3::ZERO,
+            recorded: None,
         }
     }
 }
@@ -248,6 +262,7 @@ impl BendelsKlein {
             handle.iter().map(|&v| mesh.position(v)).sum::<DVec3>() / handle.len().max(1) as f64;
         self.session = Some(session);
         self.stale = false;
+        self.recorded = None;
         self.reset_transform();
         self.show(ctx);
         Ok(())
@@ -363,6 +378,7 @@ impl BendelsKlein {
         // At a coarse level of a hierarchy the handle's transform and the moved region are
         // marked: refining lands the handle exactly and keeps the fixed region still.
         ctx.doc.mark_hierarchy(|h| session.mark(h))?;
+        self.record(ctx);
         ctx.info(format!(
             "Bendels–Klein: handle transform applied to {n} vertices (exp(α log A)) in {}",
             ms(t)
@@ -391,6 +407,7 @@ impl BendelsKlein {
                     self.scratch.mesh(),
                     slots.into_iter(),
                 );
+                self.record(ctx);
             }
             ctx.info(format!(
                 "Bendels–Klein: shape function {} (α and mesh updated in {})",
@@ -402,118 +419,29 @@ impl BendelsKlein {
         Ok(())
     }
 
-    /// Adaptive refinement (Sec. 6) of the stretched deformable area.
-    fn refine(&mut self, ctx: &mut ToolContext<'_>) -> Result<(), ToolError> {
-        self.ensure_session(ctx)?;
-        if ctx.doc.hierarchy().is_some() {
-            return self.refine_in_hierarchy(ctx);
-        }
-        let Some(session) = &mut self.session else {
-            return Err(ToolError::new("Bendels–Klein: no edit to refine"));
-        };
-        let max = self.refine_threshold * ctx.mesh().mean_edge_length();
-        let start = Instant::now();
-        let scratch = self.scratch.sync(ctx.doc);
-        let report = session.refine(scratch, RefineOptions::new(max))?;
-        let t = start.elapsed();
-        if report.new_vertices > 0 {
-            ctx.begin_topology_edit("Bendels–Klein refine");
-            *ctx.mesh_mut() = self.scratch.mesh().clone();
-            self.regions = Some(session.regions().clone());
-            self.paint.resize(ctx.mesh().vertex_slots(), PAINT_NONE);
-        }
-        ctx.info(format!(
-            "Bendels–Klein refine: {} new vertices in {} passes ({}), longest edge {:.3e} \
-             (threshold {max:.3e})",
-            report.new_vertices,
-            report.passes,
-            ms(t),
-            report.longest_edge
-        ));
-        self.show(ctx);
-        Ok(())
-    }
-
-    /// Adaptive refinement of an edit made on the mesh of the document's hierarchy (at
-    /// any level): through `BlendSession::refine_in_hierarchy`, which splits the stretched
-    /// edges at the input and builds the hierarchy again, so that the document keeps the
-    /// hierarchy at its level, every level stays reachable, and undo gives back the
-    /// hierarchy as it was ([`Document::edit_hierarchy`](crate::document::Document::edit_hierarchy)).
-    /// The threshold is a multiple of the mean edge length at full resolution, estimated
-    /// from the current level's (scaled by the square root of the ratio of the face
-    /// counts; exact at level 0). The rebuilt levels have other vertices than the ones the
-    /// regions were given on: the regions are cleared, give them again to edit further.
-    fn refine_in_hierarchy(&mut self, ctx: &mut ToolContext<'_>) -> Result<(), ToolError> {
+    /// Records the session's edit as a recipe step (replacing the step of this session's
+    /// previous transform).
+    fn record(&mut self, ctx: &mut ToolContext<'_>) {
         let Some(session) = &self.session else {
-            return Err(ToolError::new("Bendels–Klein: no edit to refine"));
+            return;
         };
-        let Some(h) = ctx.doc.hierarchy() else {
-            return Err(ToolError::new("Bendels–Klein: no hierarchy"));
-        };
-        let faces = h.level_face_counts();
-        let level = h.level_at_or_finer();
-        let ratio = match (faces.get(level), faces.first()) {
-            (Some(&here), Some(&input)) if input > 0 => here as f64 / input as f64,
-            _ => 1.0,
-        };
-        let max = self.refine_threshold * ctx.mesh().mean_edge_length() * ratio.sqrt();
-        let regions = session.regions().clone();
-        let original = session.original_positions().to_vec();
-        let a = session.transform();
-        let options = self.options();
-        let start = Instant::now();
-        let report = ctx.doc.edit_hierarchy("Bendels–Klein refine", |h| {
-            // The library refines through a session made on the hierarchy's own mesh
-            // (this tool's session is bound to its scratch copy): the same regions,
-            // rest positions, shape and transform (the blend is applied again, to the
-            // same positions).
-            let mesh = h.mesh_mut();
-            if original.len() != mesh.vertex_slots() {
-                return Err(ToolError::new(
-                    "Bendels–Klein: the session does not fit the mesh; give the regions again",
-                ));
-            }
-            mesh.positions_mut().copy_from_slice(&original);
-            let mut s = BlendSession::new(h.mesh(), regions, options)?;
-            s.apply(h.mesh_mut(), a)?;
-            let report = s.refine_in_hierarchy(h, RefineOptions::new(max))?;
-            let keep = report.new_vertices > 0;
-            Ok::<_, ToolError>((report, keep))
-        })?;
-        let t = start.elapsed();
-        if report.new_vertices > 0 {
-            // The rebuilt hierarchy's levels have vertices of their own.
-            self.handle_picks.clear();
-            self.fixed_picks.clear();
-            self.paint.clear();
-            self.source = None;
-            self.regions = None;
-            self.session = None;
-            self.stale = false;
-            self.scratch.clear();
-            self.reset_transform();
-            ctx.clear_colors();
+        let distance = if self.geodesic {
+            DistanceKind::Geodesic
         } else {
-            self.show(ctx);
-        }
-        let h = ctx.doc.hierarchy();
-        ctx.info(format!(
-            "Bendels–Klein refine: {} new vertices in {} passes ({}, at the input of the \
-             hierarchy, rebuilt: {} levels, back at level {}), longest edge {:.3e} \
-             (threshold {max:.3e}){}",
-            report.new_vertices,
-            report.passes,
-            ms(t),
-            h.map_or(0, |h| h.n_levels()),
-            h.map_or(0, |h| h.level_at_or_finer()),
-            report.longest_edge,
-            if report.new_vertices > 0 {
-                "; give the regions again to edit further"
-            } else {
-                ""
-            }
-        ));
-        Ok(())
+            DistanceKind::Euclidean
+        };
+        let step = recipe_steps::level(ctx).and_then(|level| {
+            recipe_steps::blend(
+                ctx.mesh(),
+                level,
+                session.regions(),
+                self.transform(),
+                distance,
+                &self.curve.model.shape(),
+            )
+        });
+        let step = step.map_err(|why| format!("Bendels–Klein transform ({why})"));
+        self.recorded = Some(ctx.doc.record_step(self.recorded, step));
     }
 
     fn clear(&mut self, ctx: &mut ToolContext<'_>) {
@@ -538,52 +466,6 @@ impl BendelsKlein {
             .as_ref()
             .is_some_and(|s| s.regions().roles().get(mesh.vertex_index(v)) == Some(&Role::Handle))
     }
-}
-
-/// The distance choices: `(geodesic, script name)`.
-const DISTANCES: [(bool, &str); 2] = [(true, "geodesic"), (false, "euclidean")];
-
-/// Sets a handle-transform parameter and applies the transform.
-fn transform_param(
-    t: &mut BendelsKlein,
-    ctx: &mut ToolContext<'_>,
-    set: impl FnOnce(&mut BendelsKlein) -> Result<(), ToolError>,
-) -> Result<(), ToolError> {
-    set(t)?;
-    t.apply_transform(ctx, "Bendels–Klein transform")
-}
-
-/// Sets the loop of the handle or of the fixed region from a script.
-fn loop_param(
-    t: &mut BendelsKlein,
-    name: &str,
-    value: &serde_json::Value,
-    ctx: &mut ToolContext<'_>,
-) -> Result<(), ToolError> {
-    let picks = vertex_list_param(ctx.mesh(), name, value)?;
-    if name == "handle_loop" {
-        t.handle_picks = picks;
-    } else {
-        t.fixed_picks = picks;
-    }
-    t.source = Some(RegionSource::Loops);
-    t.build(ctx)
-}
-
-/// Paints (or erases) at a vertex from a script.
-fn paint_param(
-    t: &mut BendelsKlein,
-    name: &str,
-    value: &serde_json::Value,
-    ctx: &mut ToolContext<'_>,
-) -> Result<(), ToolError> {
-    let v = vertex_param(ctx.mesh(), name, value)?;
-    let p = match name {
-        "paint_handle" => PAINT_HANDLE,
-        "paint_fixed" => PAINT_FIXED,
-        _ => PAINT_NONE,
-    };
-    t.paint_at(ctx, v, p)
 }
 
 /// The parameters of [`BendelsKlein`] (see [`params`]). The curve editor draws the
@@ -954,6 +836,7 @@ impl Tool for BendelsKlein {
         self.handle_picks.retain(|&v| mesh.is_valid_vertex(v));
         self.fixed_picks.retain(|&v| mesh.is_valid_vertex(v));
         self.paint.resize(mesh.vertex_slots(), PAINT_NONE);
+        self.recorded = None;
         if self.session.is_some() {
             // Rebuilt on the restored surface at the next use; the transform restarts.
             self.stale = true;
@@ -1009,191 +892,5 @@ impl BendelsKlein {
             ms(t)
         ));
         Ok(())
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::tools::fixture::{bits, refine_and_land, Expect, Fixture, Landing};
-    use crate::tools::Status;
-
-    /// The number in "… refine: N new vertices …" of the status line.
-    fn new_vertices(status: &Status) -> usize {
-        let rest = status
-            .message
-            .split("refine: ")
-            .nth(1)
-            .unwrap_or_else(|| panic!("no refine report: {}", status.message));
-        rest.split(' ').next().unwrap().parse().unwrap()
-    }
-
-    /// Paints the top cap (z > 0.7) of `mesh` as the handle and its lower half as the
-    /// fixed part.
-    fn paint_cap_and_lower_half(tool: &mut BendelsKlein, mesh: &Mesh) {
-        tool.paint = (0..mesh.vertex_slots())
-            .map(|i| match mesh.vertex_at(i).map(|v| mesh.position(v).z) {
-                Some(z) if z > 0.7 => PAINT_HANDLE,
-                Some(z) if z < 0.0 => PAINT_FIXED,
-                _ => PAINT_NONE,
-            })
-            .collect();
-        tool.source = Some(RegionSource::Painted);
-    }
-
-    /// Paints the handle (the top cap) and the fixed part (the lower half) of the level
-    /// shown, pulls the handle up, refines, and checks that the hierarchy survives.
-    fn refine_keeps_the_hierarchy(level: usize) {
-        let mut fixture = Fixture::at_level(level);
-        let input = fixture.input.clone();
-        let mut ctx = fixture.ctx();
-        let mut tool = BendelsKlein::default();
-        paint_cap_and_lower_half(&mut tool, ctx.mesh());
-        tool.build(&mut ctx).unwrap();
-        assert!(tool.session.is_some());
-        tool.set_parameter("translate", &serde_json::json!([0.0, 0.0, 1.0]), &mut ctx)
-            .unwrap();
-        ctx.doc.end_edit();
-        let roles = tool.session.as_ref().unwrap().regions().roles().to_vec();
-        let ancestors = ctx.doc.hierarchy().unwrap().ancestors(level).unwrap();
-        let before_positions = bits(ctx.mesh().positions());
-        let before_vertices = ctx.mesh().n_vertices();
-        let steps = ctx.doc.undo_len();
-        tool.refine_threshold = 1.5;
-        tool.apply(&mut ctx).unwrap();
-        assert!(!ctx.status.is_error, "{}", ctx.status.message);
-        let added = new_vertices(&*ctx.status);
-        assert!(added > 0, "{}", ctx.status.message);
-
-        // The document still holds the hierarchy, at the same level, with levels.
-        let h = ctx
-            .doc
-            .hierarchy()
-            .expect("the refinement dropped the hierarchy");
-        assert_eq!(h.current_level(), Some(level));
-        assert!(h.n_levels() > 1);
-        assert!(std::ptr::eq(ctx.mesh(), h.mesh()));
-        let coarsest = h.coarsest_level();
-        let after_vertices = ctx.mesh().n_vertices();
-        assert_eq!(ctx.doc.undo_len(), steps + 1);
-        assert_eq!(ctx.doc.undo_labels().last(), Some("Bendels–Klein refine"));
-
-        // Every level is reachable, the new vertices are at the input (one slider drag).
-        ctx.doc.go_to_level(0, "levels").unwrap();
-        ctx.mesh().check().unwrap();
-        assert_eq!(ctx.mesh().n_vertices(), input.n_vertices() + added);
-        // The edit reached the input as the library carries it: the fixed part did not
-        // move, the handle is its translated input (local-frame detail, marked handle).
-        let fine = ctx.mesh();
-        let mut handle = 0;
-        for v in input.vertices() {
-            let (p, q) = (input.position(v), fine.position(v));
-            match roles[ancestors[input.vertex_index(v)] as usize] {
-                Role::Fixed => assert_eq!(q, p, "fixed vertex {v} moved"),
-                Role::Handle => {
-                    handle += 1;
-                    assert!(
-                        (q - p - DVec3::Z).length() < 1e-9,
-                        "handle vertex {v} at {q}"
-                    );
-                }
-                Role::Deformable => {}
-            }
-        }
-        assert!(handle > 10, "{handle} handle vertices");
-        ctx.doc.go_to_level(coarsest, "levels").unwrap();
-        ctx.mesh().check().unwrap();
-        ctx.doc.go_to_level(level, "levels").unwrap();
-        ctx.mesh().check().unwrap();
-        ctx.doc.end_edit();
-        assert_eq!(ctx.mesh().n_vertices(), after_vertices);
-
-        // Undo: the level walk, then the refinement, gives the hierarchy as it was.
-        assert_eq!(ctx.doc.undo().as_deref(), Some("levels"));
-        assert_eq!(ctx.doc.undo().as_deref(), Some("Bendels–Klein refine"));
-        tool.on_mesh_replaced(ctx.doc.mesh());
-        let h = ctx.doc.hierarchy().expect("undo gives the hierarchy back");
-        assert_eq!(h.current_level(), Some(level));
-        assert_eq!(ctx.mesh().n_vertices(), before_vertices);
-        assert_eq!(bits(ctx.mesh().positions()), before_positions);
-        // Redo gives the refined hierarchy again, undo the one before.
-        assert_eq!(ctx.doc.redo().as_deref(), Some("Bendels–Klein refine"));
-        assert_eq!(ctx.doc.hierarchy().unwrap().current_level(), Some(level));
-        assert_eq!(ctx.mesh().n_vertices(), after_vertices);
-        ctx.doc.undo();
-        assert_eq!(bits(ctx.mesh().positions()), before_positions);
-        ctx.doc.go_to_level(0, "levels").unwrap();
-        assert_eq!(ctx.mesh().n_vertices(), input.n_vertices());
-    }
-
-    /// At level 2 of the fixture: paints the handle (top cap) and the fixed part (lower
-    /// half), turns the handle by 40° about x and lifts it, as one undo step. Returns the
-    /// tool (its session made).
-    fn rotate_the_cap(ctx: &mut ToolContext<'_>) -> BendelsKlein {
-        let mut tool = BendelsKlein::default();
-        paint_cap_and_lower_half(&mut tool, ctx.mesh());
-        tool.build(ctx).unwrap();
-        for (name, value) in [
-            ("axis", serde_json::json!([1.0, 0.0, 0.0])),
-            ("angle", serde_json::json!(40.0)),
-            ("translate", serde_json::json!([0.0, 0.1, 0.3])),
-        ] {
-            tool.set_parameter(name, &value, ctx).unwrap();
-        }
-        assert!(!ctx.status.is_error, "{}", ctx.status.message);
-        ctx.doc.end_edit();
-        tool
-    }
-
-    #[test]
-    fn a_handle_rotated_at_a_coarse_level_lands_exactly_at_full_resolution() {
-        // Refined to the input, the handle is exactly the handle's rigid transform of its
-        // input vertices and the fixed half has not moved, bit for bit: the tool marks the
-        // document's hierarchy with the handle's transform and the moved region.
-        let level = 2;
-        let mut fixture = Fixture::at_level(level);
-        let input = fixture.input.clone();
-        let mut ctx = fixture.ctx();
-        let tool = rotate_the_cap(&mut ctx);
-        let a_map = glam::DAffine3::from_mat4(tool.transform());
-        let roles = tool.session.as_ref().unwrap().regions().roles().to_vec();
-        let Landing {
-            landed: handle,
-            stayed: fixed,
-            worst,
-        } = refine_and_land(&mut ctx, &input, level, |a| match roles[a] {
-            Role::Fixed => Expect::Stays,
-            Role::Handle => Expect::Lands(a_map),
-            Role::Deformable => Expect::Free,
-        });
-        assert!(handle > 10 && fixed > 100, "{handle} handle, {fixed} fixed");
-        // The icosphere's diagonal is about 3.5.
-        assert!(
-            worst < 1e-9,
-            "a handle vertex is {worst:e} off its rigid target"
-        );
-    }
-
-    #[test]
-    fn undoing_a_coarse_edit_drops_its_marks() {
-        // The edit undone at its level, the hierarchy refines to the input bit for bit:
-        // the handle's mark went with the positions it described.
-        let mut fixture = Fixture::at_level(2);
-        let input = fixture.input.clone();
-        let mut ctx = fixture.ctx();
-        rotate_the_cap(&mut ctx);
-        assert_eq!(ctx.doc.undo().as_deref(), Some("Bendels–Klein transform"));
-        ctx.doc.go_to_level(0, "levels").unwrap();
-        assert_eq!(bits(ctx.mesh().positions()), bits(input.positions()));
-    }
-
-    #[test]
-    fn refinement_at_a_coarse_level_keeps_the_hierarchy_and_undoes_exactly() {
-        refine_keeps_the_hierarchy(2);
-    }
-
-    #[test]
-    fn refinement_at_level_0_of_a_hierarchy_keeps_the_hierarchy() {
-        refine_keeps_the_hierarchy(0);
     }
 }
