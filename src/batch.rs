@@ -505,6 +505,15 @@ pub fn run_recipe(
         other => return Err(invalid("method", format!("{other:?} is not rounds or qem"))),
     };
     options = options.with_target_faces(spec.target_faces.unwrap_or(2000));
+    if let Some(degrees) = spec.max_normal_deviation {
+        if !(degrees.is_finite() && degrees > 0.0 && degrees <= 180.0) {
+            return Err(invalid(
+                "max_normal_deviation",
+                format!("must be in (0, 180] degrees, got {degrees}"),
+            ));
+        }
+        options = options.with_max_normal_deviation(degrees.to_radians());
+    }
     options = options.with_detail_mode(match spec.detail.as_deref().unwrap_or("local") {
         "local" => DetailMode::LocalFrame,
         "translation" => DetailMode::Translation,

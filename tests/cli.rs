@@ -109,6 +109,22 @@ fn version_help_and_usage_errors() {
         vec!["simplify", "x.obj"],
         vec!["simplify", "x.obj", "-o", "h.mrh", "--method", "best"],
         vec!["info", "x.obj", "--weld", "-1"],
+        vec![
+            "simplify",
+            "x.obj",
+            "-o",
+            "h.mrh",
+            "--max-normal-deviation",
+            "0",
+        ],
+        vec![
+            "simplify",
+            "x.obj",
+            "-o",
+            "h.mrh",
+            "--max-normal-deviation",
+            "nan",
+        ],
         vec![],
     ] {
         let o = multires().args(&usage).output().unwrap();
@@ -321,6 +337,27 @@ fn simplify_then_refine_gives_the_input_bit_for_bit() {
             );
             assert_eq!(read(&out).n_faces() as u64, faces);
         }
+        // a looser normal bound is accepted and the hierarchy still refines exactly
+        let loose = dir.join(format!("{method}-loose.mrh"));
+        assert_exit(
+            &run(&[
+                &"simplify",
+                &torus,
+                &"-o",
+                &loose,
+                &"--method",
+                &method,
+                &"--target-faces",
+                &"200",
+                &"--max-normal-deviation",
+                &"120",
+                &"-q",
+            ]),
+            0,
+        );
+        let loose_full = dir.join(format!("{method}-loose.ply"));
+        assert_exit(&run(&[&"refine", &loose, &"-o", &loose_full]), 0);
+        assert_eq!(arrays(&read(&loose_full)), arrays(&read(&torus)));
         // refine: the input, bit for bit
         let full = dir.join(format!("{method}-full.ply"));
         let o = run(&[&"refine", &h, &"-o", &full, &"--json"]);

@@ -41,6 +41,10 @@ pub struct HierarchySpec {
     /// paper's).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub detail: Option<String>,
+    /// The bound on a face normal's turn in one collapse, in degrees (default: the
+    /// method's, `HierarchyOptions::max_normal_deviation`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_normal_deviation: Option<f64>,
 }
 
 /// A vertex given in terms that carry over between meshes.

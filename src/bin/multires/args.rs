@@ -56,6 +56,13 @@ pub enum Command {
     Batch(BatchArgs),
 }
 
+fn parse_degrees(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(d) if d.is_finite() && d > 0.0 && d <= 180.0 => Ok(d),
+        _ => Err(format!("expected an angle in (0, 180] degrees, got {s:?}")),
+    }
+}
+
 fn parse_weld(s: &str) -> Result<Weld, String> {
     s.parse()
 }
@@ -114,6 +121,10 @@ pub struct SimplifyArgs {
     /// Stop after this many levels below the input.
     #[arg(long)]
     pub max_levels: Option<usize>,
+    /// The bound on a face normal's turn in one collapse, in degrees (default: the
+    /// method's; the viewer's default is 90).
+    #[arg(long, value_parser = parse_degrees)]
+    pub max_normal_deviation: Option<f64>,
     /// Detail coefficients: local (local frames) or translation (the seed paper's).
     #[arg(long, default_value = "local", value_parser = ["local", "translation"])]
     pub detail: String,

@@ -29,6 +29,9 @@ pub fn run(a: SimplifyArgs, out: &Output) -> multires::Result<()> {
     if let Some(levels) = a.max_levels {
         options = options.with_max_levels(levels);
     }
+    if let Some(degrees) = a.max_normal_deviation {
+        options = options.with_max_normal_deviation(degrees.to_radians());
+    }
     let input_faces = loaded.mesh.n_faces();
     let clock = Instant::now();
     bars.start("simplifying (faces removed)", Some(input_faces as u64));

@@ -55,15 +55,17 @@ pub(super) fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
 
 impl Multires {
     /// The build options as a recipe's `[hierarchy]` table (what `multires simplify` and
-    /// `multires batch` build), or `None` when it cannot express them (a rounds build with
-    /// another bound on the normal deviation than the library's default).
+    /// `multires batch` build; `max_normal_deviation` only when it is not the method's
+    /// default).
     pub(super) fn recipe_spec(&self) -> Option<HierarchySpec> {
+        // The viewer's bound applies to rounds builds (QEM keeps the library's).
         let default_bound = HierarchyOptions::rounds().max_normal_deviation;
         let bound = self.max_normal_deviation.to_radians();
-        if self.method == Method::Rounds && bound.to_bits() != default_bound.to_bits() {
-            return None;
-        }
+        let max_normal_deviation = (self.method == Method::Rounds
+            && bound.to_bits() != default_bound.to_bits())
+        .then_some(self.max_normal_deviation);
         Some(HierarchySpec {
+            max_normal_deviation,
             method: Some(choice_name(&METHODS, self.method).to_owned()),
             target_faces: Some(self.target_faces),
             detail: Some(
