@@ -92,6 +92,7 @@ impl From<edit::deform::DeformError> for Error {
 pub type Result<T, E = Error> = std::result::Result<T, E>;
 
 /// [`Error::Io`] for `path`.
+#[cfg_attr(not(feature = "render"), allow(dead_code))]
 pub(crate) fn io_error(path: impl Into<PathBuf>) -> impl FnOnce(std::io::Error) -> Error {
     let path = path.into();
     move |source| Error::Io { path, source }

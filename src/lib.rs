@@ -13,6 +13,7 @@
 
 #[cfg(feature = "render")]
 pub mod batch;
+mod cut;
 pub mod error;
 pub mod guide;
 pub mod load;

@@ -43,7 +43,7 @@ struct Args {
     format: String,
     /// Axis of the cutting plane that labels the sub-mesh: the sub-mesh is the part
     /// furthest along it (x, y, z, -x, -y or -z).
-    #[arg(long, default_value = "y", value_parser = workflow::parse_axis)]
+    #[arg(long, default_value = "y", value_parser = multires::recipe::parse_axis)]
     axis: DVec3,
     /// Height of the cutting plane, as a fraction of the mesh's extent along the axis
     /// (it moves towards the tip when the section there cannot cut the mesh).

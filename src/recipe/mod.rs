@@ -45,10 +45,11 @@
 
 mod apply;
 mod region;
+pub(crate) use region::axis_name;
 mod schema;
 
 pub use apply::{apply, apply_to_mesh, StepOutcome};
-pub use region::{resolve_place, resolve_region, Frame};
+pub use region::{parse_axis, resolve_place, resolve_region, Frame};
 pub use schema::{
     AxisSpec, Blend, Falloff, HierarchySpec, LeeDrag, Matrix, Place, Pull, Recipe, Region, Rotate,
     RotateStep, Scale, Smooth, Step, StepKind, Taper, Twist, Variation, RECIPE_VERSION,

@@ -7,7 +7,7 @@ use halfedge::labels::LABEL_ATTRIBUTE;
 use halfedge::{Mesh, VertexId};
 
 use super::schema::{Place, Region};
-use crate::workflow::{parse_axis, submesh};
+use crate::cut as submesh;
 
 /// What fractions of a step are fractions of: the bounding-box diagonal of the mesh the
 /// step is made on.
@@ -214,4 +214,35 @@ pub(crate) fn region_centre(mesh: &Mesh, region: &Region, vertices: &[VertexId])
         || vertices.iter().map(|&v| mesh.position(v)).sum::<DVec3>() / vertices.len().max(1) as f64,
         |v| mesh.position(v),
     )
+}
+
+/// Parses an axis name: `x`, `y`, `z` (or `+x`, …), `-x`, `-y`, `-z`.
+///
+/// # Errors
+/// A message naming the unknown axis.
+pub fn parse_axis(s: &str) -> std::result::Result<DVec3, String> {
+    match s.trim() {
+        "x" | "+x" => Ok(DVec3::X),
+        "y" | "+y" => Ok(DVec3::Y),
+        "z" | "+z" => Ok(DVec3::Z),
+        "-x" => Ok(DVec3::NEG_X),
+        "-y" => Ok(DVec3::NEG_Y),
+        "-z" => Ok(DVec3::NEG_Z),
+        other => Err(format!("unknown axis {other:?} (x, y, z, -x, -y or -z)")),
+    }
+}
+
+/// The name of a coordinate axis (`"?"` for another direction).
+pub(crate) fn axis_name(d: DVec3) -> &'static str {
+    [
+        (DVec3::X, "x"),
+        (DVec3::Y, "y"),
+        (DVec3::Z, "z"),
+        (DVec3::NEG_X, "-x"),
+        (DVec3::NEG_Y, "-y"),
+        (DVec3::NEG_Z, "-z"),
+    ]
+    .iter()
+    .find(|(a, _)| *a == d)
+    .map_or("?", |(_, n)| n)
 }

@@ -65,7 +65,6 @@
 mod blend;
 mod lee;
 pub mod picks;
-pub(crate) mod submesh;
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -162,37 +161,6 @@ impl WorkflowOptions {
         }
         Ok(self)
     }
-}
-
-/// Parses an axis name: `x`, `y`, `z` (or `+x`, …), `-x`, `-y`, `-z`.
-///
-/// # Errors
-/// A message naming the unknown axis.
-pub fn parse_axis(s: &str) -> std::result::Result<DVec3, String> {
-    match s.trim() {
-        "x" | "+x" => Ok(DVec3::X),
-        "y" | "+y" => Ok(DVec3::Y),
-        "z" | "+z" => Ok(DVec3::Z),
-        "-x" => Ok(DVec3::NEG_X),
-        "-y" => Ok(DVec3::NEG_Y),
-        "-z" => Ok(DVec3::NEG_Z),
-        other => Err(format!("unknown axis {other:?} (x, y, z, -x, -y or -z)")),
-    }
-}
-
-/// The name of a coordinate axis (`"?"` for another direction).
-pub(crate) fn axis_name(d: DVec3) -> &'static str {
-    [
-        (DVec3::X, "x"),
-        (DVec3::Y, "y"),
-        (DVec3::Z, "z"),
-        (DVec3::NEG_X, "-x"),
-        (DVec3::NEG_Y, "-y"),
-        (DVec3::NEG_Z, "-z"),
-    ]
-    .iter()
-    .find(|(a, _)| *a == d)
-    .map_or("?", |(_, n)| n)
 }
 
 /// The stem of a mesh file's name, without its format's extension (and without `.gz`):
@@ -372,7 +340,7 @@ pub fn run_timed(
         rows.push(skipped("label", "left out (--skip taper)"));
         None
     } else {
-        match submesh::label_submesh(hierarchy.mesh_mut(), options.axis, options.plane) {
+        match crate::cut::label_submesh(hierarchy.mesh_mut(), options.axis, options.plane) {
             Ok(labelled) => {
                 hierarchy.attach_labels(labelled.attribute)?;
                 hierarchy.labels_defined_here();
@@ -385,7 +353,7 @@ pub fn run_timed(
                 Some(labelled.sub)
             }
             Err(why) => {
-                match submesh::mask_submesh(hierarchy.mesh(), options.axis, options.plane) {
+                match crate::cut::mask_submesh(hierarchy.mesh(), options.axis, options.plane) {
                     // An open mesh (a terrain, a flat or partial scan): no section is a
                     // closed loop, but the part beyond the plane is still a sub-mesh.
                     Ok((sub, detail)) => {

@@ -192,7 +192,7 @@ pub struct WorkflowArgs {
     pub format: String,
     /// Axis of the cutting plane that labels the sub-mesh: the sub-mesh is the part
     /// furthest along it (x, y, z, -x, -y or -z).
-    #[arg(long, default_value = "y", value_parser = multires::workflow::parse_axis)]
+    #[arg(long, default_value = "y", value_parser = multires::recipe::parse_axis)]
     pub axis: glam::DVec3,
     /// Height of the cutting plane, as a fraction of the mesh's extent along the axis.
     #[arg(long, default_value_t = 0.72)]

@@ -1,18 +1,20 @@
-//! The workflow's sub-mesh rule: the part cut off by a plane perpendicular to an axis,
+//! The sub-mesh rule of the workflow and of the recipes' `cut` regions: the part cut off by a plane perpendicular to an axis,
 //! labelled (a closed frontier) or, on an open mesh, given as a vertex mask.
 
 use edit::deform::SubMesh;
 use glam::DVec3;
 use halfedge::{Mesh, VertexId};
 
-use super::axis_name;
+use crate::recipe::axis_name;
 
 /// The sub-mesh cut off by a plane, with what the table and the notes say about it.
+// The workflow (feature `render`) reads every field; recipes need only the sub-mesh.
+#[cfg_attr(not(feature = "render"), allow(dead_code))]
 pub(crate) struct Labelled {
-    pub(super) attribute: halfedge::Attribute<VertexId, halfedge::labels::Label>,
+    pub(crate) attribute: halfedge::Attribute<VertexId, halfedge::labels::Label>,
     pub(crate) sub: SubMesh,
-    pub(super) detail: String,
-    pub(super) note: Option<String>,
+    pub(crate) detail: String,
+    pub(crate) note: Option<String>,
 }
 
 /// The smallest sub-mesh the taper is worth making on.
@@ -159,7 +161,8 @@ pub(crate) fn label_submesh(
 /// The sub-mesh of an open mesh no plane section closes around: the vertices beyond a
 /// plane perpendicular to an axis, reached from the vertex furthest along it without
 /// crossing the plane, tried in the order of [`label_submesh`] (axes, then heights).
-pub(super) fn mask_submesh(
+#[cfg_attr(not(feature = "render"), allow(dead_code))]
+pub(crate) fn mask_submesh(
     mesh: &Mesh,
     axis: DVec3,
     fraction: f64,
