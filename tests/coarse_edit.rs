@@ -1,4 +1,4 @@
-//! The `coarse_edit` example's measurement (issue 12): an edit made at a coarse level and
+//! The `coarse_edit` example's measurement (issue 12, `testkit::coarse_edit`): an edit made at a coarse level and
 //! refined back against the same edit made at full resolution, for every edit, both
 //! simplification methods and levels 2 to 4. The issue's four targets: nothing outside
 //! the edit's region moves, rigid and affine parts land within 1e-9 of the diagonal, no
@@ -9,13 +9,10 @@
 //! flat) and asserts all four targets there. The real-mesh tier (`--include-ignored`)
 //! asserts them on the shared meshes at level 3 with both methods.
 
-#[path = "../examples/coarse_edit/measure.rs"]
-mod measure;
-
 use glam::DVec3;
 use halfedge::hierarchy::{DetailMode, Method};
 use halfedge::{generators, Mesh};
-use measure::{EditKind, Options, Report};
+use testkit::coarse_edit::{self, EditKind, Options, Report};
 
 /// A smooth bump field on top of a surface point (a few waves).
 fn bumps(p: DVec3) -> f64 {
@@ -124,10 +121,11 @@ fn measure_all(
     let mut reports = Vec::new();
     for method in [Method::Rounds, Method::Qem] {
         for &level in levels {
-            let prepared = measure::prepare(mesh.clone(), method, DetailMode::LocalFrame, level)
-                .unwrap_or_else(|e| panic!("{name} {method:?} level {level}: {e}"));
+            let prepared =
+                coarse_edit::prepare(mesh.clone(), method, DetailMode::LocalFrame, level)
+                    .unwrap_or_else(|e| panic!("{name} {method:?} level {level}: {e}"));
             for &edit in edits {
-                let report = measure::measure(&prepared, &Options::new(edit))
+                let report = coarse_edit::measure(&prepared, &Options::new(edit))
                     .unwrap_or_else(|e| {
                         panic!("{name} {method:?} level {level} {}: {e}", edit.name())
                     })
@@ -224,10 +222,11 @@ fn coarse_edits_meet_the_targets_far_from_the_origin_and_at_any_scale() {
     let tiny = moved(&|p| p * 1e-6);
     let mut reports = Vec::new();
     for (name, mesh) in [("far", &far), ("tiny", &tiny)] {
-        let prepared = measure::prepare(mesh.clone(), Method::Rounds, DetailMode::LocalFrame, 3)
-            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        let prepared =
+            coarse_edit::prepare(mesh.clone(), Method::Rounds, DetailMode::LocalFrame, 3)
+                .unwrap_or_else(|e| panic!("{name}: {e}"));
         for edit in EditKind::ALL {
-            let report = measure::measure(&prepared, &Options::new(edit))
+            let report = coarse_edit::measure(&prepared, &Options::new(edit))
                 .unwrap_or_else(|e| panic!("{name} {}: {e}", edit.name()))
                 .report;
             reports.push((name.to_string(), report));
@@ -235,9 +234,10 @@ fn coarse_edits_meet_the_targets_far_from_the_origin_and_at_any_scale() {
     }
     assert_all(&reports, "all four targets", Report::meets_targets);
     // The same edits as on the capsule where it is: the same regions.
-    let prepared = measure::prepare(capsule, Method::Rounds, DetailMode::LocalFrame, 3).unwrap();
+    let prepared =
+        coarse_edit::prepare(capsule, Method::Rounds, DetailMode::LocalFrame, 3).unwrap();
     for (name, r) in &reports {
-        let here = measure::measure(&prepared, &Options::new(r.edit))
+        let here = coarse_edit::measure(&prepared, &Options::new(r.edit))
             .unwrap()
             .report;
         assert_eq!(
@@ -258,10 +258,10 @@ fn a_flat_region_twists_from_the_boundary_and_refuses_a_seed_inside() {
     // refused with an error naming the flag to change.
     let mesh = flat_patch();
     let prepared =
-        measure::prepare(mesh.clone(), Method::Rounds, DetailMode::LocalFrame, 3).unwrap();
+        coarse_edit::prepare(mesh.clone(), Method::Rounds, DetailMode::LocalFrame, 3).unwrap();
     let mut reports = Vec::new();
     for edit in EditKind::ALL {
-        let report = measure::measure(&prepared, &Options::new(edit))
+        let report = coarse_edit::measure(&prepared, &Options::new(edit))
             .unwrap()
             .report;
         if matches!(edit, EditKind::Twist | EditKind::Taper) {
@@ -291,7 +291,7 @@ fn a_flat_region_twists_from_the_boundary_and_refuses_a_seed_inside() {
             seed_vertex: Some(inside),
             ..Options::new(edit)
         };
-        let e = measure::measure(&prepared, &options).err().unwrap();
+        let e = coarse_edit::measure(&prepared, &options).err().unwrap();
         assert!(
             e.message.contains("flat") && e.hint.contains("--seed-vertex"),
             "{e}"
@@ -304,8 +304,8 @@ fn the_paper_translations_move_vertices_outside_the_region() {
     // The same measurement with the seed paper's centroid translations: the edit
     // diffuses beyond its region and the rigid part does not land (what local frames fix).
     let prepared =
-        measure::prepare(bumpy_capsule(), Method::Rounds, DetailMode::Translation, 3).unwrap();
-    let report = measure::measure(&prepared, &Options::new(EditKind::Rotate))
+        coarse_edit::prepare(bumpy_capsule(), Method::Rounds, DetailMode::Translation, 3).unwrap();
+    let report = coarse_edit::measure(&prepared, &Options::new(EditKind::Rotate))
         .unwrap()
         .report;
     assert_eq!(report.marks, 0);
@@ -317,7 +317,7 @@ fn the_paper_translations_move_vertices_outside_the_region() {
 #[test]
 fn region_options_are_checked() {
     let prepared =
-        measure::prepare(bumpy_capsule(), Method::Qem, DetailMode::LocalFrame, 2).unwrap();
+        coarse_edit::prepare(bumpy_capsule(), Method::Qem, DetailMode::LocalFrame, 2).unwrap();
     for (options, what) in [
         (
             Options {
@@ -341,12 +341,14 @@ fn region_options_are_checked() {
             "--seed-vertex",
         ),
     ] {
-        let e = measure::measure(&prepared, &options).err().unwrap();
+        let e = coarse_edit::measure(&prepared, &options).err().unwrap();
         assert!(e.to_string().contains(what), "{e}");
         assert!(!e.hint.is_empty());
     }
-    assert!(measure::prepare(bumpy_capsule(), Method::Rounds, DetailMode::LocalFrame, 0).is_err());
-    let e = measure::prepare(
+    assert!(
+        coarse_edit::prepare(bumpy_capsule(), Method::Rounds, DetailMode::LocalFrame, 0).is_err()
+    );
+    let e = coarse_edit::prepare(
         generators::icosphere(1),
         Method::Rounds,
         DetailMode::LocalFrame,
@@ -397,10 +399,12 @@ fn bk_refine_reports(name: &str, mesh: &Mesh, levels: &[usize]) -> Vec<serde_jso
     let mut reports = Vec::new();
     for method in [Method::Rounds, Method::Qem] {
         for &level in levels {
-            let prepared = measure::prepare(mesh.clone(), method, DetailMode::LocalFrame, level)
-                .unwrap_or_else(|e| panic!("{name} {method:?} level {level}: {e}"));
-            let report = measure::measure_bk_refine(&prepared, &Options::new(EditKind::Bk), name)
-                .unwrap_or_else(|e| panic!("{name} {method:?} level {level} bk-refine: {e}"));
+            let prepared =
+                coarse_edit::prepare(mesh.clone(), method, DetailMode::LocalFrame, level)
+                    .unwrap_or_else(|e| panic!("{name} {method:?} level {level}: {e}"));
+            let report =
+                coarse_edit::measure_bk_refine(&prepared, &Options::new(EditKind::Bk), name)
+                    .unwrap_or_else(|e| panic!("{name} {method:?} level {level} bk-refine: {e}"));
             reports.push(report);
         }
     }

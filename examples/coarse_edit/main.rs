@@ -120,16 +120,18 @@
 //! `refine_seconds` (no full-resolution comparison: the refined mesh has other vertices).
 //!
 //! Errors are printed with a hint of which flag to change; the exit code is then 2.
+//!
+//! The measurement itself is `testkit::coarse_edit` (`crates/testkit/src/coarse_edit/`),
+//! shared with `tests/coarse_edit.rs`; this file is its command line.
 
 use std::path::PathBuf;
 
 use clap::{Parser, ValueEnum};
 use halfedge::hierarchy::{DetailMode, Method};
 
-mod measure;
-use measure::{EditKind, Failure, Options};
 use multires::load::{self, Weld, WELD_HELP};
 use multires::progress::{Bars, LARGE_FACES};
+use testkit::coarse_edit::{self, EditKind, Failure, Options};
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
 enum EditArg {
@@ -265,14 +267,14 @@ fn run(args: &Args) -> Result<serde_json::Value, Failure> {
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
     if let EditArg::BkRefine = args.edit {
-        let prepared = measure::prepare(input, method, detail, args.level)?;
+        let prepared = coarse_edit::prepare(input, method, detail, args.level)?;
         let options = Options {
             seed_vertex,
             region_fraction: args.region_fraction,
             amount: args.amount,
             ..Options::new(EditKind::Bk)
         };
-        return measure::measure_bk_refine(&prepared, &options, &name);
+        return coarse_edit::measure_bk_refine(&prepared, &options, &name);
     }
     let edit = match args.edit {
         EditArg::Rotate => EditKind::Rotate,
@@ -284,14 +286,14 @@ fn run(args: &Args) -> Result<serde_json::Value, Failure> {
         EditArg::Bk | EditArg::BkRefine => EditKind::Bk,
         EditArg::Ffd => EditKind::Ffd,
     };
-    let prepared = measure::prepare(input, method, detail, args.level)?;
+    let prepared = coarse_edit::prepare(input, method, detail, args.level)?;
     let options = Options {
         seed_vertex,
         region_fraction: args.region_fraction,
         amount: args.amount,
         ..Options::new(edit)
     };
-    let measured = measure::measure(&prepared, &options)?;
+    let measured = coarse_edit::measure(&prepared, &options)?;
     if let Some(dir) = &args.out {
         let write = |name: &str, mesh: &halfedge::Mesh| {
             std::fs::create_dir_all(dir)

@@ -14,15 +14,20 @@
 //! - [`regions`]: the vertex regions the editing tests pick (Spot's snout, the bunny's ear
 //!   and head);
 //! - [`ply`]: PLY files written byte by byte, to test the readers;
-//! - [`openmesh`]: the OpenMesh comparison tier's requirements.
+//! - [`openmesh`]: the OpenMesh comparison tier's requirements;
+//! - [`coarse_edit`]: the measurement of the `coarse_edit` example and
+//!   `tests/coarse_edit.rs` (an edit made at a coarse level and refined back, against the
+//!   same edit at full resolution).
 //!
-//! `testkit` depends on `halfedge`, and `halfedge` dev-depends on `testkit`: the types agree
-//! in `halfedge`'s integration tests, not in its `#[cfg(test)]` unit tests (those see a
-//! second copy of the crate), so only integration tests and benches use it.
+//! `testkit` depends on `halfedge` and `edit`, and both dev-depend on `testkit`: the types
+//! agree in their integration tests, not in their `#[cfg(test)]` unit tests (those see a
+//! second copy of the crate), so only integration tests, benches and the root package's
+//! examples use it.
 
 #![forbid(unsafe_code)]
 
 pub mod check;
+pub mod coarse_edit;
 pub mod meshes;
 pub mod openmesh;
 pub mod ply;
