@@ -6,7 +6,7 @@
 //! grown by breadth-first rings from a front vertex; spot with a ≈ 300-vertex disk around
 //! its snout.
 
-mod common;
+use testkit::bench as common;
 
 use std::hint::black_box;
 use std::time::Duration;

@@ -5,7 +5,7 @@
 //! `cargo bench --bench blend` (add `-- <filter>` for one group). Inputs are built once
 //! per group; sample sizes are small on purpose (whole-field operations take 0.1–1 s).
 
-mod common;
+use testkit::bench as common;
 
 use std::hint::black_box;
 use std::sync::{Mutex, OnceLock};

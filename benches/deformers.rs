@@ -3,7 +3,7 @@
 //! a real scan) and on a waved 1001² grid (1.002 M vertices). Run with
 //! `cargo bench --bench deformers`.
 
-mod common;
+use testkit::bench as common;
 
 use std::time::Duration;
 

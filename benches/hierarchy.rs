@@ -8,7 +8,7 @@
 //!
 //! Run: `cargo bench --bench hierarchy`.
 
-mod common;
+use testkit::bench as common;
 
 use std::sync::OnceLock;
 use std::time::Duration;

@@ -19,7 +19,7 @@
 
 use std::hint::black_box;
 
-mod common;
+use testkit::bench as common;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use glam::DVec3;

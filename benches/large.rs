@@ -19,7 +19,7 @@
 //! faces, which take a second or more, show progress on stderr (a bar for the hierarchy
 //! build and refinement, a spinner for the others; silent when stderr is not a terminal).
 
-mod common;
+use testkit::bench as common;
 
 use std::hint::black_box;
 use std::time::{Duration, Instant};

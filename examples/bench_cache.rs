@@ -9,8 +9,7 @@
 //! cargo run --release --example bench_cache -- --list  # what would be made, and where
 //! ```
 
-#[path = "../benches/common/mod.rs"]
-mod common;
+use testkit::bench as common;
 
 use std::time::Instant;
 

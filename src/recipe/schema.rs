@@ -186,9 +186,6 @@ pub struct AxisSpec {
 #[allow(clippy::large_enum_variant)]
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "method", rename_all = "snake_case")]
-// A recipe holds a handful of steps: their size does not matter, and unboxed variants
-// keep the steps plain to build (the viewer writes them).
-#[allow(clippy::large_enum_variant)]
 pub enum Step {
     /// Lee 1999: an editing area embedded by a harmonic map, its primitive dragged and
     /// the drag spread by multilevel B-splines at scale `s`.

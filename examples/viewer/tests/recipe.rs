@@ -7,7 +7,8 @@
 
 mod common;
 
-use common::{display, display_command, read, run_viewer, scratch_dir};
+use common::{display, display_command, read, run_viewer};
+use testkit::temp_dir as scratch_dir;
 
 use std::path::{Path, PathBuf};
 use std::process::Command;

@@ -1,5 +1,5 @@
-//! Inputs shared by the root benches (`mod common;` in `benches/*.rs`) and by
-//! `examples/bench_cache.rs` (through `#[path]`): the shared real meshes, and large
+//! Inputs shared by the root benches (`use testkit::bench as common;` in `benches/*.rs`)
+//! and by `examples/bench_cache.rs`: the shared real meshes, and large
 //! meshes made from them with `halfedge::generators::subdivide` (1-to-4), generated once
 //! into `bench-cache/` at the workspace root (git-ignored) as binary little-endian PLY and
 //! read back on later runs.
@@ -16,8 +16,6 @@
 //! cargo run --release --example bench_cache -- 1M 2M   # some sizes
 //! ```
 
-#![allow(dead_code)] // each bench uses part of the module
-
 use std::path::{Path, PathBuf};
 
 use rayon::prelude::*;
@@ -28,13 +26,13 @@ use halfedge::{generators, Mesh};
 
 // The shared meshes, found as the integration tests find them (`MULTIRES_MESHES`, else
 // `shared/meshes` above the workspace).
-pub use testkit::{load_shared, shared_meshes as meshes_dir};
+pub use crate::{load_shared, shared_meshes as meshes_dir};
 
 /// The cache folder: `MULTIRES_BENCH_CACHE`, else `bench-cache/` at the workspace root.
 pub fn cache_dir() -> PathBuf {
     std::env::var_os("MULTIRES_BENCH_CACHE")
         .map(PathBuf::from)
-        .unwrap_or_else(|| testkit::workspace_root().join("bench-cache"))
+        .unwrap_or_else(|| crate::workspace_root().join("bench-cache"))
 }
 
 /// A large bench input: a shared mesh subdivided 1-to-4 a number of times.
