@@ -15,7 +15,7 @@
 //!   and head);
 //! - [`ply`]: PLY files written byte by byte, to test the readers;
 //! - [`openmesh`]: the OpenMesh comparison tier's requirements;
-//! - [`bench`]: the benches' inputs: the shared meshes and the large meshes made from them
+//! - [`bench`](mod@bench): the benches' inputs: the shared meshes and the large meshes made from them
 //!   (subdivided, cached as PLY in `bench-cache/`), for `benches/*.rs` and `bench_cache`;
 //! - [`coarse_edit`]: the measurement of the `coarse_edit` example and
 //!   `tests/coarse_edit.rs` (an edit made at a coarse level and refined back, against the

@@ -42,7 +42,7 @@
 //!   [`Hierarchy::constrain_to_labels`] re-plans the hierarchy for labels defined later.
 //! - **Files**: [`Hierarchy::save`] and [`Hierarchy::load`] keep a hierarchy in a `.mrh`
 //!   file, everything it holds included, to walk and edit it another day (module
-//!   [`file`]).
+//!   [`file`](mod@file)).
 //!
 //! ```
 //! use halfedge::generators;
