@@ -929,3 +929,81 @@ fn files_do_not_depend_on_the_thread_count() {
         );
     }
 }
+
+/// A portable recipe (places by extreme vertex, radii as fractions of the diagonal) made
+/// for one resolution does the same edit on another: on two resolutions of a sphere, each
+/// simplified to the same size and edited at its coarsest level, the handle's tip moves
+/// by the recipe's translation and the far side stays, within a tenth of it.
+#[test]
+fn a_portable_recipe_carries_over_between_resolutions() {
+    let dir = temp("resolutions");
+    let recipe_path = dir.join("r.toml");
+    std::fs::write(
+        &recipe_path,
+        r#"
+version = 1
+[[step]]
+method = "blend"
+level = 99
+handle = { kind = "ball", around = { extreme = "+x" }, radius = 0.15 }
+fixed = { kind = "beyond", around = { extreme = "+x" }, radius = 0.6 }
+translate = [0.2, 0.0, 0.0]
+"#,
+    )
+    .unwrap();
+    for level in [4, 5] {
+        let sphere = dir.join(format!("sphere-{level}.ply"));
+        halfedge::io::write(&sphere, &generators::icosphere(level)).unwrap();
+        let h = dir.join(format!("sphere-{level}.mrh"));
+        assert_exit(
+            &run(&[
+                &"simplify",
+                &sphere,
+                &"-o",
+                &h,
+                &"--target-faces",
+                &"320",
+                &"-q",
+            ]),
+            0,
+        );
+        let out = dir.join(format!("edited-{level}.ply"));
+        let h2 = dir.join(format!("edited-{level}.mrh"));
+        assert_exit(
+            &run(&[
+                &"edit",
+                &h,
+                &"--recipe",
+                &recipe_path,
+                &"-o",
+                &h2,
+                &"--mesh",
+                &out,
+            ]),
+            0,
+        );
+        let before = read(&sphere);
+        let after = read(&out);
+        assert_eq!(before.n_vertices(), after.n_vertices());
+        let nearest = |target: [f64; 3]| {
+            (0..before.n_vertices())
+                .min_by(|&a, &b| {
+                    let d =
+                        |i: usize| before.positions()[i].distance(glam::DVec3::from_array(target));
+                    d(a).total_cmp(&d(b))
+                })
+                .unwrap()
+        };
+        let moved = |i: usize| after.positions()[i] - before.positions()[i];
+        let tip = moved(nearest([1.0, 0.0, 0.0]));
+        let far = moved(nearest([-1.0, 0.0, 0.0]));
+        assert!(
+            (tip.x - 0.2).abs() < 0.02 && tip.y.abs() < 0.02 && tip.z.abs() < 0.02,
+            "level {level}: the tip moved {tip}"
+        );
+        assert!(
+            far.length() < 0.02,
+            "level {level}: the far side moved {far}"
+        );
+    }
+}
