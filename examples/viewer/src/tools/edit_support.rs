@@ -6,7 +6,7 @@ use std::collections::VecDeque;
 use std::time::Duration;
 
 use glam::DVec3;
-use halfedge::{Mesh, VertexId};
+use halfedge::{Binding, Mesh, VertexId};
 
 use super::{ToolContext, ToolError};
 use crate::document::Document;
@@ -18,24 +18,23 @@ use crate::document::Document;
 #[derive(Clone, Default)]
 pub struct Scratch {
     mesh: Option<Mesh>,
-    topology: u64,
+    /// The document mesh's binding when the copy was made: the copy's connectivity is
+    /// the document's while it [fits](halfedge::Binding::fits) (positions aside).
+    binding: Option<Binding>,
 }
 
 impl Scratch {
     /// The scratch mesh, brought up to date with the document (cloned after a change of
     /// connectivity, else only its positions are copied).
     pub fn sync(&mut self, doc: &Document) -> &mut Mesh {
-        let topology = doc.revision().topology;
+        let fits = self.binding.as_ref().is_some_and(|b| b.fits(doc.mesh()));
         match &mut self.mesh {
-            Some(mesh)
-                if self.topology == topology
-                    && mesh.vertex_slots() == doc.mesh().vertex_slots() =>
-            {
+            Some(mesh) if fits => {
                 mesh.positions_mut().copy_from_slice(doc.mesh().positions());
             }
             _ => {
                 self.mesh = Some(doc.mesh().clone());
-                self.topology = topology;
+                self.binding = Some(doc.mesh().binding());
             }
         }
         self.mesh.as_mut().expect("set above")
