@@ -7,7 +7,7 @@ file with the same recipe (read, weld, build, edit, refine, write; plus the inpu
 BLAKE3 and a sidecar). Both weld ``auto``. Optional comparison rows: ``fast_simplification``
 and ``pyfqmr`` decimating the same arrays to the same face count, when installed.
 
-    python3 benches/python/bench_workflow.py [--faces 1300000] [--bin PATH] [--shared]
+    python3 benches/python/bench_workflow.py [--level 7] [--bin PATH] [--shared] [--mesh FILE]
 
 The Rust binary is taken from --bin, $MULTIRES_BIN, or built with
 ``cargo build --release --bin multires`` (CARGO_TARGET_DIR respected).
@@ -195,6 +195,7 @@ def main():
     ap.add_argument("--bin", default=None)
     ap.add_argument("--shared", action="store_true", help="also the meshes of shared/meshes")
     ap.add_argument("--no-rust", action="store_true")
+    ap.add_argument("--mesh", action="append", default=[], help="also this mesh file (repeatable), e.g. the bench cache's nefertiti x2 (cargo run --release --example bench_cache -- 2M)")
     a = ap.parse_args()
     binary = None if a.no_rust else rust_binary(a.bin)
     results = []
@@ -203,7 +204,7 @@ def main():
         generated = tmp / "generated.ply"
         mesh = bumpy_sphere(a.level)
         mesh.write(generated)
-        paths = [generated]
+        paths = [generated] + [Path(m) for m in a.mesh]
         if a.shared:
             for parent in ROOT.parents:
                 shared = parent / "shared" / "meshes"
@@ -214,7 +215,9 @@ def main():
             results.append(bench(p, binary, a.target, a.edit_level, a.repeats, tmp))
             print(json.dumps(results[-1]), flush=True)
         print(json.dumps({"gil": gil_probe(generated, a.target)}), flush=True)
-        print(json.dumps({"simplifiers_s": comparison_rows(mesh, a.target)}), flush=True)
+        # the simplifier rows on the first --mesh given (the bench mesh), else the generated one
+        compared = multires.read(str(a.mesh[0])) if a.mesh else mesh
+        print(json.dumps({"simplifiers_s": comparison_rows(compared, a.target)}), flush=True)
 
 
 if __name__ == "__main__":
