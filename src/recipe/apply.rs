@@ -118,8 +118,41 @@ pub fn apply(
 /// resolution; a step's `level` must be absent or 0).
 ///
 /// # Errors
-/// As [`apply`]; [`RecipeError::Invalid`] for a step at a level above 0.
+/// As [`apply`]; [`RecipeError::Invalid`] for a step at a level above 0. On an error the
+/// mesh is as it was: its positions and its sub-mesh labels are put back (no step
+/// changes its connectivity).
 pub fn apply_to_mesh(
+    mesh: &mut Mesh,
+    recipe: &Recipe,
+    progress: &mut dyn Progress,
+) -> RecipeResult<Vec<StepOutcome>> {
+    let positions = mesh.positions().to_vec();
+    let labels = mesh
+        .find_attribute::<VertexId, u32>(LABEL_ATTRIBUTE)
+        .and_then(|a| Some((a, mesh.attribute_values(a).ok()?.to_vec())));
+    let result = apply_to_mesh_steps(mesh, recipe, progress);
+    if result.is_err() {
+        // put back what the steps before the failing one changed
+        mesh.positions_mut().copy_from_slice(&positions);
+        let now = mesh.find_attribute::<VertexId, u32>(LABEL_ATTRIBUTE);
+        match (&labels, now) {
+            (Some((_, values)), Some(a)) => {
+                if let Ok(slot) = mesh.attribute_values_mut(a) {
+                    if slot.len() == values.len() {
+                        slot.copy_from_slice(values);
+                    }
+                }
+            }
+            (None, Some(a)) => {
+                let _ = mesh.remove_attribute(a);
+            }
+            _ => {}
+        }
+    }
+    result
+}
+
+fn apply_to_mesh_steps(
     mesh: &mut Mesh,
     recipe: &Recipe,
     progress: &mut dyn Progress,
