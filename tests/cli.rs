@@ -16,12 +16,20 @@ fn multires() -> Command {
     Command::new(env!("CARGO_BIN_EXE_multires"))
 }
 
-/// A fresh folder for one test.
-fn temp(test: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("multires-cli-{test}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+use testkit::temp_dir as temp;
+
+/// `multires simplify MESH -o H [options] -q`, which must succeed.
+fn simplify(mesh: &Path, h: &Path, options: &[&str]) {
+    let o = multires()
+        .arg("simplify")
+        .arg(mesh)
+        .arg("-o")
+        .arg(h)
+        .args(options)
+        .arg("-q")
+        .output()
+        .unwrap();
+    assert_exit(&o, 0);
 }
 
 fn run(args: &[&dyn AsRef<std::ffi::OsStr>]) -> Output {
@@ -289,19 +297,10 @@ fn simplify_then_refine_gives_the_input_bit_for_bit() {
         }
         // the same bytes for the same input and options
         let again = dir.join(format!("{method}-again.mrh"));
-        assert_exit(
-            &run(&[
-                &"simplify",
-                &torus,
-                &"-o",
-                &again,
-                &"--method",
-                &method,
-                &"--target-faces",
-                &"200",
-                &"-q",
-            ]),
-            0,
+        simplify(
+            &torus,
+            &again,
+            &["--method", method, "--target-faces", "200"],
         );
         assert_eq!(
             std::fs::read(&h).unwrap(),
@@ -339,21 +338,17 @@ fn simplify_then_refine_gives_the_input_bit_for_bit() {
         }
         // a looser normal bound is accepted and the hierarchy still refines exactly
         let loose = dir.join(format!("{method}-loose.mrh"));
-        assert_exit(
-            &run(&[
-                &"simplify",
-                &torus,
-                &"-o",
-                &loose,
-                &"--method",
-                &method,
-                &"--target-faces",
-                &"200",
-                &"--max-normal-deviation",
-                &"120",
-                &"-q",
-            ]),
-            0,
+        simplify(
+            &torus,
+            &loose,
+            &[
+                "--method",
+                method,
+                "--target-faces",
+                "200",
+                "--max-normal-deviation",
+                "120",
+            ],
         );
         let loose_full = dir.join(format!("{method}-loose.ply"));
         assert_exit(&run(&[&"refine", &loose, &"-o", &loose_full]), 0);
@@ -397,18 +392,7 @@ fn edit_replays_a_recipe_as_the_library_does() {
     let dir = temp("edit");
     let torus = torus_file(&dir, "t.obj", 48, 24);
     let h = dir.join("h.mrh");
-    assert_exit(
-        &run(&[
-            &"simplify",
-            &torus,
-            &"-o",
-            &h,
-            &"--target-faces",
-            &"300",
-            &"-q",
-        ]),
-        0,
-    );
+    simplify(&torus, &h, &["--target-faces", "300"]);
     let recipe_path = dir.join("r.toml");
     std::fs::write(&recipe_path, RECIPE).unwrap();
     let h2 = dir.join("h2.mrh");
@@ -444,18 +428,7 @@ fn recipe_errors_name_the_step_and_the_key() {
     let dir = temp("recipe-errors");
     let torus = torus_file(&dir, "t.obj", 16, 8);
     let h = dir.join("h.mrh");
-    assert_exit(
-        &run(&[
-            &"simplify",
-            &torus,
-            &"-o",
-            &h,
-            &"--target-faces",
-            &"64",
-            &"-q",
-        ]),
-        0,
-    );
+    simplify(&torus, &h, &["--target-faces", "64"]);
     let cases = [
         // (recipe text, words the one-line error must contain)
         ("version = 1\n[[step]]\nmethod = \"pull\"\nregion = { kind = \"all\" }\noffset = [1.0, 0.0, 0.0]\n[[step]]\nmethod = \"scale\"\nregion = { kind = \"all\" }\nfactr = 2.0\n", vec!["step 2", "factr"]),
@@ -485,18 +458,7 @@ fn damaged_hierarchy_files_are_refused() {
     let dir = temp("damaged");
     let torus = torus_file(&dir, "t.obj", 16, 8);
     let h = dir.join("h.mrh");
-    assert_exit(
-        &run(&[
-            &"simplify",
-            &torus,
-            &"-o",
-            &h,
-            &"--target-faces",
-            &"64",
-            &"-q",
-        ]),
-        0,
-    );
+    simplify(&torus, &h, &["--target-faces", "64"]);
     let bytes = std::fs::read(&h).unwrap();
     let mut flipped = bytes.clone();
     let middle = flipped.len() / 2;
@@ -955,18 +917,7 @@ translate = [0.2, 0.0, 0.0]
         let sphere = dir.join(format!("sphere-{level}.ply"));
         halfedge::io::write(&sphere, &generators::icosphere(level)).unwrap();
         let h = dir.join(format!("sphere-{level}.mrh"));
-        assert_exit(
-            &run(&[
-                &"simplify",
-                &sphere,
-                &"-o",
-                &h,
-                &"--target-faces",
-                &"320",
-                &"-q",
-            ]),
-            0,
-        );
+        simplify(&sphere, &h, &["--target-faces", "320"]);
         let out = dir.join(format!("edited-{level}.ply"));
         let h2 = dir.join(format!("edited-{level}.mrh"));
         assert_exit(

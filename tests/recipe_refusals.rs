@@ -8,6 +8,7 @@ use halfedge::labels::LABEL_ATTRIBUTE;
 use halfedge::VertexId;
 use multires::progress::Silent;
 use multires::recipe::{apply_to_mesh, Recipe, RecipeError};
+use testkit::check::slot_position_bits;
 
 const RECIPE: &str = r#"
 version = 1
@@ -32,21 +33,13 @@ region = { kind = "ball", around = { vertex = 999999 }, radius = 0.1 }
 fn a_refused_recipe_leaves_the_mesh_as_it_was() {
     let mut mesh = generators::torus(2.0, 0.7, 40, 20).unwrap();
     let recipe = Recipe::from_toml(RECIPE, Path::new("r.toml")).unwrap();
-    let before: Vec<[u64; 3]> = mesh
-        .positions()
-        .iter()
-        .map(|p| p.to_array().map(f64::to_bits))
-        .collect();
+    let before = slot_position_bits(&mesh);
     assert!(mesh
         .find_attribute::<VertexId, u32>(LABEL_ATTRIBUTE)
         .is_none());
     let e = apply_to_mesh(&mut mesh, &recipe, &mut Silent).unwrap_err();
     assert!(matches!(e, RecipeError::Step { step: 3, .. }), "{e}");
-    let after: Vec<[u64; 3]> = mesh
-        .positions()
-        .iter()
-        .map(|p| p.to_array().map(f64::to_bits))
-        .collect();
+    let after = slot_position_bits(&mesh);
     let differ = before.iter().zip(&after).filter(|(a, b)| a != b).count();
     assert_eq!(differ, 0, "positions put back bit for bit: {differ} differ");
     assert!(
@@ -64,11 +57,7 @@ fn a_refused_recipe_leaves_the_mesh_as_it_was() {
         .find_attribute::<VertexId, u32>(LABEL_ATTRIBUTE)
         .expect("the cut labelled the mesh");
     let labelled = mesh.attribute_values(labels).unwrap().to_vec();
-    let moved: Vec<[u64; 3]> = mesh
-        .positions()
-        .iter()
-        .map(|p| p.to_array().map(f64::to_bits))
-        .collect();
+    let moved = slot_position_bits(&mesh);
     assert_ne!(moved, before, "the pull moved the cut-off part");
     let mut relabel = recipe.clone();
     relabel.steps[0] = Recipe::from_toml(
@@ -87,11 +76,7 @@ fn a_refused_recipe_leaves_the_mesh_as_it_was() {
         &labelled[..],
         "labels put back"
     );
-    let after: Vec<[u64; 3]> = mesh
-        .positions()
-        .iter()
-        .map(|p| p.to_array().map(f64::to_bits))
-        .collect();
+    let after = slot_position_bits(&mesh);
     assert!(
         after == moved,
         "positions put back bit for bit after the second refusal"
