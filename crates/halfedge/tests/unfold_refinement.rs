@@ -146,3 +146,74 @@ fn nothing_is_done_without_an_edit_or_without_turned_faces() {
     clean.unfold_refinement();
     assert_eq!(clean.mesh().positions(), input.positions());
 }
+
+/// A fold the coarse edit itself made is the edit's, not the refinement's: a walk finer
+/// leaves the descendants of the faces the edit turned over where the splits put them
+/// (as refining one split at a time, with no unfolding, does), and the fold stays.
+#[test]
+fn folds_made_by_the_edit_itself_are_left_as_made() {
+    let input = generators::icosphere(4);
+    let mut h = Hierarchy::build(
+        input.clone(),
+        &HierarchyOptions::rounds().with_target_faces(300),
+    )
+    .unwrap();
+    h.go_to_level(2).unwrap();
+    let mesh = h.mesh();
+    let band: Vec<VertexId> = mesh
+        .vertices()
+        .filter(|&v| mesh.position(v).z > 0.0)
+        .collect();
+    // The band lifted by a ramp, and one of its vertices thrown across its ring: the
+    // faces around it turn over at the coarse level already.
+    let inner = band
+        .iter()
+        .copied()
+        .find(|&v| {
+            mesh.position(v).z > 0.3 && mesh.adjacent_vertices(v).all(|w| mesh.position(w).z > 0.0)
+        })
+        .unwrap();
+    let ring0 = mesh.adjacent_vertices(inner).next().unwrap();
+    let rest = mesh.positions().to_vec();
+    for &v in &band {
+        let p = h.mesh().position(v);
+        h.mesh_mut().set_position(v, p + DVec3::Z * (0.5 * p.z));
+    }
+    let (p, q) = (h.mesh().position(inner), h.mesh().position(ring0));
+    h.mesh_mut().set_position(inner, p + 3.0 * (q - p));
+    h.mark_region(&band).unwrap();
+    let coarse_turned = turned(h.mesh(), &rest);
+    assert!(coarse_turned > 0, "the edit turns coarse faces over");
+    let mesh = h.mesh();
+    let mut by_edit = vec![false; mesh.vertex_slots()];
+    for f in mesh.faces() {
+        let [a, b, c] = mesh.triangle(f).map(|v| mesh.vertex_index(v));
+        let pos = mesh.positions();
+        let now = (pos[b] - pos[a]).cross(pos[c] - pos[a]);
+        let then = (rest[b] - rest[a]).cross(rest[c] - rest[a]);
+        if now.dot(then) < 0.0 {
+            for i in [a, b, c] {
+                by_edit[i] = true;
+            }
+        }
+    }
+    let ancestors = h.ancestors(2).unwrap();
+
+    let mut split = h.clone();
+    while split.applied() > 0 {
+        split.split_next().unwrap();
+    }
+    h.go_to_level(0).unwrap();
+    let (walked, stepped) = (h.mesh().positions(), split.mesh().positions());
+    let mut descendants = 0;
+    for v in h.mesh().vertices() {
+        let i = h.mesh().vertex_index(v);
+        if by_edit[ancestors[i] as usize] {
+            descendants += 1;
+            assert_eq!(bits(walked[i]), bits(stepped[i]), "vertex {i}");
+        }
+    }
+    assert!(descendants > coarse_turned);
+    assert!(turned(h.mesh(), input.positions()) > 0, "the fold stays");
+    h.mesh().check().unwrap();
+}

@@ -21,6 +21,11 @@ pub(super) struct Rest {
     pub(super) synced: usize,
     /// A split needed the copy: from then on every split puts its positions in.
     pub(super) active: bool,
+    /// The vertex slots of the faces the edits themselves turned over at the level the
+    /// copy was taken at (against the copy), noted when the first walk finer leaves that
+    /// level (`None` before, or when refinement left it another way): their descendants
+    /// are turned by the edit, not by the refinement, and the unfolding leaves them be.
+    pub(super) turned_by_edit: Option<Vec<u32>>,
 }
 
 /// At most this many [`Rest`]s are kept (edits at levels walked coarser from one
@@ -42,6 +47,7 @@ impl Rest {
             ceil,
             synced: ceil,
             active: false,
+            turned_by_edit: None,
         }
     }
 

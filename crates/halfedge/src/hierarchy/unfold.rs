@@ -15,7 +15,15 @@
 //! for at most [`MAX_ROUNDS`] rounds per depth (fewer when the neighbourhoods are so large
 //! that they would take more than [`MAX_WORK`] vertex updates, and a depth is given up
 //! after [`STALLED_ROUNDS`] rounds that turn no fewer faces over). The depth and round that
-//! turn the fewest faces over are kept (the positions as they were when none turns fewer).
+//! turn the fewest faces over are kept (the positions as they were when none turns fewer);
+//! the deeper depths are not tried once a depth turns no fewer faces over than the one
+//! before it.
+//!
+//! A face the edit itself turned over at its level is the edit's: when a walk finer leaves
+//! the level of an edit, the corners of the faces the edit turned over there (against the
+//! positions before it) are noted, and their descendants are neither counted as turned nor
+//! moved. (A workflow's handle rotation and taper turn thousands of coarse faces; the
+//! unfolding spent most of a refinement fighting them at every level, and moved the edit.)
 //! Faces the relaxation leaves turned (a step too steep for it: a coarse vertex moved by a
 //! coarse edge's share next to fine vertices that stay or land exactly) are then drawn
 //! back by ramps: from their exactly moved corners towards those corners' motion
@@ -70,12 +78,14 @@ impl Hierarchy {
             return;
         };
         self.placer().sync_rest(k, r);
+        let by_edit = self.descendants_turned_by_edit(k);
         let mut positions = std::mem::take(&mut self.mesh.positions);
         let rest = &self.rests[k].positions;
         let mesh = &self.mesh;
         let marks = &self.marks;
         let rest_of = |i: usize| rest.get(i).map(|&p| DVec3::from_array(p));
-        let movable = |i: usize| marks.of(i) == IN_REGION && rest_of(i).is_some();
+        let by_edit_at = |i: usize| by_edit.get(i).copied().unwrap_or(false);
+        let movable = |i: usize| marks.of(i) == IN_REGION && rest_of(i).is_some() && !by_edit_at(i);
         let turned = |positions: &[DVec3], f: crate::handle::FaceId| -> bool {
             turned_at(
                 positions,
@@ -102,6 +112,7 @@ impl Hierarchy {
                     corners
                         .iter()
                         .any(|&i| of_vertex.get(i) == Some(&IN_REGION))
+                        && !corners.iter().any(|&i| by_edit_at(i))
                         && turned_at(now, rest, corners)
                 })
                 .map(|f| mesh.fh(f as u32))
@@ -184,10 +195,13 @@ impl Hierarchy {
                     break;
                 }
             }
+            let deeper_helped = improved.is_some();
             if let Some(at) = improved {
                 best.1 = Some((relaxation, at));
             }
-            if unfolded {
+            if unfolded || (!deeper_helped && best.1.is_some()) {
+                // Unfolded, or this depth turned no fewer faces over than the one before:
+                // deeper ones spread the same steps wider (what is left goes to the ramps).
                 break;
             }
         }
@@ -239,6 +253,63 @@ impl Hierarchy {
             untangle_what_is_left(mesh, &mut positions, rest, &movable, &exact, watched);
         }
         self.mesh.positions = positions;
+    }
+}
+
+impl Hierarchy {
+    /// Notes, on the copy of the positions before the edits that serves the next split,
+    /// which vertices of the current level are corners of faces the edits turned over
+    /// (against that copy): called when a walk finer or a [`split_next`](Self::split_next)
+    /// starts, it does so once, at the level the copy was taken at (so that refining one
+    /// split at a time and unfolding at the end does what a walk does).
+    pub(super) fn note_turned_by_edit(&mut self) {
+        let r = self.applied;
+        if r == 0 || self.marks.is_empty() || self.details.mode() != DetailMode::LocalFrame {
+            return;
+        }
+        let Some(k) = self.rests.iter().rposition(|rest| rest.serves(r - 1)) else {
+            return;
+        };
+        let rest = &self.rests[k];
+        if rest.ceil != r || rest.turned_by_edit.is_some() {
+            return;
+        }
+        let mesh = &self.mesh;
+        let mut turned: Vec<u32> = mesh
+            .faces()
+            .map(|f| corners(mesh, f))
+            .filter(|&c| turned_at(&mesh.positions, &rest.positions, c))
+            .flatten()
+            .map(|i| i as u32)
+            .collect();
+        turned.sort_unstable();
+        turned.dedup();
+        self.rests[k].turned_by_edit = Some(turned);
+    }
+
+    /// By vertex slot: whether the vertex descends (through the splits made since) from
+    /// a corner of a face the edits turned over at the level of `self.rests[k]` (see
+    /// [`note_turned_by_edit`](Self::note_turned_by_edit)); empty when none was noted.
+    fn descendants_turned_by_edit(&self, k: usize) -> Vec<bool> {
+        let rest = &self.rests[k];
+        let Some(turned) = rest.turned_by_edit.as_deref().filter(|t| !t.is_empty()) else {
+            return Vec::new();
+        };
+        let mut flagged = vec![false; self.mesh.vertex_slots()];
+        for &i in turned {
+            if let Some(x) = flagged.get_mut(i as usize) {
+                *x = true;
+            }
+        }
+        // Coarse to fine: each split's new vertex inherits its survivor's flag.
+        let end = rest.ceil.min(self.records.len());
+        for record in self.records.steps[self.applied.min(end)..end].iter().rev() {
+            let (i0, i1) = (record.v0 as usize, record.v1 as usize);
+            if let (Some(&f), true) = (flagged.get(i1), i0 < flagged.len()) {
+                flagged[i0] = f;
+            }
+        }
+        flagged
     }
 }
 

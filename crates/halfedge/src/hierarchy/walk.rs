@@ -97,6 +97,9 @@ impl Hierarchy {
             self.collapse_next()?;
         }
         let finer = self.applied > applied;
+        if finer {
+            self.note_turned_by_edit();
+        }
         if self.applied >= applied + SPLIT_BESIDE_MIN
             && self.trusts_mesh()
             && rayon::current_num_threads() > 1
@@ -391,6 +394,8 @@ impl Hierarchy {
         if self.applied == 0 {
             return Ok(false);
         }
+        // Leaving the level of an edit: the faces the edit turned over are noted first.
+        self.note_turned_by_edit();
         let r = self.applied - 1;
         let trusted = self.trusts_mesh();
         if !trusted {

@@ -114,6 +114,7 @@ pub(super) fn read_rests(
             ceil,
             synced,
             active,
+            turned_by_edit: None,
         });
     }
     input.end()?;
