@@ -10,24 +10,26 @@ fn bits(p: DVec3) -> [u64; 3] {
     p.to_array().map(f64::to_bits)
 }
 
-/// Faces whose normal turned over against `rest`.
-fn turned(mesh: &Mesh, rest: &[DVec3]) -> usize {
+/// The corners (vertex indices) of the faces whose normal turned over against `rest`.
+fn turned_faces(mesh: &Mesh, rest: &[DVec3]) -> Vec<[usize; 3]> {
     mesh.faces()
-        .filter(|&f| {
-            let [a, b, c] = mesh.triangle(f).map(|v| mesh.vertex_index(v));
+        .map(|f| mesh.triangle(f).map(|v| mesh.vertex_index(v)))
+        .filter(|&[a, b, c]| {
             let p = mesh.positions();
             let now = (p[b] - p[a]).cross(p[c] - p[a]);
             let then = (rest[b] - rest[a]).cross(rest[c] - rest[a]);
             now.dot(then) < 0.0
         })
-        .count()
+        .collect()
 }
 
-/// A hierarchy of a sphere refined back to the input one split at a time after an edit
-/// at level 2: the cap `z > 0.6` lifted rigidly (an affine mark), the band
-/// `0 < z <= 0.6` the edit's region (lifted by a ramp), the rest outside; and the role
-/// of every input vertex by its ancestor at level 2 (0 outside, 1 band, 2 cap).
-fn refined_after_an_edit() -> (Hierarchy, Mesh, Vec<u8>) {
+/// Faces whose normal turned over against `rest`.
+fn turned(mesh: &Mesh, rest: &[DVec3]) -> usize {
+    turned_faces(mesh, rest).len()
+}
+
+/// An icosphere (the input) and its hierarchy down to 300 faces, walked to level 2.
+fn sphere_at_level_2() -> (Hierarchy, Mesh) {
     let input = generators::icosphere(4);
     let mut h = Hierarchy::build(
         input.clone(),
@@ -35,6 +37,15 @@ fn refined_after_an_edit() -> (Hierarchy, Mesh, Vec<u8>) {
     )
     .unwrap();
     h.go_to_level(2).unwrap();
+    (h, input)
+}
+
+/// A hierarchy of a sphere refined back to the input one split at a time after an edit
+/// at level 2: the cap `z > 0.6` lifted rigidly (an affine mark), the band
+/// `0 < z <= 0.6` the edit's region (lifted by a ramp), the rest outside; and the role
+/// of every input vertex by its ancestor at level 2 (0 outside, 1 band, 2 cap).
+fn refined_after_an_edit() -> (Hierarchy, Mesh, Vec<u8>) {
+    let (mut h, input) = sphere_at_level_2();
     let lift = DAffine3::from_translation(DVec3::new(0.0, 0.0, 0.3));
     let mesh = h.mesh();
     let cap: Vec<VertexId> = mesh
@@ -152,13 +163,7 @@ fn nothing_is_done_without_an_edit_or_without_turned_faces() {
 /// (as refining one split at a time, with no unfolding, does), and the fold stays.
 #[test]
 fn folds_made_by_the_edit_itself_are_left_as_made() {
-    let input = generators::icosphere(4);
-    let mut h = Hierarchy::build(
-        input.clone(),
-        &HierarchyOptions::rounds().with_target_faces(300),
-    )
-    .unwrap();
-    h.go_to_level(2).unwrap();
+    let (mut h, input) = sphere_at_level_2();
     let mesh = h.mesh();
     let band: Vec<VertexId> = mesh
         .vertices()
@@ -184,18 +189,9 @@ fn folds_made_by_the_edit_itself_are_left_as_made() {
     h.mark_region(&band).unwrap();
     let coarse_turned = turned(h.mesh(), &rest);
     assert!(coarse_turned > 0, "the edit turns coarse faces over");
-    let mesh = h.mesh();
-    let mut by_edit = vec![false; mesh.vertex_slots()];
-    for f in mesh.faces() {
-        let [a, b, c] = mesh.triangle(f).map(|v| mesh.vertex_index(v));
-        let pos = mesh.positions();
-        let now = (pos[b] - pos[a]).cross(pos[c] - pos[a]);
-        let then = (rest[b] - rest[a]).cross(rest[c] - rest[a]);
-        if now.dot(then) < 0.0 {
-            for i in [a, b, c] {
-                by_edit[i] = true;
-            }
-        }
+    let mut by_edit = vec![false; h.mesh().vertex_slots()];
+    for i in turned_faces(h.mesh(), &rest).into_iter().flatten() {
+        by_edit[i] = true;
     }
     let ancestors = h.ancestors(2).unwrap();
 

@@ -16,14 +16,22 @@ impl Hierarchy {
     /// [`Error::InvalidArgument`](crate::Error::InvalidArgument) for a level that does not exist.
     pub fn ancestors(&self, level: usize) -> Result<Vec<u32>> {
         let end = self.check_level(level)?;
+        Ok(self.ancestors_through(0..end))
+    }
+
+    /// For every vertex slot, the vertex it is collapsed into by the records `records`
+    /// (itself when none of them removes it): [`ancestors`](Self::ancestors) over a range
+    /// of records (out-of-range ends are clamped).
+    pub(super) fn ancestors_through(&self, records: std::ops::Range<usize>) -> Vec<u32> {
+        let end = records.end.min(self.records.len());
         let mut map: Vec<u32> = (0..self.mesh.vertex_slots() as u32).collect();
-        for record in self.records.steps[..end].iter().rev() {
+        for record in self.records.steps[records.start.min(end)..end].iter().rev() {
             let (i0, i1) = (record.v0 as usize, record.v1 as usize);
             if let (true, Some(&a)) = (i0 < map.len(), map.get(i1)) {
                 map[i0] = a;
             }
         }
-        Ok(map)
+        map
     }
 }
 

@@ -295,21 +295,16 @@ impl Hierarchy {
         let Some(turned) = rest.turned_by_edit.as_deref().filter(|t| !t.is_empty()) else {
             return Vec::new();
         };
-        let mut flagged = vec![false; self.mesh.vertex_slots()];
+        let mut corner = vec![false; self.mesh.vertex_slots()];
         for &i in turned {
-            if let Some(x) = flagged.get_mut(i as usize) {
+            if let Some(x) = corner.get_mut(i as usize) {
                 *x = true;
             }
         }
-        // Coarse to fine: each split's new vertex inherits its survivor's flag.
-        let end = rest.ceil.min(self.records.len());
-        for record in self.records.steps[self.applied.min(end)..end].iter().rev() {
-            let (i0, i1) = (record.v0 as usize, record.v1 as usize);
-            if let (Some(&f), true) = (flagged.get(i1), i0 < flagged.len()) {
-                flagged[i0] = f;
-            }
-        }
-        flagged
+        self.ancestors_through(self.applied..rest.ceil)
+            .into_iter()
+            .map(|a| corner.get(a as usize).copied().unwrap_or(false))
+            .collect()
     }
 }
 
