@@ -6,6 +6,7 @@
 //! ```text
 //! cargo run --release --example bench_cache            # every size
 //! cargo run --release --example bench_cache -- 1M 2M   # some sizes
+//! cargo run --release --example bench_cache -- 50M     # fandisk ×6, 53 M faces (1.3 GB)
 //! cargo run --release --example bench_cache -- --list  # what would be made, and where
 //! ```
 
@@ -20,7 +21,8 @@ use indicatif::{ProgressBar, ProgressStyle};
 #[derive(Parser, Debug)]
 #[command(about)]
 struct Args {
-    /// Sizes to prepare (1M, 2M, 4M, 6M, 18M); default: all.
+    /// Sizes to prepare (1M, 2M, 4M, 6M, 18M, and 50M only when named); default: all
+    /// but 50M.
     sizes: Vec<String>,
     /// Only list the inputs, their files and whether they are up to date.
     #[arg(long)]

@@ -17,6 +17,7 @@ mod cut;
 pub mod error;
 pub mod guide;
 pub mod load;
+pub mod memory;
 pub mod progress;
 pub mod recipe;
 #[cfg(feature = "render")]

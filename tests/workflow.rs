@@ -301,3 +301,51 @@ fn workflow_welds_a_triangle_soup_and_edits_it() {
     std::fs::remove_dir_all(&out).ok();
     std::fs::remove_file(&input).ok();
 }
+
+/// The library job keeps one full-resolution mesh at a time, and says so truthfully: its
+/// `original` (made again at the end) is the loaded mesh bit for bit — the same triangles
+/// in the same face slots, the same positions — its pictures' copies of the edited level
+/// are compact (no tombstone slots) with that level's faces, and every step that ran
+/// reports a peak within the job's (on Linux, where `/proc` says).
+#[test]
+fn workflow_library_job_gives_the_input_back_and_reports_its_peaks() {
+    use multires::load::{self, Weld};
+    use multires::progress::Silent;
+    use multires::workflow::{self, WorkflowOptions};
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("data/blob.obj");
+    let loaded = load::load(&path, Weld::Auto, &mut Silent).unwrap();
+    let input = loaded.mesh.clone();
+    let done = workflow::run(loaded, &path, &WorkflowOptions::default(), &mut Silent).unwrap();
+    let faces = |m: &halfedge::Mesh| -> Vec<(usize, [usize; 3])> {
+        m.faces()
+            .map(|f| (m.face_index(f), m.triangle(f).map(|v| m.vertex_index(v))))
+            .collect()
+    };
+    assert_eq!(faces(&done.original), faces(&input));
+    assert_eq!(done.original.vertex_slots(), input.vertex_slots());
+    assert!(input
+        .vertices()
+        .all(|v| done.original.position(v).to_array() == input.position(v).to_array()));
+    assert!(done.original.positions() != done.result.positions());
+    for coarse in [&done.coarse_before, &done.coarse_after] {
+        coarse.check().unwrap();
+        assert_eq!(coarse.vertex_slots(), coarse.n_vertices());
+        assert_eq!(coarse.face_slots(), coarse.n_faces());
+        assert!(coarse.n_faces() < input.n_faces());
+    }
+    assert_eq!(done.coarse_before.n_faces(), done.coarse_after.n_faces());
+    if cfg!(target_os = "linux") && multires::memory::peak_resident_bytes().is_some() {
+        let peak = done.peak_bytes().unwrap();
+        for row in done
+            .rows
+            .iter()
+            .filter(|r| !r.detail.starts_with("skipped"))
+        {
+            let p = row
+                .peak_bytes
+                .unwrap_or_else(|| panic!("{} has no peak", row.step));
+            assert!(p > 0 && p <= peak, "{}: {p} of {peak}", row.step);
+        }
+        assert!(done.table().contains("peak GB"));
+    }
+}

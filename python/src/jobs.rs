@@ -89,7 +89,8 @@ fn workflow_options(level: usize, method: &str) -> PyResult<WorkflowOptions> {
 /// hierarchy, makes one edit of each family at ``level`` (a Lee drag, a Bendels & Klein
 /// rotation, a sub-mesh taper) and refines back. Returns ``(mesh, steps)``: the edited
 /// full-resolution :class:`Mesh` and one dict per step (``step``, ``detail``,
-/// ``seconds``). Releases the GIL.
+/// ``seconds``, ``peak_bytes``: the process's peak resident memory during the step, or
+/// ``None`` where the platform does not report it). Releases the GIL.
 #[pyfunction]
 #[pyo3(signature = (path, *, level = 3, method = "rounds", weld = None))]
 pub fn workflow<'py>(
@@ -114,6 +115,7 @@ pub fn workflow<'py>(
         d.set_item("step", r.step)?;
         d.set_item("detail", &r.detail)?;
         d.set_item("seconds", r.seconds)?;
+        d.set_item("peak_bytes", r.peak_bytes)?;
         list.append(d)?;
     }
     Ok((PyMesh::new(done.result), list))

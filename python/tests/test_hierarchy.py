@@ -2,6 +2,7 @@
 ancestors against records, .mrh files and bytes, pickling, progress, refusals."""
 
 import pickle
+import sys
 import threading
 
 import numpy as np
@@ -214,6 +215,10 @@ def test_workflow_job(tmp_path, sphere):
     mesh, steps = multires.workflow(tmp_path / "s.ply", level=2)
     names = [s["step"] for s in steps]
     assert "refine" in names and mesh.n_faces == sphere.n_faces
+    assert all(set(s) == {"step", "detail", "seconds", "peak_bytes"} for s in steps)
+    if sys.platform.startswith("linux"):
+        ran = [s for s in steps if not s["detail"].startswith("skipped")]
+        assert all(isinstance(s["peak_bytes"], int) and s["peak_bytes"] > 0 for s in ran)
     assert not np.array_equal(mesh.vertices, sphere.vertices)
     again, _ = multires.workflow(tmp_path / "s.ply", level=2)
     assert again.vertices.tobytes() == mesh.vertices.tobytes()

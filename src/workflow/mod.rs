@@ -77,6 +77,7 @@ use halfedge::Mesh;
 
 use crate::error::{Error, Result};
 use crate::load::Loaded;
+use crate::memory::PeakMeter;
 use crate::progress::{self, Progress};
 use crate::render::{self, Camera, Panel};
 
@@ -186,6 +187,10 @@ pub struct StepReport {
     pub detail: String,
     /// Seconds it took.
     pub seconds: f64,
+    /// The process's peak resident memory during the step, in bytes (for `load`, the
+    /// peak before the workflow began: the reading); `None` where the platform does not
+    /// report it (see [`crate::memory`]).
+    pub peak_bytes: Option<u64>,
 }
 
 fn skipped(step: &'static str, why: &str) -> StepReport {
@@ -193,20 +198,51 @@ fn skipped(step: &'static str, why: &str) -> StepReport {
         step,
         detail: format!("skipped: {why}"),
         seconds: 0.0,
+        peak_bytes: None,
     }
+}
+
+/// A copy of `mesh` without its tombstones (a coarse level keeps every slot of the
+/// input; its copy for the pictures needs the live elements only).
+fn compact_copy(mesh: &Mesh) -> Result<Mesh> {
+    let (positions, triangles) = mesh.to_arrays();
+    Ok(Mesh::from_arrays(&positions, &triangles)?.0)
+}
+
+/// The input mesh again: the fully refined `result`'s connectivity (the input's, slot
+/// for slot: collapses and splits are exact inverses) with the input's `positions`.
+fn input_again(result: &Mesh, positions: Vec<DVec3>) -> Result<Mesh> {
+    if positions.len() != result.vertex_slots() {
+        return Err(
+            halfedge::Error::Invariant(halfedge::Invariant::Counts(format!(
+                "the refined mesh has {} vertex slots, the input {}",
+                result.vertex_slots(),
+                positions.len()
+            )))
+            .into(),
+        );
+    }
+    let mut original = result.clone();
+    original.positions_mut().copy_from_slice(&positions);
+    Ok(original)
 }
 
 /// A finished workflow: the edited mesh at full resolution, the meshes its pictures show,
 /// and its table and notes.
 #[derive(Clone, Debug)]
 pub struct Workflow {
-    /// The input (after welding).
+    /// The input (after welding). Made again at the end from the refined mesh's
+    /// connectivity (a full refinement restores the input's slots bit for bit) and the
+    /// input's positions, so that the job never holds two full-resolution meshes while
+    /// the hierarchy lives.
     pub original: Mesh,
     /// The edited mesh at full resolution.
     pub result: Mesh,
-    /// The edited level before the edits.
+    /// The edited level before the edits, as a compact copy (its live elements only,
+    /// numbered afresh as [`Mesh::to_arrays`] numbers them: not the hierarchy's slots).
     pub coarse_before: Mesh,
-    /// The edited level after the edits.
+    /// The edited level after the edits, compact like
+    /// [`coarse_before`](Self::coarse_before) (the same numbering).
     pub coarse_after: Mesh,
     /// The level the edits were made at.
     pub level: usize,
@@ -282,8 +318,11 @@ pub fn run_timed(
             report.dropped_faces
         ),
         seconds: load_seconds + clock.elapsed().as_secs_f64(),
+        peak_bytes: crate::memory::peak_resident_bytes(),
     });
-    let original = input.clone();
+    // The input's positions, not a copy of the mesh: the refinement gives its
+    // connectivity back.
+    let original_positions = input.positions().to_vec();
     let (lo, hi) = input.bounding_box().ok_or(Error::NoVertices)?;
     let diagonal = lo.distance(hi);
 
@@ -293,6 +332,7 @@ pub fn run_timed(
         _ => HierarchyOptions::rounds(),
     };
     let clock = Instant::now();
+    let meter = PeakMeter::start();
     let input_faces = input.n_faces();
     progress.start("simplifying (faces removed)", Some(input_faces as u64));
     let built =
@@ -332,10 +372,12 @@ pub fn run_timed(
             hierarchy.mesh().n_faces()
         ),
         seconds: build_seconds + clock.elapsed().as_secs_f64(),
+        peak_bytes: meter.peak(),
     });
 
     // --- label a sub-mesh by a cutting plane ------------------------------------
     let clock = Instant::now();
+    let meter = PeakMeter::start();
     let sub = if options.skip_taper {
         rows.push(skipped("label", "left out (--skip taper)"));
         None
@@ -349,6 +391,7 @@ pub fn run_timed(
                     step: "label",
                     detail: labelled.detail.clone(),
                     seconds: clock.elapsed().as_secs_f64(),
+                    peak_bytes: meter.peak(),
                 });
                 Some(labelled.sub)
             }
@@ -367,6 +410,7 @@ pub fn run_timed(
                             step: "label",
                             detail,
                             seconds: clock.elapsed().as_secs_f64(),
+                            peak_bytes: meter.peak(),
                         });
                         Some(sub)
                     }
@@ -379,13 +423,14 @@ pub fn run_timed(
             }
         }
     };
-    let coarse_before = hierarchy.mesh().clone();
+    let coarse_before = compact_copy(hierarchy.mesh())?;
 
     // --- Lee 1999: drag an editing area on the front ----------------------------
     if options.skip_lee {
         rows.push(skipped("Lee drag", "left out (--skip lee)"));
     } else {
         let clock = Instant::now();
+        let meter = PeakMeter::start();
         match lee::lee_drag(&mut hierarchy, diagonal, progress) {
             Ok((detail, note)) => {
                 notes.extend(note);
@@ -393,6 +438,7 @@ pub fn run_timed(
                     step: "Lee drag",
                     detail,
                     seconds: clock.elapsed().as_secs_f64(),
+                    peak_bytes: meter.peak(),
                 });
             }
             Err(why) => {
@@ -410,6 +456,7 @@ pub fn run_timed(
         rows.push(skipped("B&K rotate", "left out (--skip blend)"));
     } else {
         let clock = Instant::now();
+        let meter = PeakMeter::start();
         match blend::blend_rotate(&mut hierarchy, diagonal, progress) {
             Ok((detail, note, to_land)) => {
                 notes.extend(note);
@@ -418,6 +465,7 @@ pub fn run_timed(
                     step: "B&K rotate",
                     detail,
                     seconds: clock.elapsed().as_secs_f64(),
+                    peak_bytes: meter.peak(),
                 });
             }
             Err(why) => {
@@ -434,6 +482,7 @@ pub fn run_timed(
     let before_taper = hierarchy.mesh().positions().to_vec();
     if let Some(sub) = &sub {
         let clock = Instant::now();
+        let meter = PeakMeter::start();
         let taper = SubmeshEdit::Taper {
             axis: None,
             factor: 0.6,
@@ -450,6 +499,7 @@ pub fn run_timed(
                 step: "taper",
                 detail: "sub-mesh tapered to 0.6, 2 propagation levels".to_string(),
                 seconds: clock.elapsed().as_secs_f64(),
+                peak_bytes: meter.peak(),
             }),
             Err(e) => {
                 notes.push(format!(
@@ -461,19 +511,22 @@ pub fn run_timed(
         }
     }
     hierarchy.mesh().check()?;
-    let coarse_after = hierarchy.mesh().clone();
+    let coarse_after = compact_copy(hierarchy.mesh())?;
     // Handle vertices the taper moved too: their fine vertices are the taper's image of
     // the handle's, not the handle's alone.
     let handle_tapered = landing.as_ref().map_or(0, |landing| {
+        let after = hierarchy.mesh().positions();
         landing
             .handle
             .iter()
-            .filter(|&&i| before_taper[i as usize] != coarse_after.positions()[i as usize])
+            .filter(|&&i| before_taper[i as usize] != after[i as usize])
             .count()
     });
+    drop(before_taper);
 
     // --- refine back with detail coefficients -----------------------------------
     let clock = Instant::now();
+    let meter = PeakMeter::start();
     progress.start("refining (levels) back to the input", Some(level as u64));
     let mut refined = Ok(());
     for (k, l) in (0..level).rev().enumerate() {
@@ -491,6 +544,7 @@ pub fn run_timed(
     let ancestors = hierarchy.ancestors(level)?;
     let result = hierarchy.into_mesh();
     progress::step(progress, "checking the result", || result.check())?;
+    let original = input_again(&result, original_positions)?;
     // How exactly the handle landed: its fine vertices against the rigid image of their
     // input positions (later edits that moved the handle too make this larger).
     let landed = landing.map(|landing| landing.measure(&original, &result, &ancestors, diagonal));
@@ -519,6 +573,7 @@ pub fn run_timed(
             ))
         ),
         seconds: clock.elapsed().as_secs_f64(),
+        peak_bytes: meter.peak(),
     });
     Ok(Workflow {
         original,
@@ -555,6 +610,7 @@ impl Workflow {
         progress: &mut dyn Progress,
     ) -> Result<PathBuf> {
         let clock = Instant::now();
+        let meter = PeakMeter::start();
         std::fs::create_dir_all(out).map_err(crate::error::io_error(out))?;
         let out_mesh = self.output_path(out, format);
         progress::step(progress, &format!("writing {}", out_mesh.display()), || {
@@ -569,6 +625,7 @@ impl Workflow {
                 out.display()
             ),
             seconds: clock.elapsed().as_secs_f64(),
+            peak_bytes: meter.peak(),
         });
         Ok(out_mesh)
     }
@@ -609,21 +666,42 @@ impl Workflow {
         Ok(())
     }
 
-    /// The table the command line prints: one row per step with its seconds, the total,
-    /// then the notes.
+    /// The highest of the steps' peak resident memory, in bytes (`None` where the
+    /// platform does not report it).
+    #[must_use]
+    pub fn peak_bytes(&self) -> Option<u64> {
+        self.rows.iter().filter_map(|r| r.peak_bytes).max()
+    }
+
+    /// The table the command line prints: one row per step with its seconds and peak
+    /// memory, the total, then the notes.
     #[must_use]
     pub fn table(&self) -> String {
         use std::fmt::Write;
         let mut s = String::new();
-        let _ = writeln!(s, "{:<11} {:>9}  details", "step", "seconds");
+        let gb =
+            |bytes: Option<u64>| bytes.map_or("-".to_owned(), |b| format!("{:.2}", b as f64 / 1e9));
+        let _ = writeln!(
+            s,
+            "{:<11} {:>9} {:>7}  details",
+            "step", "seconds", "peak GB"
+        );
         for row in &self.rows {
-            let _ = writeln!(s, "{:<11} {:>9.3}  {}", row.step, row.seconds, row.detail);
+            let _ = writeln!(
+                s,
+                "{:<11} {:>9.3} {:>7}  {}",
+                row.step,
+                row.seconds,
+                gb(row.peak_bytes),
+                row.detail
+            );
         }
         let _ = writeln!(
             s,
-            "{:<11} {:>9.3}",
+            "{:<11} {:>9.3} {:>7}",
             "total",
-            self.rows.iter().map(|r| r.seconds).sum::<f64>()
+            self.rows.iter().map(|r| r.seconds).sum::<f64>(),
+            gb(self.peak_bytes())
         );
         for note in &self.notes {
             let _ = writeln!(s, "note: {note}");

@@ -37,7 +37,10 @@ pub fn run(a: WorkflowArgs, out: &Output) -> multires::Result<()> {
     let rows: Vec<_> = done
         .rows
         .iter()
-        .map(|r| json!({"step": r.step, "detail": r.detail, "seconds": r.seconds}))
+        .map(|r| {
+            json!({"step": r.step, "detail": r.detail, "seconds": r.seconds,
+                   "peak_bytes": r.peak_bytes})
+        })
         .collect();
     let seconds = |step: &str| {
         done.rows
@@ -58,6 +61,7 @@ pub fn run(a: WorkflowArgs, out: &Output) -> multires::Result<()> {
         "refine_seconds": seconds("refine"),
         "write_seconds": seconds("write"),
         "total_seconds": done.rows.iter().map(|r| r.seconds).sum::<f64>(),
+        "peak_bytes": done.peak_bytes(),
     }));
     if !out.json {
         print!("{}", done.table());

@@ -172,7 +172,9 @@ impl BlendSession {
                 )
             }
             DistanceKind::Geodesic => {
-                let marching = FastMarching::new(mesh);
+                // The marches run within `wanted`: the solver needs no stencils beyond it.
+                let wanted = VertexData::new(mesh, wanted.clone())?;
+                let marching = FastMarching::within(mesh, &wanted)?;
                 // A border of one vertex is a point source; longer borders are curves
                 // (locally straight fronts, see `distance::geodesic`).
                 let sources = |vs: &[VertexId]| {
@@ -186,7 +188,6 @@ impl BlendSession {
                         })
                         .collect::<Vec<_>>()
                 };
-                let wanted = VertexData::new(mesh, wanted.clone())?;
                 let (d_handle, r_handle) = marching.distances_and_radii(
                     &sources(&regions.handle_border().vertices),
                     Some(&wanted),

@@ -31,8 +31,8 @@ use crate::bendels_klein::error::{BendelsKleinError, Result};
 ///
 /// The vertices within geodesic (surface) distance `radius` of `seeds`, and the distance
 /// of every vertex slot (`∞` beyond the radius or unreachable). The seeds are always in
-/// the ball. Costs a [`FastMarching`] precomputation over the mesh plus a march over the
-/// seeds' Euclidean balls.
+/// the ball. Costs a [`FastMarching`] precomputation and a march over the seeds'
+/// Euclidean balls only.
 ///
 /// # Errors
 /// [`halfedge::Error::InvalidHandle`] (as `BendelsKleinError::Mesh`) for a seed that is not a live vertex;
@@ -63,7 +63,7 @@ pub fn geodesic_ball(
         .iter()
         .map(|&v| MarchSource::point(mesh.vertex_index(v)))
         .collect();
-    let mut distance = FastMarching::new(mesh).distances(&sources, Some(&near))?;
+    let mut distance = FastMarching::within(mesh, &near)?.distances(&sources, Some(&near))?;
     for d in &mut distance {
         if *d > radius {
             *d = f64::INFINITY;

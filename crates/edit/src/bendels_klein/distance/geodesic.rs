@@ -133,6 +133,9 @@ pub struct FastMarching {
     dependent_lengths: Vec<f64>,
     obtuse_unfolded: usize,
     obtuse_kept: usize,
+    /// The vertices with stencils when the solver was made [`within`](Self::within) a
+    /// region (`None`: all): a march leaves the others out whatever its mask.
+    region: Option<Vec<bool>>,
     /// The mesh the stencils were made for: the distances carry it, masks and meshes
     /// passed in are checked against it.
     binding: Binding,
@@ -177,9 +180,45 @@ impl FastMarching {
     /// As [`FastMarching::new`] with a chosen update rule.
     #[must_use]
     pub fn with_update(mesh: &Mesh, update: FastMarchingUpdate) -> Self {
+        Self::build(mesh, update, None)
+    }
+
+    /// A solver for marches within `region` (default update rule): stencils and
+    /// dependents are made for the region's vertices only, so a march whose `active`
+    /// mask and sources lie in the region gives the same distances as
+    /// [`FastMarching::new`]'s, bit for bit (it reads no stencil of an inactive
+    /// vertex), at the region's cost instead of the mesh's. Every march of this solver
+    /// stays within the region whatever mask it is given (vertices outside are `+∞`),
+    /// sources outside it included.
+    ///
+    /// # Errors
+    /// [`BendelsKleinError::Stale`] when `region` was made for another mesh (or this one
+    /// in another state).
+    pub(crate) fn within(mesh: &Mesh, region: &VertexData<bool>) -> Result<Self> {
+        region.binding().check(mesh, "the region")?;
+        Ok(Self::build(
+            mesh,
+            FastMarchingUpdate::default(),
+            Some(region.values()),
+        ))
+    }
+
+    /// [`FastMarching::with_update`], limited to `region`'s vertices when given.
+    fn build(mesh: &Mesh, update: FastMarchingUpdate, region: Option<&[bool]>) -> Self {
         let n = mesh.vertex_slots();
+        let vertex_at = |i: usize| {
+            if region.is_some_and(|r| !r.get(i).copied().unwrap_or(false)) {
+                None
+            } else {
+                mesh.vertex_at(i)
+            }
+        };
         const CHUNK: usize = 4096;
-        // One pass over the vertices, in parallel runs.
+        // First pass over the vertices, in parallel runs: the number of stencils and
+        // neighbours of every vertex, and the virtual dependents. The stencils themselves
+        // are dropped vertex by vertex: kept until copied into place they would double the
+        // solver's memory while it is made; the second pass computes them again straight
+        // into their place.
         let mut chunks: Vec<Chunk> = (0..n.div_ceil(CHUNK))
             .into_par_iter()
             .map(|c| {
@@ -188,16 +227,14 @@ impl FastMarching {
                     ..Chunk::default()
                 };
                 for i in c * CHUNK..((c + 1) * CHUNK).min(n) {
-                    let (s0, n0) = (chunk.stencils.len(), chunk.neighbours.len());
-                    if let Some(v) = mesh.vertex_at(i) {
+                    if let Some(v) = vertex_at(i) {
                         vertex_stencils(mesh, v, &mut chunk);
                     }
-                    chunk
-                        .stencil_counts
-                        .push((chunk.stencils.len() - s0) as u32);
-                    chunk
-                        .neighbour_counts
-                        .push((chunk.neighbours.len() - n0) as u32);
+                    chunk.stencil_counts.push(chunk.stencils.len() as u32);
+                    chunk.neighbour_counts.push(chunk.neighbours.len() as u32);
+                    chunk.stencils.clear();
+                    chunk.neighbours.clear();
+                    chunk.lengths.clear();
                 }
                 chunk
             })
@@ -269,26 +306,35 @@ impl FastMarching {
         let stencil_pieces = split_lengths(&mut stencils, &stencil_lengths);
         let vertex_pieces = split_lengths(&mut dependents, &dependent_lengths_per_chunk);
         let length_pieces = split_lengths(&mut dependent_lengths, &dependent_lengths_per_chunk);
+        // Second pass: each run computes its vertices' stencils again (the same function
+        // of the same mesh: the same values, in the same order) into its own pieces.
         chunks
             .par_iter()
             .zip(stencil_pieces)
             .zip(vertex_pieces.into_par_iter().zip(length_pieces))
-            .for_each(|((chunk, st), (dv, dl))| {
-                st.copy_from_slice(&chunk.stencils);
+            .for_each_init(Chunk::default, |scratch, ((chunk, st), (dv, dl))| {
+                let stencil_base = stencil_start[chunk.first] as usize;
                 let base = dependent_start[chunk.first] as usize;
                 let end_vertex = chunk.first + chunk.stencil_counts.len();
                 // Virtual pairs of this run's vertices: a contiguous range (sorted by d).
                 let lo = virtual_pairs.partition_point(|&(d, _)| (d as usize) < chunk.first);
                 let hi = virtual_pairs.partition_point(|&(d, _)| (d as usize) < end_vertex);
                 let mut virtuals = virtual_pairs[lo..hi].iter().peekable();
-                let mut read = 0;
-                for (k, &count) in chunk.neighbour_counts.iter().enumerate() {
+                for k in 0..chunk.neighbour_counts.len() {
                     let i = chunk.first + k;
+                    scratch.stencils.clear();
+                    scratch.neighbours.clear();
+                    scratch.lengths.clear();
+                    scratch.virtual_pairs.clear();
+                    if let Some(v) = vertex_at(i) {
+                        vertex_stencils(mesh, v, scratch);
+                    }
+                    let s0 = stencil_start[i] as usize - stencil_base;
+                    st[s0..s0 + scratch.stencils.len()].copy_from_slice(&scratch.stencils);
                     let mut write = dependent_start[i] as usize - base;
-                    let count = count as usize;
-                    dv[write..write + count].copy_from_slice(&chunk.neighbours[read..read + count]);
-                    dl[write..write + count].copy_from_slice(&chunk.lengths[read..read + count]);
-                    read += count;
+                    let count = scratch.neighbours.len();
+                    dv[write..write + count].copy_from_slice(&scratch.neighbours);
+                    dl[write..write + count].copy_from_slice(&scratch.lengths);
                     write += count;
                     while let Some(&&(d, y)) = virtuals.peek() {
                         if d as usize != i {
@@ -309,6 +355,7 @@ impl FastMarching {
             dependent_lengths,
             obtuse_unfolded,
             obtuse_kept,
+            region: region.map(<[bool]>::to_vec),
             binding: mesh.binding(),
         }
     }
@@ -394,13 +441,23 @@ impl FastMarching {
         }
         let mut t = vec![f64::INFINITY; n];
         let mut radius = vec![f64::INFINITY; n];
-        let mut state = match active {
+        let mut state: Vec<u8> = match active {
             Some(mask) => mask.iter().map(|&a| if a { FAR } else { OFF }).collect(),
             None => vec![FAR; n],
         };
+        if let Some(region) = &self.region {
+            for (s, &inside) in state.iter_mut().zip(region) {
+                if !inside {
+                    *s = OFF;
+                }
+            }
+        }
         let mut heap: BinaryHeap<Reverse<(u64, u32)>> = BinaryHeap::with_capacity(1024);
         for source in sources {
             let i = source.vertex;
+            if self.region.as_ref().is_some_and(|region| !region[i]) {
+                continue;
+            }
             state[i] = FAR;
             let value = source.distance.max(0.0);
             if value < t[i] || (value == t[i] && source.radius < radius[i]) {
@@ -760,6 +817,58 @@ mod tests {
         for v in mesh.vertices() {
             let i = mesh.vertex_index(v);
             assert_eq!(d[i].is_finite(), active[i]);
+        }
+    }
+
+    /// A solver made within a region marches as the whole mesh's does, bit for bit, for
+    /// point and curve sources in it (on a jittered grid with obtuse corners, so that
+    /// unfolded stencils and their virtual dependents are in play), and reaches nothing
+    /// outside it.
+    #[test]
+    fn a_solver_within_the_region_marches_as_the_whole_meshs() {
+        let mut mesh = generators::grid(24, 18, 4.0, 3.0);
+        let vertices: Vec<VertexId> = mesh.vertices().collect();
+        for (k, &v) in vertices.iter().enumerate() {
+            // Deterministic jitter, up to 0.4 of a cell.
+            let a = ((k * 7919) % 101) as f64 / 101.0 - 0.5;
+            let b = ((k * 104_729) % 103) as f64 / 103.0 - 0.5;
+            let p = mesh.position(v);
+            mesh.set_position(v, p + DVec3::new(0.07 * a, 0.07 * b, 0.05 * a * b));
+        }
+        let centre = DVec3::new(2.0, 1.5, 0.0);
+        let region = VertexData::from_fn(&mesh, false, |v| {
+            mesh.position(v).truncate().distance(centre.truncate()) < 1.1
+        });
+        let whole = FastMarching::new(&mesh);
+        let within = FastMarching::within(&mesh, &region).unwrap();
+        assert!(whole.obtuse_corners().0 > within.obtuse_corners().0);
+        assert!(
+            within.obtuse_corners().0 > 0,
+            "no unfolded corner in the region"
+        );
+        let inside: Vec<usize> = (0..region.len()).filter(|&i| region[i]).collect();
+        let point = [MarchSource::point(inside[inside.len() / 2])];
+        let curve: Vec<MarchSource> = inside[..5]
+            .iter()
+            .map(|&i| MarchSource::on_curve(i))
+            .collect();
+        for sources in [&point[..], &curve[..]] {
+            let (d0, r0) = whole.distances_and_radii(sources, Some(&region)).unwrap();
+            let (d1, r1) = within.distances_and_radii(sources, Some(&region)).unwrap();
+            for i in 0..region.len() {
+                assert_eq!(d0[i].to_bits(), d1[i].to_bits(), "distance of vertex {i}");
+                assert_eq!(r0[i].to_bits(), r1[i].to_bits(), "radius of vertex {i}");
+            }
+            assert!(inside.iter().all(|&i| d1[i].is_finite()));
+            let (everywhere, _) = within.distances_and_radii(sources, None).unwrap();
+            for i in 0..region.len() {
+                assert_eq!(everywhere[i].is_finite(), region[i], "vertex {i}");
+            }
+            let outside = (0..region.len()).find(|&i| !region[i]).unwrap();
+            let (from_outside, _) = within
+                .distances_and_radii(&[MarchSource::point(outside)], None)
+                .unwrap();
+            assert!(from_outside.iter().all(|d| d.is_infinite()));
         }
     }
 }
