@@ -2,6 +2,9 @@
 //! ≈ 1.6 M faces), loading that mesh from a binary PLY and the bunny from OBJ, one-ring
 //! circulation over all vertices, vertex normals.
 //!
+//! Loading the bunny OBJ has its reference too: a plain hand-written reader of `v` and
+//! `f` lines feeding the same builder.
+//!
 //! Traversal rows come in pairs: the work written with the public API (element
 //! iterators, circulators, handles) and the same work as a plain index loop over copies
 //! of the kernel's own arrays (`Arrays`: 16-byte halfedge records, `opposite = h ^ 1`),
@@ -34,6 +37,35 @@ fn soup(mesh: &Mesh) -> (Vec<DVec3>, Vec<[u32; 3]>) {
         .map(|f| mesh.triangle(f).map(|v| index[mesh.vertex_index(v)]))
         .collect();
     (positions, triangles)
+}
+
+/// The reference for loading an OBJ: what a plain hand-written reader does — `v x y z`
+/// and `f a b c` lines (1-based triangles, `a/t/n` tokens cut at the first `/`), nothing
+/// checked — then the same builder.
+fn read_obj_plain_loop(path: &std::path::Path) -> Mesh {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut positions = Vec::new();
+    let mut triangles = Vec::new();
+    for line in text.lines() {
+        let mut tokens = line.split_ascii_whitespace();
+        match tokens.next() {
+            Some("v") => {
+                let mut x = tokens.map(|t| t.parse::<f64>().unwrap());
+                positions.push(DVec3::new(
+                    x.next().unwrap(),
+                    x.next().unwrap(),
+                    x.next().unwrap(),
+                ));
+            }
+            Some("f") => {
+                let mut i =
+                    tokens.map(|t| t.split('/').next().unwrap().parse::<u32>().unwrap() - 1);
+                triangles.push([i.next().unwrap(), i.next().unwrap(), i.next().unwrap()]);
+            }
+            _ => {}
+        }
+    }
+    Mesh::from_triangles(&positions, &triangles).unwrap().0
 }
 
 fn one_ring_sum(mesh: &Mesh) -> usize {
@@ -245,6 +277,11 @@ fn benches(c: &mut Criterion) {
         })
     });
     drop((positions, triangles));
+    let plain = read_obj_plain_loop(&bunny_path);
+    assert_eq!(plain.positions(), bunny.positions());
+    group.bench_function("plain loop (reference): load bunny OBJ", |b| {
+        b.iter_with_large_drop(|| read_obj_plain_loop(black_box(&bunny_path)))
+    });
     group.bench_function("load bunny OBJ", |b| {
         b.iter_with_large_drop(|| io::read(black_box(&bunny_path)).unwrap())
     });
@@ -280,6 +317,13 @@ fn benches(c: &mut Criterion) {
     });
     group.bench_function("vertex normals, one thread", |b| {
         b.iter(|| vertex_normals_one_thread(black_box(&big)))
+    });
+    let one_thread = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap();
+    group.bench_function("vertex normals, Mesh::vertex_normals on one thread", |b| {
+        b.iter(|| one_thread.install(|| black_box(&big).vertex_normals()))
     });
     group.bench_function("one-ring circulation, all vertices (0.8 M), rayon", |b| {
         b.iter(|| common::one_ring_sum_parallel(black_box(&big)))

@@ -11,7 +11,14 @@ impl Mesh {
     /// The three corner positions of a triangle, in [`triangle`](Self::triangle) order.
     #[inline]
     pub fn triangle_positions(&self, f: FaceId) -> [DVec3; 3] {
-        self.triangle(f).map(|v| self.position(v))
+        // Straight from the records: the corners are live vertices of a live face, so no
+        // handle is made for them and none checked.
+        self.check_face(f);
+        let r0 = &self.he[self.face_conn[crate::handle::slot(f)] as usize];
+        let r1 = &self.he[r0.next as usize];
+        let r2 = &self.he[r1.next as usize];
+        let p = &self.positions;
+        [p[r0.to as usize], p[r1.to as usize], p[r2.to as usize]]
     }
     /// Unit normal of a face (zero for a degenerate face).
     #[inline]

@@ -18,6 +18,7 @@
 
 pub mod gz;
 pub mod obj;
+mod obj_fast;
 pub mod obj_write;
 pub mod off;
 pub mod off_write;

@@ -1,4 +1,5 @@
-//! OBJ input through `tobj`.
+//! OBJ input through `tobj` (plain files, most of them, in one pass by a reader of
+//! their own, with the same result).
 //!
 //! `tobj` keeps only the positions that faces refer to and renumbers them per object in
 //! order of first use. To keep every `v` line in file order, the file is handed to `tobj`
@@ -49,6 +50,19 @@ pub fn read_obj_from_bytes(bytes: &[u8], path: &Path) -> Result<(Mesh, BuildRepo
     if bytes.is_empty() {
         return Err(format("line 1: empty file".into()));
     }
+    // Plain files in one pass; everything else (and every error) through tobj.
+    if let Some(read) = super::obj_fast::read_plain_obj(bytes) {
+        return Ok(read);
+    }
+    read_obj_through_tobj(bytes, path)
+}
+
+/// [`read_obj_from_bytes`] through tobj, for any file (see the module docs).
+pub(super) fn read_obj_through_tobj(bytes: &[u8], path: &Path) -> Result<(Mesh, BuildReport)> {
+    let format = |message: String| Error::Format {
+        path: path.to_owned(),
+        message,
+    };
     // Bytes that are not UTF-8 (a Latin-1 material, group or object name, or comment)
     // become U+FFFD: those lines are not read anyway. In a `v` or `f` line they make a
     // malformed number, reported with its line. Valid UTF-8 is used as it is.
@@ -279,7 +293,7 @@ fn without_colours(source: &str) -> String {
 
 /// A face's indices without repeats, the first of each kept in order (OpenMesh's OBJ
 /// reader: `f 1 2 4 2 3` is the polygon `1 2 4 3`); borrowed when nothing repeats.
-fn without_repeats(face: &[u32]) -> Cow<'_, [u32]> {
+pub(super) fn without_repeats(face: &[u32]) -> Cow<'_, [u32]> {
     let repeats = (1..face.len()).any(|i| face[..i].contains(&face[i]));
     if !repeats {
         return Cow::Borrowed(face);
