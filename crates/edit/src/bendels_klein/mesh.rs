@@ -173,7 +173,7 @@ impl BlendSession {
             }
             DistanceKind::Geodesic => {
                 // The marches run within `wanted`: the solver needs no stencils beyond it.
-                let wanted = VertexData::new(mesh, wanted.clone())?;
+                let wanted = VertexData::new(mesh, wanted)?;
                 let marching = FastMarching::within(mesh, &wanted)?;
                 // A border of one vertex is a point source; longer borders are curves
                 // (locally straight fronts, see `distance::geodesic`).
