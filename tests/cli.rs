@@ -362,6 +362,96 @@ fn simplify_then_refine_gives_the_input_bit_for_bit() {
     }
 }
 
+/// `simplify --placement quadric` refines back bit for bit, keeps its placement in the
+/// file, and `distance` measures its coarsest level nearer the input than the midpoint
+/// rounds' (the same surfaces give zero; the report has both sides).
+#[test]
+fn quadric_placement_and_distance() {
+    let dir = temp("distance");
+    let torus = torus_file(&dir, "t.obj", 40, 20);
+    let mut coarse = Vec::new();
+    for placement in ["midpoint", "quadric"] {
+        let h = dir.join(format!("{placement}.mrh"));
+        let o = run(&[
+            &"simplify",
+            &torus,
+            &"-o",
+            &h,
+            &"--target-faces",
+            &"200",
+            &"--placement",
+            &placement,
+            &"--json",
+        ]);
+        assert_exit(&o, 0);
+        assert_eq!(json(&o)["placement"], placement);
+        let level = dir.join(format!("{placement}-coarsest.ply"));
+        assert_exit(&run(&[&"level", &h, &"--level", &"99", &"-o", &level]), 0);
+        coarse.push(level);
+        let full = dir.join(format!("{placement}-full.ply"));
+        assert_exit(&run(&[&"refine", &h, &"-o", &full]), 0);
+        assert_eq!(arrays(&read(&full)), arrays(&read(&torus)), "{placement}");
+    }
+    let measure = |other: &Path| {
+        let o = run(&[
+            &"distance",
+            &torus,
+            &other,
+            &"--samples",
+            &"20000",
+            &"--json",
+        ]);
+        assert_exit(&o, 0);
+        json(&o)
+    };
+    let same = measure(&torus);
+    assert!(same["hausdorff"].as_f64().unwrap() < 1e-12, "{same}");
+    let (by_midpoint, by_quadric) = (measure(&coarse[0]), measure(&coarse[1]));
+    for r in [&by_midpoint, &by_quadric] {
+        for side in ["first_to_second", "second_to_first"] {
+            assert!(r[side]["samples"].as_u64().unwrap() >= 20_000, "{r}");
+            assert!(r[side]["mean"].as_f64().unwrap() <= r[side]["max"].as_f64().unwrap());
+        }
+        let d = r["diagonal"].as_f64().unwrap();
+        let h = r["hausdorff"].as_f64().unwrap();
+        assert!((r["hausdorff_over_diagonal"].as_f64().unwrap() - h / d).abs() < 1e-15);
+    }
+    assert!(
+        by_quadric["mean"].as_f64().unwrap() < by_midpoint["mean"].as_f64().unwrap(),
+        "{by_quadric} against {by_midpoint}"
+    );
+    // text output names both sides; nothing sampled or no file is an error
+    let o = run(&[&"distance", &torus, &coarse[1]]);
+    assert_exit(&o, 0);
+    assert!(stdout(&o).contains("Hausdorff") && stdout(&o).contains("second -> first"));
+    let o = run(&[
+        &"distance",
+        &torus,
+        &coarse[1],
+        &"--samples",
+        &"0",
+        &"--no-vertices",
+    ]);
+    assert_exit(&o, 1);
+    assert!(
+        stderr(&o).contains("neither vertices nor face samples"),
+        "{}",
+        stderr(&o)
+    );
+    assert_exit(&run(&[&"distance", &torus, &dir.join("missing.obj")]), 1);
+    assert_exit(
+        &run(&[
+            &"simplify",
+            &torus,
+            &"-o",
+            &dir.join("x.mrh"),
+            &"--placement",
+            &"centroid",
+        ]),
+        2,
+    );
+}
+
 const RECIPE: &str = r#"
 version = 1
 

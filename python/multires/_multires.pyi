@@ -13,7 +13,7 @@ _Matrix = npt.ArrayLike
 _Weld = Union[str, float]
 
 __version__: str
-__all__ = ["MeshError", "EditError", "RecipeError", "Mesh", "Hierarchy", "read", "icosphere", "grid", "torus", "lee_drag", "disk", "blend", "submesh_pull", "submesh_scale", "submesh_rotate", "submesh_taper", "submesh_twist", "barr_taper", "barr_twist", "barr_bend", "taubin", "ffd", "blend_image", "blend_polyline", "apply_recipe", "workflow", "_collect_inputs", "_process", "_parse_shard", "_job_hash", "_output_path", "_blake3_file", "_blake3_text", "__version__"]
+__all__ = ["MeshError", "EditError", "RecipeError", "Mesh", "Hierarchy", "read", "icosphere", "grid", "torus", "surface_distance", "lee_drag", "disk", "blend", "submesh_pull", "submesh_scale", "submesh_rotate", "submesh_taper", "submesh_twist", "barr_taper", "barr_twist", "barr_bend", "taubin", "ffd", "blend_image", "blend_polyline", "apply_recipe", "workflow", "_collect_inputs", "_process", "_parse_shard", "_job_hash", "_output_path", "_blake3_file", "_blake3_text", "__version__"]
 
 class MeshError(ValueError): ...
 class EditError(MeshError): ...
@@ -53,6 +53,7 @@ class Hierarchy:
         max_levels: Optional[int] = None,
         max_error: Optional[float] = None,
         detail: str = "local",
+        placement: str = "midpoint",
         progress: Optional[Callable[[int, int, int], Any]] = None,
     ) -> Hierarchy: ...
     @property
@@ -97,6 +98,9 @@ def icosphere(level: int) -> Mesh: ...
 def grid(nx: int, ny: int, sx: float = 1.0, sy: float = 1.0) -> Mesh: ...
 def torus(major: float = 1.0, minor: float = 0.3, nu: int = 32, nv: int = 16) -> Mesh: ...
 def read(path: _Path, weld: Optional[_Weld] = None) -> Mesh: ...
+def surface_distance(
+    a: Mesh, b: Mesh, samples: int = 100000, vertices: bool = True
+) -> dict[str, Any]: ...
 def lee_drag(
     target: _Target,
     primitive: _Region,

@@ -29,6 +29,7 @@ fn _multires(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(mesh::icosphere, m)?)?;
     m.add_function(wrap_pyfunction!(mesh::grid, m)?)?;
     m.add_function(wrap_pyfunction!(mesh::torus, m)?)?;
+    m.add_function(wrap_pyfunction!(mesh::surface_distance, m)?)?;
     m.add_function(wrap_pyfunction!(edits::lee_drag, m)?)?;
     m.add_function(wrap_pyfunction!(edits::disk, m)?)?;
     m.add_function(wrap_pyfunction!(edits::blend, m)?)?;

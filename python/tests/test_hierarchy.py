@@ -232,7 +232,18 @@ def test_ctrl_c_stops_a_build():
     """A pending KeyboardInterrupt (what Ctrl-C makes) stops a build at its next check
     (every level and every 65,536 collapses), well before the build would end."""
     import _thread
+    import signal
     import time
+    # interrupt_main does nothing while SIGINT is ignored or left to the system, as
+    # something an earlier test ran (Dask's workers) may leave it: make it Python's.
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        _interrupt_a_build(_thread, time)
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
+def _interrupt_a_build(_thread, time):
     mesh = multires.icosphere(7)
     t0 = time.perf_counter()
     multires.Hierarchy(mesh, target_faces=100)
@@ -269,3 +280,21 @@ def test_threads_build_and_edit_in_parallel_with_serial_results():
     with ThreadPoolExecutor(max_workers=3) as pool:
         parallel = list(pool.map(job, range(6)))
     assert parallel == serial
+
+
+def test_rounds_placed_by_the_quadric(sphere):
+    """placement="quadric": the same exact refinement, the coarse level nearer the input
+    than the paper's midpoints (measured with surface_distance), bad names refused."""
+    by_mid = multires.Hierarchy(sphere, target_faces=300)
+    by_quad = multires.Hierarchy(sphere, target_faces=300, placement="quadric")
+    near_mid = multires.surface_distance(sphere, by_mid.mesh, samples=20000)
+    near_quad = multires.surface_distance(sphere, by_quad.mesh, samples=20000)
+    assert near_quad["mean"] < near_mid["mean"]
+    assert near_quad["hausdorff"] >= near_quad["a_to_b"]["mean"]
+    fine = by_quad.refine()
+    assert np.array_equal(fine.vertices, sphere.vertices)
+    assert np.array_equal(fine.faces, sphere.faces)
+    again = multires.Hierarchy.from_bytes(by_quad.to_bytes())
+    assert np.array_equal(again.refine().vertices, sphere.vertices)
+    with pytest.raises(MeshError, match="placement"):
+        multires.Hierarchy(sphere, placement="centroid")

@@ -195,3 +195,20 @@ def test_gzip_written_is_gzip(tmp_path, sphere):
     sphere.write(tmp_path / "s.obj.gz")
     with gzip.open(tmp_path / "s.obj.gz", "rt") as f:
         assert any(line.startswith("v ") for line in f)
+
+
+def test_surface_distance_of_a_scaled_sphere():
+    """Two concentric spheres 0.1 apart (up to the facets), the same figures on a second
+    call, zero against itself, refusals for an empty sampling."""
+    a = multires.icosphere(4)
+    b = multires.Mesh.from_arrays(a.vertices * 1.1, a.faces)
+    d = multires.surface_distance(a, b)
+    for side in ("a_to_b", "b_to_a"):
+        assert abs(d[side]["mean"] - 0.1) < 5e-3
+        assert d[side]["max"] <= 0.1 + 1e-9
+        assert d[side]["samples"] == a.n_vertices + 100000
+    assert d == multires.surface_distance(a, b)
+    assert abs(d["diagonal"] - 2 * 3 ** 0.5) < 2e-2
+    assert multires.surface_distance(a, a, samples=1000)["hausdorff"] < 1e-12
+    with pytest.raises(MeshError, match="neither"):
+        multires.surface_distance(a, b, samples=0, vertices=False)

@@ -16,6 +16,8 @@
 //! - [`selection`] (nearest and extreme vertices, Euclidean and edge-path balls,
 //!   components, grow / shrink / select linked) and [`bvh`] (picking along a ray, the
 //!   nearest point of the surface).
+//! - [`surface_distance`]: how far apart two surfaces are (mean, root mean square and
+//!   Hausdorff distances over sample points, as Metro measures a simplification).
 //! - Plain arrays in and out: [`Mesh::from_arrays`] / [`Mesh::to_arrays`]; welding
 //!   vertices at the same place (triangle soups, seams) with [`Mesh::welded`]
 //!   ([`WeldReport`]).
@@ -56,6 +58,7 @@ mod paths;
 mod prefetch;
 pub mod selection;
 mod split;
+pub mod surface_distance;
 mod topology;
 mod vertex_data;
 mod weld;

@@ -7,7 +7,7 @@
 
 use glam::{DAffine3, DVec3};
 use halfedge::hierarchy::file::FORMAT_VERSION;
-use halfedge::hierarchy::{DetailMode, Hierarchy, HierarchyOptions};
+use halfedge::hierarchy::{DetailMode, Hierarchy, HierarchyOptions, SurvivorPlacement};
 use halfedge::{generators, Error, Mesh, VertexId};
 use testkit::check::{slot_position_bits as position_bits, snapshot};
 use testkit::temp_dir;
@@ -71,6 +71,16 @@ fn cases() -> Vec<(&'static str, Mesh, Hierarchy)> {
         ("components rounds", components(), rounds.clone()),
         ("components QEM", components(), qem.clone()),
         (
+            "icosphere rounds by the quadric",
+            generators::icosphere(4),
+            rounds.clone().with_placement(SurvivorPlacement::Quadric),
+        ),
+        (
+            "components rounds by the quadric",
+            components(),
+            rounds.clone().with_placement(SurvivorPlacement::Quadric),
+        ),
+        (
             "icosphere translations",
             generators::icosphere(4),
             rounds.clone().with_detail_mode(DetailMode::Translation),
@@ -98,6 +108,7 @@ fn build_save_load_refine_gives_the_input_bit_for_bit() {
             assert_eq!(loaded.level_face_counts(), h.level_face_counts(), "{name}");
             assert_eq!(loaded.method(), h.method(), "{name}");
             assert_eq!(loaded.detail_mode(), h.detail_mode(), "{name}");
+            assert_eq!(loaded.options().placement, h.options().placement, "{name}");
             assert_eq!(loaded.build_outcome(), h.build_outcome(), "{name}");
             assert_eq!(
                 snapshot(loaded.mesh()),

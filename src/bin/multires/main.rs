@@ -10,6 +10,7 @@ mod args;
 mod batch;
 mod check;
 mod convert;
+mod distance;
 mod edit;
 mod info;
 mod level;
@@ -73,5 +74,6 @@ fn run(command: Command, out: &Output) -> multires::Result<()> {
         Command::Refine(a) => refine::run(a, out),
         Command::Workflow(a) => workflow::run(a, out),
         Command::Batch(a) => batch::run(a, out),
+        Command::Distance(a) => distance::run(a, out),
     }
 }

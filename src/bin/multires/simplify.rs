@@ -2,7 +2,9 @@
 
 use std::time::Instant;
 
-use halfedge::hierarchy::{BuildProgress, DetailMode, Hierarchy, HierarchyOptions};
+use halfedge::hierarchy::{
+    BuildProgress, DetailMode, Hierarchy, HierarchyOptions, SurvivorPlacement,
+};
 use multires::load;
 use multires::progress::{self, Progress};
 use serde_json::json;
@@ -25,6 +27,11 @@ pub fn run(a: SimplifyArgs, out: &Output) -> multires::Result<()> {
         DetailMode::Translation
     } else {
         DetailMode::LocalFrame
+    })
+    .with_placement(if a.placement == "quadric" {
+        SurvivorPlacement::Quadric
+    } else {
+        SurvivorPlacement::Midpoint
     });
     if let Some(levels) = a.max_levels {
         options = options.with_max_levels(levels);
@@ -70,6 +77,7 @@ pub fn run(a: SimplifyArgs, out: &Output) -> multires::Result<()> {
         "input": a.mesh.display().to_string(),
         "output": a.output.display().to_string(),
         "method": a.method,
+        "placement": a.placement,
         "input_faces": input_faces,
         "levels": hierarchy.n_levels(),
         "level_face_counts": hierarchy.level_face_counts(),

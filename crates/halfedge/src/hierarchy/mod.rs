@@ -88,7 +88,7 @@ pub use bookmark::LevelBookmark;
 pub use detail::DetailMode;
 use detail::Details;
 pub use motion::Field;
-pub use options::{BuildProgress, HierarchyOptions, Method};
+pub use options::{BuildProgress, HierarchyOptions, Method, SurvivorPlacement};
 pub use outcome::{BuildOutcome, Refusals, Relaxation, StopReason};
 
 use marks::Marks;
@@ -255,6 +255,10 @@ impl Hierarchy {
     /// The method the hierarchy was built with.
     pub fn method(&self) -> Method {
         self.method
+    }
+    /// The options the hierarchy was built with (kept in its file).
+    pub fn options(&self) -> &HierarchyOptions {
+        &self.options
     }
     /// Number of levels, the input (level 0) included.
     pub fn n_levels(&self) -> usize {

@@ -193,14 +193,14 @@ pub fn vertex_quadrics(mesh: &Mesh, planes: &[(DVec3, f64)], boundary_weight: f6
 /// Candidate survivor positions of an edge with their quadric costs (in the order of
 /// [`candidates`] until [`sort`](Self::sort)ed).
 #[derive(Clone, Copy, Debug)]
-struct Candidates {
+pub(crate) struct Candidates {
     items: [(f64, DVec3); 4],
     len: usize,
 }
 
 impl Candidates {
     #[inline]
-    fn as_slice(&self) -> &[(f64, DVec3)] {
+    pub(crate) fn as_slice(&self) -> &[(f64, DVec3)] {
         &self.items[..self.len]
     }
     /// The cheapest cost (costs are never NaN).
@@ -213,7 +213,7 @@ impl Candidates {
     /// Orders the candidates cheapest first, ties in their first order (what the
     /// collapse tries them in; the heap only needs [`cost`](Self::cost)).
     #[inline]
-    fn sort(&mut self) {
+    pub(crate) fn sort(&mut self) {
         self.items[..self.len].sort_by(|x, y| x.0.total_cmp(&y.0));
     }
 }
@@ -234,7 +234,7 @@ fn is_boundary_vertex(mesh: &Mesh, v: u32) -> bool {
 /// endpoints; only the boundary vertex's position when the edge is interior and exactly
 /// one endpoint is on the boundary (the boundary rule of `legality`).
 #[inline]
-fn candidates(mesh: &Mesh, quadrics: &[Quadric], e: u32) -> (Quadric, Candidates) {
+pub(crate) fn candidates(mesh: &Mesh, quadrics: &[Quadric], e: u32) -> (Quadric, Candidates) {
     let (r, ro) = (&mesh.he[e as usize], &mesh.he[(e ^ 1) as usize]);
     let (a, b) = (ro.to, r.to);
     let (pa, pb) = (mesh.positions[a as usize], mesh.positions[b as usize]);

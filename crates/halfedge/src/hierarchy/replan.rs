@@ -384,6 +384,9 @@ impl Band {
                 cos_flip: bounds.cos_flip,
                 max_error: self.max_error,
                 labels: &self.labels,
+                // Collapses made again after an edit go to the midpoint: their places
+                // are stored with the record whatever they are.
+                quadrics: None,
             };
             if let Ok(planned) = test_edge(mesh, e, &test, normals, new_normals) {
                 return Some(planned);

@@ -6,7 +6,7 @@ use super::bytes::{In, Out};
 use crate::error::Result;
 use crate::hierarchy::bookmark::Refreshes;
 use crate::hierarchy::detail::DetailMode;
-use crate::hierarchy::options::{HierarchyOptions, Method};
+use crate::hierarchy::options::{HierarchyOptions, Method, SurvivorPlacement};
 use crate::hierarchy::outcome::{BuildOutcome, Refusals, Relaxation, StopReason};
 use crate::hierarchy::Hierarchy;
 
@@ -45,7 +45,9 @@ fn mode_byte(mode: DetailMode) -> u8 {
 pub(super) fn write(h: &Hierarchy, out: &mut impl Out) {
     out.u8(method_byte(h.method));
     let o = &h.options;
-    out.u8(method_byte(o.method));
+    // The options' method byte carries the survivor placement too (2 more for the
+    // quadric's): files of the paper's placement read as before.
+    out.u8(method_byte(o.method) + 2 * u8::from(o.placement == SurvivorPlacement::Quadric));
     for x in [
         o.max_normal_deviation,
         o.max_flip_angle,
@@ -123,7 +125,11 @@ pub(super) fn read(input: &mut In<'_>) -> Result<Meta> {
     let byte = input.u8()?;
     let method = method_of(input, byte)?;
     let byte = input.u8()?;
-    let options_method = method_of(input, byte)?;
+    let (options_method, placement) = match byte {
+        0 | 1 => (method_of(input, byte)?, SurvivorPlacement::Midpoint),
+        2 | 3 => (method_of(input, byte - 2)?, SurvivorPlacement::Quadric),
+        b => return Err(input.error(format!("unknown method and placement {b}"))),
+    };
     let max_normal_deviation = input.f64()?;
     let max_flip_angle = input.f64()?;
     let level_ratio = input.f64()?;
@@ -152,6 +158,7 @@ pub(super) fn read(input: &mut In<'_>) -> Result<Meta> {
         detail_mode,
         respect_labels,
         relax_when_stalled,
+        placement,
     };
     if let Err(e) = options.validate() {
         return Err(input.error(format!("the build options: {e}")));
