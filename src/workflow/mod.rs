@@ -543,8 +543,15 @@ pub fn run_timed(
     refined?;
     let ancestors = hierarchy.ancestors(level)?;
     let result = hierarchy.into_mesh();
-    progress::step(progress, "checking the result", || result.check())?;
-    let original = input_again(&result, original_positions)?;
+    // The check and the input's copy read the result only: side by side.
+    let (checked, original) = progress::step(progress, "checking the result", || {
+        rayon::join(
+            || result.check(),
+            || input_again(&result, original_positions),
+        )
+    });
+    checked?;
+    let original = original?;
     // How exactly the handle landed: its fine vertices against the rigid image of their
     // input positions (later edits that moved the handle too make this larger).
     let landed = landing.map(|landing| landing.measure(&original, &result, &ancestors, diagonal));
