@@ -14,7 +14,7 @@ use std::sync::OnceLock;
 use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion};
-use halfedge::hierarchy::{Hierarchy, HierarchyOptions};
+use halfedge::hierarchy::{Hierarchy, HierarchyOptions, SurvivorPlacement};
 use halfedge::Mesh;
 
 const TARGET_FACES: usize = 2000;
@@ -143,6 +143,19 @@ fn bench(c: &mut Criterion) {
                     h.refine_to(0).unwrap();
                     h
                 },
+                BatchSize::LargeInput,
+            )
+        });
+    }
+    // Issue 32: rounds placing their survivors by the quadric (`SurvivorPlacement::Quadric`),
+    // against `rounds_coarsen_to_2000` and meshoptimizer in this group (its quality
+    // against theirs: `examples/simplify_quality.rs`).
+    {
+        let options = rounds_options().with_placement(SurvivorPlacement::Quadric);
+        group.bench_function("rounds_quadric_placement_coarsen_to_2000", |b| {
+            b.iter_batched(
+                || mesh.clone(),
+                |m| Hierarchy::build(m, &options).unwrap(),
                 BatchSize::LargeInput,
             )
         });

@@ -6,7 +6,7 @@
 //! real-mesh tier saves and loads hierarchies of the shared meshes.
 
 use glam::{DAffine3, DVec3};
-use halfedge::hierarchy::file::FORMAT_VERSION;
+use halfedge::hierarchy::file::{FORMAT_VERSION, OLDEST_READABLE_VERSION};
 use halfedge::hierarchy::{DetailMode, Hierarchy, HierarchyOptions, SurvivorPlacement};
 use halfedge::{generators, Error, Mesh, VertexId};
 use testkit::check::{slot_position_bits as position_bits, snapshot};
@@ -401,6 +401,25 @@ fn the_header_holds_the_magic_and_the_format_version() {
     );
 }
 
+/// A file of version 1 (before the quadric placement's codes) reads as it did: the same
+/// bytes with version 2 in the header give the same hierarchy, which refines to the input.
+#[test]
+fn version_1_files_still_read() {
+    assert_eq!(OLDEST_READABLE_VERSION, 1);
+    for (name, input, h) in cases() {
+        if h.options().placement != SurvivorPlacement::Midpoint {
+            continue;
+        }
+        let mut old = bytes_of(&h);
+        old[8..12].copy_from_slice(&1u32.to_le_bytes());
+        fix_crcs(&mut old);
+        let mut loaded = Hierarchy::read_from(&old, "old.mrh").unwrap();
+        assert_eq!(bytes_of(&loaded), bytes_of(&h), "{name}");
+        loaded.refine_to(0).unwrap();
+        assert_eq!(snapshot(loaded.mesh()), snapshot(&input), "{name}");
+    }
+}
+
 /// The message of a format error, checked to name the file.
 fn format_message(e: Error, file: &str) -> String {
     match e {
@@ -451,14 +470,14 @@ fn damaged_files_are_refused_naming_the_file_and_the_section() {
     // Not a hierarchy file.
     let m = format_message(read(b"ply\nformat ascii 1.0\n"), "bad.mrh");
     assert!(m.contains("not a hierarchy file"), "{m}");
-    // Another version.
-    let mut other = bytes.clone();
-    other[8..12].copy_from_slice(&(FORMAT_VERSION + 1).to_le_bytes());
-    let m = format_message(read(&other), "bad.mrh");
-    assert!(
-        m.contains(&format!("version {}", FORMAT_VERSION + 1)),
-        "{m}"
-    );
+    // Another version: newer, or older than the oldest readable.
+    for version in [FORMAT_VERSION + 1, OLDEST_READABLE_VERSION - 1] {
+        let mut other = bytes.clone();
+        other[8..12].copy_from_slice(&version.to_le_bytes());
+        fix_crcs(&mut other);
+        let m = format_message(read(&other), "bad.mrh");
+        assert!(m.contains(&format!("version {version};")), "{m}");
+    }
     // Truncated at every section boundary, and in every section.
     for (tag, offset, length) in table(&bytes) {
         for cut in [

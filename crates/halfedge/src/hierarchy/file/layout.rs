@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use super::bytes::{format_error, get_u32, get_u64};
-use super::FORMAT_VERSION;
+use super::{FORMAT_VERSION, OLDEST_READABLE_VERSION};
 use crate::error::Result;
 
 /// The first eight bytes of every hierarchy file (after PNG's: a high byte, the name,
@@ -118,17 +118,17 @@ pub(super) fn table(head: &[u8], file_len: u64, path: &Path) -> Result<[Entry; S
         return fail("not a hierarchy file (.mrh): the first 8 bytes are not its magic".into());
     }
     let version = get_u32(&file[8..]);
-    if version != FORMAT_VERSION {
+    if !(OLDEST_READABLE_VERSION..=FORMAT_VERSION).contains(&version) {
         return fail(format!(
-            "hierarchy file format version {version}; this library reads version \
-             {FORMAT_VERSION} only (see docs/guide/hierarchy-file.md: save it again with the \
-             library that wrote it, or rebuild the hierarchy)"
+            "hierarchy file format version {version}; this library reads versions \
+             {OLDEST_READABLE_VERSION} to {FORMAT_VERSION} (see docs/guide/hierarchy-file.md: \
+             save it again with the library that wrote it, or rebuild the hierarchy)"
         ));
     }
     let count = get_u32(&file[12..]);
     if count as usize != SECTIONS.len() {
         return fail(format!(
-            "header: {count} sections announced, version {FORMAT_VERSION} has {}",
+            "header: {count} sections announced, version {version} has {}",
             SECTIONS.len()
         ));
     }

@@ -49,10 +49,16 @@ use crate::error::{Error, Result};
 use crate::handle::VertexId;
 use crate::labels::Label;
 
-/// The version of the hierarchy file format this library writes and reads (the
-/// `FORMAT_VERSION` field of the header). A reader reads exactly its own version; a file
-/// of another version is refused with [`Error::Format`] saying which version it is.
-pub const FORMAT_VERSION: u32 = 1;
+/// The version of the hierarchy file format this library writes (the `FORMAT_VERSION`
+/// field of the header). It reads this version and every one from
+/// [`OLDEST_READABLE_VERSION`]; a file of another version is refused with
+/// [`Error::Format`] saying which version it is. Version 2 added the codes 2 and 3 of
+/// the options' method byte (rounds placing survivors by the quadric); a version 1 file
+/// is a version 2 file without them.
+pub const FORMAT_VERSION: u32 = 2;
+
+/// The oldest hierarchy file format version this library reads (see [`FORMAT_VERSION`]).
+pub const OLDEST_READABLE_VERSION: u32 = 1;
 
 /// What the sections need besides the hierarchy: the label attributes to keep.
 struct Plan<'h> {
