@@ -8,7 +8,7 @@
 //! ```text
 //! cargo run --release --example hierarchy -- FILE [--method rounds|qem] [--target-faces N]
 //!     [--max-normal-deviation DEG] [--max-flip-angle DEG] [--max-levels N]
-//!     [--max-error D] [--no-relax] [--subdivide K] [--progress]
+//!     [--max-error D] [--no-relax] [--quadric-placement] [--subdivide K] [--progress]
 //! ```
 
 use std::path::PathBuf;
@@ -55,6 +55,10 @@ struct Args {
     /// the planarity and flip bounds until the target is reached.
     #[arg(long)]
     no_relax: bool,
+    /// Rounds: put survivors where the quadric says (`SurvivorPlacement::Quadric`)
+    /// instead of at the midpoint.
+    #[arg(long)]
+    quadric_placement: bool,
     /// Subdivide the input 1-to-4 this many times first (to make large meshes).
     #[arg(long, default_value_t = 0)]
     subdivide: usize,
@@ -163,6 +167,9 @@ fn run(args: &Args) -> Result<(), halfedge::Error> {
         options.max_error = e;
     }
     options.relax_when_stalled = !args.no_relax;
+    if args.quadric_placement {
+        options.placement = halfedge::hierarchy::SurvivorPlacement::Quadric;
+    }
     let before = snapshot(&mesh);
     let input_faces = mesh.n_faces() as u64;
     bars.start("simplifying (faces removed)", Some(input_faces));
