@@ -265,6 +265,18 @@ pub(crate) fn candidates(mesh: &Mesh, quadrics: &[Quadric], e: u32) -> (Quadric,
     (q, c)
 }
 
+/// The parameter of `p` along the edge from `p1` (0) to `p0` (1), as a record keeps it
+/// with its placement (`0.5` for an edge of length zero).
+#[inline]
+pub(crate) fn parameter_along(p0: DVec3, p1: DVec3, p: DVec3) -> f64 {
+    let d = p0 - p1;
+    if d.length_squared() > 0.0 {
+        (p - p1).dot(d) / d.length_squared()
+    } else {
+        0.5
+    }
+}
+
 /// The heap cost of the edge of halfedge slot `e`: its cheapest candidate's.
 #[inline]
 fn edge_cost(mesh: &Mesh, quadrics: &[Quadric], e: u32) -> f64 {
@@ -374,13 +386,7 @@ pub(crate) fn build(
                 park(&mut state, &mut parked_near);
                 continue;
             };
-            let (p0, p1) = (mesh.position(c.v0), mesh.position(c.v1));
-            let d = p0 - p1;
-            let t = if d.length_squared() > 0.0 {
-                (p - p1).dot(d) / d.length_squared()
-            } else {
-                0.5
-            };
+            let t = parameter_along(mesh.position(c.v0), mesh.position(c.v1), p);
             (g, p, t, q)
         };
         let v0 = h.mesh.from_vertex(g);

@@ -319,13 +319,7 @@ fn place_by_quadric(
             continue;
         }
         if legality::geometry(mesh, c, p, normals, test.cos_flip, new_normals) {
-            let (p0, p1) = (mesh.position(c.v0), mesh.position(c.v1));
-            let d = p0 - p1;
-            let t = if d.length_squared() > 0.0 {
-                (p - p1).dot(d) / d.length_squared()
-            } else {
-                0.5
-            };
+            let t = qem::parameter_along(mesh.position(c.v0), mesh.position(c.v1), p);
             return Ok((g, p, t));
         }
     }
