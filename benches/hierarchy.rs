@@ -87,6 +87,20 @@ fn bench(c: &mut Criterion) {
                 BatchSize::LargeInput,
             )
         });
+        // Issue 32: the same build on a one-thread pool (the parallel set-up on one
+        // thread; the output buffers are still prefaulted by a thread of their own), so
+        // that the scaling from one to all threads shows beside the row above.
+        let one_thread = rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .unwrap();
+        group.bench_function(format!("{name}_coarsen_to_2000, one thread"), |b| {
+            b.iter_batched(
+                || mesh.clone(),
+                |m| one_thread.install(|| Hierarchy::build(m, &options).unwrap()),
+                BatchSize::LargeInput,
+            )
+        });
         // Issue 30: the hierarchy in a `.mrh` file and back, against the build above in
         // this group (load target ≤ 0.2 × the build).
         let file = std::env::temp_dir().join(format!("multires-bench-{name}.mrh"));
