@@ -212,3 +212,5 @@ def test_surface_distance_of_a_scaled_sphere():
     assert multires.surface_distance(a, a, samples=1000)["hausdorff"] < 1e-12
     with pytest.raises(MeshError, match="neither"):
         multires.surface_distance(a, b, samples=0, vertices=False)
+    with pytest.raises(MeshError, match="at most"):
+        multires.surface_distance(a, b, samples=2**40)

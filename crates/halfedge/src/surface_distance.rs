@@ -95,12 +95,19 @@ impl SurfaceDistance {
 ///
 /// # Errors
 /// [`Error::InvalidArgument`] when either mesh has no face, a live vertex of either is
-/// not finite, or `sampling` asks for no sample at all.
+/// not finite, or `sampling` asks for no sample at all or for more than
+/// [`MAX_FACE_SAMPLES`].
 pub fn surface_distance(a: &Mesh, b: &Mesh, sampling: &Sampling) -> Result<SurfaceDistance> {
     if !sampling.vertices && sampling.face_samples == 0 {
         return Err(Error::InvalidArgument(
             "surface_distance: the sampling takes neither vertices nor face samples".into(),
         ));
+    }
+    if sampling.face_samples > MAX_FACE_SAMPLES {
+        return Err(Error::InvalidArgument(format!(
+            "surface_distance: {} face samples asked, at most {MAX_FACE_SAMPLES}",
+            sampling.face_samples
+        )));
     }
     for (name, mesh) in [("first", a), ("second", b)] {
         check(name, mesh)?;
@@ -132,6 +139,10 @@ fn check(name: &str, mesh: &Mesh) -> Result<()> {
     }
     Ok(())
 }
+
+/// The most face samples a measure takes (2³²: about an hour of queries on one core,
+/// 32 MB of block sums).
+pub const MAX_FACE_SAMPLES: usize = 1 << 32;
 
 /// Samples per block whose sums are made on one thread.
 const BLOCK: usize = 4096;
@@ -414,6 +425,9 @@ mod tests {
         assert!(e.to_string().contains("second mesh has no face"), "{e}");
         let e = surface_distance(&sphere, &sphere, &sampling(false, 0)).unwrap_err();
         assert!(e.to_string().contains("neither"), "{e}");
+        // Refused before anything is allocated for them.
+        let e = surface_distance(&sphere, &sphere, &sampling(true, usize::MAX)).unwrap_err();
+        assert!(e.to_string().contains("at most 4294967296"), "{e}");
         let mut bad = sphere.clone();
         let v = bad.vertices().nth(3).unwrap();
         bad.set_position(v, DVec3::new(f64::NAN, 0.0, 0.0));
