@@ -947,38 +947,107 @@ fn check_agrees_with_openmesh() {
     }
 }
 
-/// The hierarchy file is the same bytes whatever the thread count (`RAYON_NUM_THREADS`
-/// 1, 2 and 5), for both methods, and so is the batch output.
+/// Every output file is the same bytes whatever the thread count (`RAYON_NUM_THREADS` 1,
+/// 2 and 5): the hierarchy file of both methods and of the rounds placed by the quadric,
+/// the workflow's mesh and its four pictures, and the edited meshes of a batch.
 #[test]
 fn files_do_not_depend_on_the_thread_count() {
     let dir = temp("threads");
     let torus = torus_file(&dir, "t.ply", 60, 30);
-    for method in ["rounds", "qem"] {
+    let corpus = dir.join("corpus");
+    std::fs::create_dir_all(&corpus).unwrap();
+    torus_file(&corpus, "a.ply", 40, 20);
+    torus_file(&corpus, "b.obj", 30, 24);
+    let with_threads = |threads: &str, args: &[&dyn AsRef<std::ffi::OsStr>]| {
+        let o = multires()
+            .env("RAYON_NUM_THREADS", threads)
+            .args(args)
+            .output()
+            .unwrap();
+        assert_exit(&o, 0);
+    };
+    let runs: [(&str, &[&str]); 3] = [
+        ("rounds", &["--method", "rounds"]),
+        ("qem", &["--method", "qem"]),
+        ("quadric", &["--method", "rounds", "--placement", "quadric"]),
+    ];
+    for (name, options) in runs {
         let mut files = Vec::new();
         for threads in ["1", "2", "5"] {
-            let h = dir.join(format!("{method}-{threads}.mrh"));
-            let o = multires()
-                .env("RAYON_NUM_THREADS", threads)
-                .args([
-                    "simplify",
-                    "--method",
-                    method,
-                    "--target-faces",
-                    "100",
-                    "-q",
-                    "-o",
-                ])
-                .arg(&h)
-                .arg(&torus)
-                .output()
-                .unwrap();
-            assert_exit(&o, 0);
+            let h = dir.join(format!("{name}-{threads}.mrh"));
+            let mut args: Vec<&dyn AsRef<std::ffi::OsStr>> = vec![&"simplify"];
+            args.extend(options.iter().map(|o| o as &dyn AsRef<std::ffi::OsStr>));
+            args.extend([
+                &"--target-faces" as &dyn AsRef<std::ffi::OsStr>,
+                &"100",
+                &"-q",
+                &"-o",
+                &h,
+                &torus,
+            ]);
+            with_threads(threads, &args);
             files.push(std::fs::read(&h).unwrap());
         }
         assert!(
             files.windows(2).all(|w| w[0] == w[1]),
-            "{method}: the same bytes on 1, 2 and 5 threads"
+            "{name}: the same bytes on 1, 2 and 5 threads"
         );
+    }
+    // The workflow (mesh and pictures) and a batch of the workflow over two meshes.
+    let outputs = |threads: &str| -> Vec<(String, Vec<u8>)> {
+        let out = dir.join(format!("workflow-{threads}"));
+        with_threads(
+            threads,
+            &[
+                &"workflow",
+                &torus,
+                &"--picture",
+                &"120",
+                &"-q",
+                &"--out",
+                &out,
+            ],
+        );
+        let batch = dir.join(format!("batch-{threads}"));
+        with_threads(threads, &[&"batch", &corpus, &"-q", &"--out", &batch]);
+        let mut files = Vec::new();
+        for folder in [out, batch] {
+            let mut names: Vec<_> = std::fs::read_dir(&folder)
+                .unwrap()
+                .map(|e| e.unwrap().path())
+                .filter(|p| {
+                    // The batch's reports hold timings; its meshes are the output.
+                    !matches!(
+                        p.extension().and_then(|e| e.to_str()),
+                        Some("jsonl" | "json")
+                    )
+                })
+                .collect();
+            names.sort();
+            for path in names {
+                let name = path.file_name().unwrap().to_string_lossy().into_owned();
+                files.push((name, std::fs::read(&path).unwrap()));
+            }
+        }
+        files
+    };
+    let one = outputs("1");
+    let names: Vec<&str> = one.iter().map(|(n, _)| n.as_str()).collect();
+    assert!(
+        names.iter().filter(|n| n.ends_with(".png")).count() >= 4
+            && names.iter().filter(|n| n.ends_with(".ply")).count() >= 3,
+        "the workflow's mesh and pictures and the batch's meshes: {names:?}"
+    );
+    for threads in ["2", "5"] {
+        let other = outputs(threads);
+        assert_eq!(
+            other.iter().map(|(n, _)| n.as_str()).collect::<Vec<_>>(),
+            names,
+            "the same files on {threads} threads"
+        );
+        for ((name, a), (_, b)) in one.iter().zip(&other) {
+            assert!(a == b, "{name}: the same bytes on 1 and {threads} threads");
+        }
     }
 }
 
