@@ -353,22 +353,47 @@ mod random_sessions {
         }
     }
 
+    /// Plays `steps` on two copies of the built hierarchy, one walking as the library
+    /// does, the other refining one split at a time; asserts their meshes stay the same
+    /// after every step.
+    fn play_both(steps: &[Step]) -> std::result::Result<(), TestCaseError> {
+        let mut threaded = built().clone();
+        let mut single = built().clone();
+        for step in steps {
+            play(&mut threaded, step, true);
+            play(&mut single, step, false);
+            prop_assert!(
+                state(&threaded, None) == state(&single, None),
+                "the walks differ after {step:?}"
+            );
+        }
+        Ok(())
+    }
+
+    /// Found by the property below: an edit at level 2, another at level 3, then one walk
+    /// to the input. One split at a time notes the faces the level-2 edit turned over
+    /// when it reaches level 2 (so the unfolding leaves them be); the walk noted only
+    /// those of level 3's edit, where it started, and unfolded the others. A walk now
+    /// stops at every edited level it passes to note them.
+    #[test]
+    fn a_walk_across_two_edited_levels_notes_each_levels_turned_faces() {
+        play_both(&[
+            Step::Level(2),
+            Step::Wave(-0.0010676556601194893),
+            Step::Level(3),
+            Step::Affine(0, 0.4328255321158302),
+            Step::Level(0),
+        ])
+        .unwrap();
+    }
+
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(16))]
         #[test]
         fn threaded_and_one_split_at_a_time_sessions_stay_the_same(
             steps in prop::collection::vec(step(), 1..10)
         ) {
-            let mut threaded = built().clone();
-            let mut single = built().clone();
-            for step in &steps {
-                play(&mut threaded, step, true);
-                play(&mut single, step, false);
-                prop_assert!(
-                    state(&threaded, None) == state(&single, None),
-                    "the walks differ after {step:?}"
-                );
-            }
+            play_both(&steps)?;
         }
     }
 }

@@ -97,18 +97,32 @@ impl Hierarchy {
             self.collapse_next()?;
         }
         let finer = self.applied > applied;
-        if finer {
-            self.note_turned_by_edit();
-        }
-        if self.applied >= applied + SPLIT_BESIDE_MIN
-            && self.trusts_mesh()
-            && rayon::current_num_threads() > 1
-        {
-            let clean = self.positions_are_clean();
-            self.split_beside(applied, clean)?;
-        }
-        while self.applied > applied {
-            self.split_next()?;
+        // A walk finer stops at the level of every copy of the positions before an edit
+        // that it passes, to note there the faces the edits turned over (as `split_next`
+        // does when it gets there), then goes on.
+        let mut stops: Vec<usize> = self
+            .rests
+            .iter()
+            .map(|rest| rest.ceil)
+            .filter(|&ceil| applied < ceil && ceil < self.applied)
+            .collect();
+        stops.sort_unstable_by(|a, b| b.cmp(a));
+        stops.dedup();
+        stops.push(applied);
+        for stop in stops {
+            if self.applied > stop {
+                self.note_turned_by_edit();
+            }
+            if self.applied >= stop + SPLIT_BESIDE_MIN
+                && self.trusts_mesh()
+                && rayon::current_num_threads() > 1
+            {
+                let clean = self.positions_are_clean();
+                self.split_beside(stop, clean)?;
+            }
+            while self.applied > stop {
+                self.split_next()?;
+            }
         }
         if finer {
             self.unfold_refinement();
