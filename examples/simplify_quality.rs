@@ -114,7 +114,7 @@ fn meshopt_simplify(mesh: &Mesh, faces: usize) -> Mesh {
     let kept = meshopt::simplify(
         &indices,
         &adapter,
-        faces * 3,
+        (faces * 3).min(indices.len()),
         1e9,
         meshopt::SimplifyOptions::None,
         None,

@@ -11,7 +11,11 @@
 //! - The survivor goes to the quadric's minimiser (solving the 3×3 system) when the system
 //!   is well conditioned and the minimiser lies within one edge length of the edge's
 //!   midpoint; when there is no such minimiser, or it would flip or flatten a face, to
-//!   the best legal one of the midpoint, `p0` and `p1` (candidates in order of cost).
+//!   the better legal one of `p0` and `p1` (candidates in order of cost). The midpoint
+//!   is no candidate: where the quadric is singular (a flat region, a crease) it
+//!   costs no more than an endpoint, so it won ties and slid vertices along creases
+//!   and off their corners, until triangles cut across concave corners (on a CAD part
+//!   at 2,000 faces: 5 × the mean distance to the input; table in `benches/README.md`).
 //! - Edges wait in a heap keyed by their cost (module `heap`) with *lazy
 //!   versioning*: every edge has one entry; a collapse marks the entries of the edges
 //!   around the survivor stale instead of re-queuing them, and a stale entry that reaches
@@ -194,7 +198,7 @@ pub fn vertex_quadrics(mesh: &Mesh, planes: &[(DVec3, f64)], boundary_weight: f6
 /// [`candidates`] until [`sort`](Self::sort)ed).
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Candidates {
-    items: [(f64, DVec3); 4],
+    items: [(f64, DVec3); 3],
     len: usize,
 }
 
@@ -230,9 +234,10 @@ fn is_boundary_vertex(mesh: &Mesh, v: u32) -> bool {
 
 /// The summed quadric of the edge of halfedge slot `e` and its candidate survivor
 /// positions (unsorted, see [`Candidates::sort`]): the quadric's minimiser (when well
-/// conditioned and within one edge length of the midpoint), the midpoint and both
-/// endpoints; only the boundary vertex's position when the edge is interior and exactly
-/// one endpoint is on the boundary (the boundary rule of `legality`).
+/// conditioned and within one edge length of the midpoint) and both endpoints (no
+/// midpoint: see the module docs); only the boundary vertex's position when the edge is
+/// interior and exactly one endpoint is on the boundary (the boundary rule of
+/// `legality`).
 #[inline]
 pub(crate) fn candidates(mesh: &Mesh, quadrics: &[Quadric], e: u32) -> (Quadric, Candidates) {
     let (r, ro) = (&mesh.he[e as usize], &mesh.he[(e ^ 1) as usize]);
@@ -242,7 +247,7 @@ pub(crate) fn candidates(mesh: &Mesh, quadrics: &[Quadric], e: u32) -> (Quadric,
     let boundary_edge = r.face == NONE || ro.face == NONE;
     let (ba, bb) = (is_boundary_vertex(mesh, a), is_boundary_vertex(mesh, b));
     let mut c = Candidates {
-        items: [(0.0, DVec3::ZERO); 4],
+        items: [(0.0, DVec3::ZERO); 3],
         len: 0,
     };
     let mut add = |p: DVec3| {
@@ -259,7 +264,6 @@ pub(crate) fn candidates(mesh: &Mesh, quadrics: &[Quadric], e: u32) -> (Quadric,
             add(p);
         }
     }
-    add(mid);
     add(pa);
     add(pb);
     (q, c)

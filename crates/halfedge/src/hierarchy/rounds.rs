@@ -16,8 +16,8 @@
 //! from an interior vertex to a boundary vertex collapses onto the boundary vertex, so
 //! boundaries are kept. With [`SurvivorPlacement::Quadric`] it goes instead where QEM
 //! would put it (module [`super::qem`]: the quadric's minimiser or, when that is
-//! ill-conditioned or flips a face, the cheapest legal one of the midpoint and the
-//! endpoints), the quadrics summed at every collapse; the order and the tests stay the
+//! ill-conditioned or flips a face, the cheaper legal one of the endpoints), the
+//! quadrics summed at every collapse; the order and the tests stay the
 //! rounds'. A round is a level; on real meshes a round removes about 45 % of
 //! the faces, as the paper reports. Face normals are cached by face index and refreshed
 //! around each survivor.
@@ -298,7 +298,7 @@ pub(crate) fn test_edge(
 }
 
 /// The survivor's place by the quadric ([`SurvivorPlacement::Quadric`]): the cheapest of
-/// QEM's candidates (the quadric's minimiser, the midpoint, `p0`, `p1`; module
+/// QEM's candidates (the quadric's minimiser, `p0`, `p1`; module
 /// [`super::qem`]) that is within the error bound and flips no face.
 #[inline]
 fn place_by_quadric(
