@@ -112,8 +112,6 @@ pub(super) fn submesh_edit(
                 ));
             }
             let (centre, d) = (axis_along.point(), axis_along.direction());
-            let end = start + 0.7 * (top - start);
-            let variation = Variation::Along { start, end };
             // The rigid end: the coarse vertices beyond the ramp whose whole cluster of
             // fine vertices is beyond it too (a cluster reaching down the ramp would
             // take the full map where the full-resolution edit gives less).
@@ -126,13 +124,31 @@ pub(super) fn submesh_edit(
                     lowest[a] = lowest[a].min(s);
                 }
             }
-            let rigid: Vec<u32> = inside
-                .iter()
-                .copied()
-                .filter(|&i| {
-                    axis_along.coordinate(positions[i as usize]) >= end && lowest[i as usize] >= end
-                })
-                .collect();
+            // Where vertex i's cluster starts along the axis (itself included).
+            let from = |i: u32| {
+                axis_along
+                    .coordinate(positions[i as usize])
+                    .min(lowest[i as usize])
+            };
+            let beyond = |end: f64| -> Vec<u32> {
+                inside.iter().copied().filter(|&i| from(i) >= end).collect()
+            };
+            // The ramp ends at 70 % of the extent; on a coarse level whose clusters all
+            // reach below that, it ends where the topmost whole cluster starts, so that
+            // the edit always has a rigid end to measure.
+            let mut end = start + 0.7 * (top - start);
+            let mut rigid = beyond(end);
+            if rigid.is_empty() {
+                let topmost = inside
+                    .iter()
+                    .map(|&i| from(i))
+                    .fold(f64::NEG_INFINITY, f64::max);
+                if topmost > start {
+                    end = topmost;
+                    rigid = beyond(end);
+                }
+            }
+            let variation = Variation::Along { start, end };
             let to_axis = DAffine3::from_translation(-centre);
             let from_axis = DAffine3::from_translation(centre);
             if kind == EditKind::Twist {
