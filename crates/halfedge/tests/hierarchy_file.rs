@@ -402,7 +402,7 @@ fn the_header_holds_the_magic_and_the_format_version() {
 }
 
 /// A file of version 1 (before the quadric placement's codes) reads as it did: the same
-/// bytes with version 2 in the header give the same hierarchy, which refines to the input.
+/// bytes with version 1 in the header give the same hierarchy, which refines to the input.
 #[test]
 fn version_1_files_still_read() {
     assert_eq!(OLDEST_READABLE_VERSION, 1);

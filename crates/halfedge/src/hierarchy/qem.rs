@@ -291,6 +291,20 @@ fn edge_cost(mesh: &Mesh, quadrics: &[Quadric], e: u32) -> f64 {
     candidates(mesh, quadrics, e).1.cost()
 }
 
+/// Puts `edge` back into the queue at `cost` unless that is still the cheapest of the
+/// queue's live keys; true when it went back (its turn comes later).
+#[inline]
+fn requeued(heap: &mut Queue, state: &EdgeStates, cost: f64, edge: usize) -> bool {
+    let key = heap::pack(cost, edge as u32);
+    let live = |k| state.get(heap::unpack(k).1 as usize) != DEAD;
+    if heap.peek(live).is_some_and(|top| top < key) {
+        heap.push(key);
+        true
+    } else {
+        false
+    }
+}
+
 /// Builds the levels of `h` by QEM decimation until a stop criterion holds.
 pub(crate) fn build(
     h: &mut Hierarchy,
@@ -357,10 +371,7 @@ pub(crate) fn build(
                 // Costs only grow as quadrics accumulate: re-queue with the current cost
                 // unless it is still the cheapest.
                 state.set(edge, CLEAN);
-                let key = heap::pack(cands.cost(), edge as u32);
-                let live = |k| state.get(heap::unpack(k).1 as usize) != DEAD;
-                if heap.peek(live).is_some_and(|top| top < key) {
-                    heap.push(key);
+                if requeued(&mut heap, &state, cands.cost(), edge) {
                     continue;
                 }
             }
@@ -396,13 +407,8 @@ pub(crate) fn build(
             };
             // Cheaper candidates were illegal: the edge costs what this one costs, and
             // waits in the heap for its turn unless it is still the cheapest.
-            if cost > cands.cost() {
-                let key = heap::pack(cost, edge as u32);
-                let live = |k| state.get(heap::unpack(k).1 as usize) != DEAD;
-                if heap.peek(live).is_some_and(|top| top < key) {
-                    heap.push(key);
-                    continue;
-                }
+            if cost > cands.cost() && requeued(&mut heap, &state, cost, edge) {
+                continue;
             }
             let t = parameter_along(mesh.position(c.v0), mesh.position(c.v1), p);
             (g, p, t, q)
