@@ -958,7 +958,8 @@ fn files_do_not_depend_on_the_thread_count() {
     std::fs::create_dir_all(&corpus).unwrap();
     torus_file(&corpus, "a.ply", 40, 20);
     torus_file(&corpus, "b.obj", 30, 24);
-    let with_threads = |threads: &str, args: &[&dyn AsRef<std::ffi::OsStr>]| {
+    use std::ffi::OsStr;
+    let with_threads = |threads: &str, args: &[&OsStr]| {
         let o = multires()
             .env("RAYON_NUM_THREADS", threads)
             .args(args)
@@ -975,16 +976,10 @@ fn files_do_not_depend_on_the_thread_count() {
         let mut files = Vec::new();
         for threads in ["1", "2", "5"] {
             let h = dir.join(format!("{name}-{threads}.mrh"));
-            let mut args: Vec<&dyn AsRef<std::ffi::OsStr>> = vec![&"simplify"];
-            args.extend(options.iter().map(|o| o as &dyn AsRef<std::ffi::OsStr>));
-            args.extend([
-                &"--target-faces" as &dyn AsRef<std::ffi::OsStr>,
-                &"100",
-                &"-q",
-                &"-o",
-                &h,
-                &torus,
-            ]);
+            let mut args = vec![OsStr::new("simplify")];
+            args.extend(options.iter().map(OsStr::new));
+            args.extend(["--target-faces", "100", "-q", "-o"].map(OsStr::new));
+            args.extend([h.as_os_str(), torus.as_os_str()]);
             with_threads(threads, &args);
             files.push(std::fs::read(&h).unwrap());
         }
@@ -996,20 +991,17 @@ fn files_do_not_depend_on_the_thread_count() {
     // The workflow (mesh and pictures) and a batch of the workflow over two meshes.
     let outputs = |threads: &str| -> Vec<(String, Vec<u8>)> {
         let out = dir.join(format!("workflow-{threads}"));
+        let workflow = ["workflow", "--picture", "120", "-q", "--out"].map(OsStr::new);
         with_threads(
             threads,
-            &[
-                &"workflow",
-                &torus,
-                &"--picture",
-                &"120",
-                &"-q",
-                &"--out",
-                &out,
-            ],
+            &[&workflow[..], &[out.as_os_str(), torus.as_os_str()]].concat(),
         );
         let batch = dir.join(format!("batch-{threads}"));
-        with_threads(threads, &[&"batch", &corpus, &"-q", &"--out", &batch]);
+        let run = ["batch", "-q", "--out"].map(OsStr::new);
+        with_threads(
+            threads,
+            &[&run[..], &[batch.as_os_str(), corpus.as_os_str()]].concat(),
+        );
         let mut files = Vec::new();
         for folder in [out, batch] {
             let mut names: Vec<_> = std::fs::read_dir(&folder)
